@@ -1,0 +1,49 @@
+// PhyxelSet: the sampled points of all objects, structure of arrays, in double precision.
+// Produced by sample_scene() (sampling.cpp); read by the solvers and the output writers.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/scene.h"
+
+namespace phyxel {
+
+enum PhyxelFlags : uint32_t {
+  kFixed = 1u << 0,    // never moves (inside a `fixed` region)
+  kSurface = 1u << 1,  // on the object's boundary: has a normal and a splat radius
+  kRemoved = 1u << 2,  // deactivated (cut away); takes no part in the physics
+};
+
+// One object's slice of the arrays: phyxels [first, first + count).
+struct ObjectRange {
+  std::string name;
+  uint32_t first = 0;
+  uint32_t count = 0;
+  double spacing = 0;
+  double support_radius = 0;
+};
+
+struct PhyxelSet {
+  std::vector<Vec3> rest;            // x0, m
+  std::vector<double> volume;        // quadrature volume: the part of its lattice cell inside
+  std::vector<double> mass;          // kg, density * volume
+  std::vector<uint32_t> material;    // index into `materials`
+  std::vector<uint32_t> object;      // index into `objects`
+  std::vector<uint32_t> flags;       // PhyxelFlags
+  std::vector<Vec3> normal;          // outward unit normal at rest (zero inside)
+  std::vector<double> splat_radius;  // m (zero inside)
+  std::vector<Vec3> external_force;  // constant load per phyxel (scene `loads`), N
+  std::vector<Vec3> initial_velocity;
+  std::vector<Material> materials;   // object materials then inclusion materials
+  std::vector<ObjectRange> objects;
+
+  size_t size() const { return rest.size(); }
+};
+
+// Samples every object of the scene on its lattice (corners included). Throws SceneError
+// when an object has no phyxel or would not fit in memory.
+PhyxelSet sample_scene(const Scene& scene);
+
+}  // namespace phyxel

@@ -1,0 +1,121 @@
+// Scene model: what a scene file describes, in SI units, after validation.
+// Parsing and validation live in scene_json.cpp; this header holds only data.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace phyxel {
+
+// Every error about user input. what() is one line: "FILE: JSON.PATH: problem; allowed ...".
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+using Vec3 = Eigen::Vector3d;
+
+// A closed triangle surface (from an OBJ file), already scaled. See engine/mesh.h.
+struct TriangleMesh;
+
+struct Shape {
+  enum class Type { Box, Sphere, Ellipsoid, Mesh };
+  Type type = Type::Box;
+  Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // box
+  Vec3 center = Vec3::Zero();                   // sphere, ellipsoid
+  double radius = 0;                            // sphere
+  Vec3 radii = Vec3::Zero();                    // ellipsoid
+  std::filesystem::path path;                   // mesh: resolved against the scene's folder
+  double scale = 1;                             // mesh
+  std::shared_ptr<const TriangleMesh> mesh;     // mesh: loaded while the scene is read
+};
+
+struct Material {
+  double young = 0;    // E, Pa (> 0)
+  double poisson = 0;  // nu, in (-1, 0.5)
+  double density = 0;  // rho, kg/m^3 (> 0)
+  double damping = 0;  // mass-proportional, 1/s (>= 0): force -damping*m*v
+  // Volume-conservation stiffness k_v (Pa) of the energy k_v/2 (det F - 1)^2 per unit volume.
+  // The St Venant-Kirchhoff lambda is lowered by k_v so small-strain E and nu are unchanged.
+  // Unset: half of Lame's lambda.
+  std::optional<double> volume_stiffness;
+  // Dimensionless hourglass (zero-energy mode) control strength gamma (>= 0).
+  double hourglass = 0.05;
+};
+
+struct Inclusion {
+  std::string name;
+  Shape shape;
+  Material material;
+};
+
+// A constant external force spread over the phyxels inside `region`, weighted by volume.
+struct Load {
+  Shape region;
+  Vec3 force = Vec3::Zero();  // total force, N
+};
+
+struct ObjectDesc {
+  std::string name;
+  Shape shape;
+  double spacing = 0;         // lattice spacing s, m
+  double support_radius = 0;  // h, m (the loader fills the default 2*s)
+  Material material;
+  std::vector<Inclusion> inclusions;  // later ones win where they overlap
+  std::vector<Shape> fixed;           // phyxels inside any of these never move
+  std::vector<Load> loads;
+  Vec3 initial_velocity = Vec3::Zero();
+};
+
+struct UntilRest {
+  bool enabled = false;
+  double kinetic_energy_below = 0;  // J
+  int64_t for_steps = 1000;         // the energy must stay below the bound this long
+};
+
+struct SimulationSettings {
+  double dt = 1e-4;  // requested step, s
+  int64_t steps = 1000;
+  Vec3 gravity = Vec3::Zero();
+  UntilRest until_rest;
+  // Courant factor C of the stable step dt <= C * s / c_p (see docs/decisions.md).
+  double courant = 0.5;
+};
+
+struct OutputSettings {
+  int64_t every = 0;  // write points_NNNNNN.vtp every this many steps (0: only the last)
+  bool binary = false;  // VTK XML appended raw binary instead of ASCII
+};
+
+struct Scene {
+  std::filesystem::path file;  // where it was read from (empty if built in code)
+  SimulationSettings simulation;
+  std::vector<ObjectDesc> objects;
+  OutputSettings output;
+};
+
+// Reads and validates a scene file. Throws SceneError naming the file and JSON path.
+Scene load_scene(const std::filesystem::path& file);
+// Same, from JSON text; `file` is used for messages and to resolve relative paths.
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& file);
+
+// Lame parameters of a material.
+inline double lame_lambda(const Material& m) {
+  return m.young * m.poisson / ((1 + m.poisson) * (1 - 2 * m.poisson));
+}
+inline double lame_mu(const Material& m) { return m.young / (2 * (1 + m.poisson)); }
+inline double volume_stiffness(const Material& m) {
+  return m.volume_stiffness ? *m.volume_stiffness : 0.5 * lame_lambda(m);
+}
+// P-wave speed c_p = sqrt((lambda + 2 mu) / rho).
+inline double p_wave_speed(const Material& m) {
+  return std::sqrt((lame_lambda(m) + 2 * lame_mu(m)) / m.density);
+}
+
+}  // namespace phyxel
