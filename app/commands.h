@@ -1,0 +1,15 @@
+// The `phyxel` subcommands. Each takes the arguments after its name and returns the exit code.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace phyxel::app {
+
+using Args = std::vector<std::string>;
+
+int run_command(const Args& args);    // phyxel run SCENE ...      (cmd_run.cpp)
+int bench_command(const Args& args);  // phyxel bench ...          (cmd_bench.cpp)
+int info_command(const Args& args);   // phyxel info               (cmd_info.cpp)
+
+}  // namespace phyxel::app

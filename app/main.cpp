@@ -1,0 +1,44 @@
+// phyxel: command-line entry point. Dispatches to the subcommands in commands.h.
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "app/commands.h"
+
+namespace {
+
+void print_usage() {
+  std::puts(
+      "usage: phyxel <command> [options]\n"
+      "\n"
+      "commands:\n"
+      "  run SCENE   simulate a scene file, write summary.json and .vtp points (run --help)\n"
+      "  bench       measure solver speed and accuracy (bench --help)\n"
+      "  info        list Vulkan devices and their limits\n"
+      "  help        this text");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    print_usage();
+    return 2;
+  }
+  const std::string command = argv[1];
+  const phyxel::app::Args args(argv + 2, argv + argc);
+  try {
+    if (command == "run") return phyxel::app::run_command(args);
+    if (command == "bench") return phyxel::app::bench_command(args);
+    if (command == "info") return phyxel::app::info_command(args);
+    if (command == "help" || command == "--help" || command == "-h") {
+      print_usage();
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "phyxel %s: %s\n", command.c_str(), e.what());
+    return 1;
+  }
+  std::fprintf(stderr, "phyxel: unknown command '%s' (try 'phyxel help')\n", command.c_str());
+  return 2;
+}
