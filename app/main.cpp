@@ -4,6 +4,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/options.h"
 
 namespace {
 
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
       print_usage();
       return 0;
     }
+  } catch (const phyxel::app::UsageError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "phyxel %s: %s\n", command.c_str(), e.what());
     return 1;

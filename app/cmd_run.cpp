@@ -1,0 +1,137 @@
+// phyxel run SCENE: simulate a scene file, write summary.json and .vtp point files.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "app/commands.h"
+#include "app/options.h"
+#include "app/run_report.h"
+#include "engine/simulation.h"
+
+namespace phyxel::app {
+namespace {
+
+constexpr const char* kRunHelp =
+    "usage: phyxel run SCENE [options]\n"
+    "\n"
+    "Simulates SCENE (a JSON scene file, see docs/scene-format.md) and writes DIR/summary.json\n"
+    "and DIR/points_NNNNNN.vtp (every output.every steps and always at the end).\n"
+    "\n"
+    "options:\n"
+    "  --device cpu        solver device (cpu: the double-precision reference solver)\n"
+    "  --steps N           number of steps (default: the scene's simulation.steps)\n"
+    "  --out DIR           output folder (default: out)\n"
+    "  --threads N         CPU threads (default: all cores)\n"
+    "  --precision P       double (default) or float, for the CPU solver\n"
+    "  --quiet             no progress bar\n"
+    "  --help              this text\n"
+    "\n"
+    "exit status: 0 done, 1 bad input or I/O error, 3 the simulation became non-finite";
+
+// A one-line progress bar on a terminal, redrawn at most 10 times a second.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled && isatty(fileno(stderr))) {}
+  void update(int64_t step, int64_t total) {
+    if (!enabled_ || total <= 0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (step < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double frac = static_cast<double>(step) / static_cast<double>(total);
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
+    const int width = 30, filled = static_cast<int>(frac * width);
+    std::fprintf(stderr, "\r[%.*s%.*s] %3d%%  step %lld/%lld  eta %.0f s ", filled,
+                 "##############################", width - filled, "..............................",
+                 static_cast<int>(frac * 100), static_cast<long long>(step),
+                 static_cast<long long>(total), eta);
+    if (step >= total) std::fputc('\n', stderr);
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (enabled_) std::fputc('\n', stderr);
+  }
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
+};
+
+}  // namespace
+
+int run_command(const Args& args) {
+  OptionParser opts("run", args);
+  if (opts.flag("--help")) {
+    std::puts(kRunHelp);
+    return 0;
+  }
+  const std::string device = opts.value("--device", "cpu");
+  const std::filesystem::path out_dir = opts.value("--out", "out");
+  const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
+  const std::string precision = opts.value("--precision", "double");
+  const bool quiet = opts.flag("--quiet");
+  const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
+  const std::vector<std::string> positional = opts.finish();
+  if (positional.size() != 1) {
+    std::fprintf(stderr, "phyxel run: expected one SCENE file (see phyxel run --help)\n");
+    return 1;
+  }
+  if (device != "cpu") {
+    std::fprintf(stderr,
+                 "phyxel run: --device %s: this build has only the CPU reference solver; "
+                 "use --device cpu\n",
+                 device.c_str());
+    return 1;
+  }
+  if (precision != "double" && precision != "float") {
+    std::fprintf(stderr, "phyxel run: --precision %s: allowed double or float\n",
+                 precision.c_str());
+    return 1;
+  }
+  try {
+    const Scene scene = load_scene(positional[0]);
+    const PhyxelSet set = sample_scene(scene);
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec || !std::filesystem::is_directory(out_dir)) {
+      std::fprintf(stderr, "phyxel run: --out %s: cannot create the folder (%s)\n", out_dir.c_str(),
+                   ec.message().c_str());
+      return 1;
+    }
+    auto solver = make_cpu_solver(set, scene.simulation.gravity, threads, precision == "float");
+    RunOptions options;
+    options.steps = steps_override >= 0 ? steps_override : scene.simulation.steps;
+    options.out_dir = out_dir;
+    ProgressBar bar(!quiet);
+    options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
+    const RunResult result = run_simulation(scene, set, *solver, options);
+    if (result.steps_done < options.steps) bar.finish();
+    write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result);
+    if (!result.plan.reason.empty())
+      std::fprintf(stderr, "phyxel run: %s\n", result.plan.reason.c_str());
+    if (result.non_finite) {
+      std::fprintf(stderr,
+                   "phyxel run: %s: the simulation became non-finite by step %lld (phyxel %ld); "
+                   "stopped. Lower simulation.dt or simulation.courant, or check the material\n",
+                   scene.file.c_str(), static_cast<long long>(result.non_finite_step),
+                   result.non_finite_phyxel);
+      return 3;
+    }
+    if (!quiet)
+      std::printf("%s: %zu phyxels, %lld steps%s in %.2f s on %s; wrote %s\n", scene.file.c_str(),
+                  set.size(), static_cast<long long>(result.steps_done),
+                  result.stopped_at_rest ? " (stopped at rest)" : "", result.wall_seconds,
+                  solver->device().c_str(), (out_dir / "summary.json").c_str());
+    return 0;
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace phyxel::app

@@ -1,0 +1,69 @@
+#include "app/run_report.h"
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace phyxel::app {
+
+void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
+                       Solver& solver, const RunOptions& options, const RunResult& result) {
+  using nlohmann::json;
+  json objects = json::array();
+  const NeighbourLists& nbr = solver.neighbours();
+  for (const ObjectRange& o : set.objects) {
+    uint32_t lo = UINT32_MAX, hi = 0;
+    uint64_t sum = 0;
+    for (uint32_t i = o.first; i < o.first + o.count; ++i) {
+      lo = std::min(lo, nbr.count(i));
+      hi = std::max(hi, nbr.count(i));
+      sum += nbr.count(i);
+    }
+    objects.push_back(
+        {{"name", o.name},
+         {"phyxels", o.count},
+         {"spacing", o.spacing},
+         {"support_radius", o.support_radius},
+         {"neighbours",
+          {{"min", lo}, {"max", hi}, {"mean", o.count ? double(sum) / o.count : 0.0}}}});
+  }
+  const double substeps_done =
+      static_cast<double>(result.steps_done) * static_cast<double>(result.plan.substeps);
+  json j = {
+      {"scene", scene.file.string()},
+      {"device", solver.device()},
+      {"phyxels", set.size()},
+      {"objects", objects},
+      {"steps_requested", options.steps},
+      {"steps_done", result.steps_done},
+      {"substeps_per_step", result.plan.substeps},
+      {"substeps_done", substeps_done},
+      {"substep_reason", result.plan.reason},
+      {"dt_requested", result.plan.dt_requested},
+      {"dt_used", result.plan.dt_used},
+      {"dt_stable_bound", result.plan.dt_stable},
+      {"courant", scene.simulation.courant},
+      {"simulated_time", substeps_done * result.plan.dt_used},
+      {"wall_seconds", result.wall_seconds},
+      {"phyxel_steps_per_second",
+       result.wall_seconds > 0 ? double(set.size()) * substeps_done / result.wall_seconds : 0.0},
+      {"stopped_at_rest", result.stopped_at_rest},
+      {"ill_conditioned_moment_matrices", solver.regularised_count()},
+      {"non_finite", result.non_finite},
+      {"outputs", result.outputs},
+  };
+  if (result.non_finite) {
+    j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};
+  } else {
+    j["kinetic_energy"] = result.energies.kinetic;
+    j["strain_energy"] = result.energies.strain;
+    j["potential_energy"] = result.energies.potential;
+    j["max_displacement"] = result.max_displacement;
+  }
+  std::ofstream out(file);
+  out << j.dump(2) << "\n";
+  if (!out) throw std::runtime_error("cannot write " + file.string() + "; check the output folder");
+}
+
+}  // namespace phyxel::app

@@ -1,0 +1,13 @@
+// summary.json of a run: what was simulated, how, and the final state in numbers.
+#pragma once
+
+#include <filesystem>
+
+#include "engine/simulation.h"
+
+namespace phyxel::app {
+
+void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
+                       Solver& solver, const RunOptions& options, const RunResult& result);
+
+}  // namespace phyxel::app

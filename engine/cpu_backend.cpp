@@ -1,0 +1,59 @@
+// Adapts CpuSolver<Real> to the Solver interface.
+#include <omp.h>
+
+#include <cstdio>
+
+#include "engine/solver.h"
+
+namespace phyxel {
+namespace {
+
+template <class Real>
+class CpuBackend final : public Solver {
+ public:
+  CpuBackend(const PhyxelSet& set, const Vec3& gravity, int threads)
+      : threads_(threads > 0 ? threads : omp_get_max_threads()) {
+    omp_set_num_threads(threads_);
+    solver_ = std::make_unique<CpuSolver<Real>>(set, gravity);
+    solver_->set_threads(threads_);
+  }
+  std::string device() const override {
+    char text[96];
+    std::snprintf(text, sizeof text, "cpu (%s, %d thread%s)",
+                  sizeof(Real) == 8 ? "double" : "float", threads_, threads_ == 1 ? "" : "s");
+    return text;
+  }
+  void advance(int64_t substeps, double dt) override {
+    for (int64_t s = 0; s < substeps; ++s) solver_->step(Real(dt));
+  }
+  Energies energies() override { return solver_->energies(); }
+  long first_non_finite() override { return solver_->first_non_finite(); }
+  PointState read_state(bool with_stress) override {
+    PointState s;
+    const size_t n = solver_->size();
+    s.displacement.resize(n);
+    s.velocity.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      s.displacement[i] = solver_->displacement()[i].template cast<double>();
+      s.velocity[i] = solver_->velocity()[i].template cast<double>();
+    }
+    if (with_stress) s.von_mises = solver_->von_mises_stress();
+    return s;
+  }
+  size_t regularised_count() const override { return solver_->regularised_count(); }
+  const NeighbourLists& neighbours() const override { return solver_->neighbours(); }
+
+ private:
+  int threads_;
+  std::unique_ptr<CpuSolver<Real>> solver_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_cpu_solver(const PhyxelSet& set, const Vec3& gravity, int threads,
+                                        bool single_precision) {
+  if (single_precision) return std::make_unique<CpuBackend<float>>(set, gravity, threads);
+  return std::make_unique<CpuBackend<double>>(set, gravity, threads);
+}
+
+}  // namespace phyxel

@@ -1,0 +1,184 @@
+#include "engine/cpu_solver.h"
+
+#include <omp.h>
+
+#include <cmath>
+
+#include "engine/kernel.h"
+
+namespace phyxel {
+
+template <class Real>
+CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
+    : flags_(set.flags), nbr_(find_rest_neighbours(set)) {
+  const size_t n = set.size();
+  rest_.resize(n);
+  mass_.resize(n);
+  volume_.resize(n);
+  damping_.resize(n);
+  kappa_.resize(n);
+  params_.resize(n);
+  a_inv_.resize(n);
+  a_residual_.resize(n);
+  regularised_.assign(n, 0);
+  external_.resize(n);
+  w_.resize(nbr_.index.size());
+  for (size_t i = 0; i < n; ++i) {
+    rest_[i] = set.rest[i].cast<Real>();
+    const Material& mat = set.materials[set.material[i]];
+    mass_[i] = Real(set.mass[i]);
+    volume_[i] = Real(set.volume[i]);
+    damping_[i] = Real(mat.damping);
+    const double kv = volume_stiffness(mat);
+    params_[i] = {Real(lame_lambda(mat) - kv), Real(lame_mu(mat)), Real(kv)};
+    external_[i] = (set.mass[i] * gravity + set.external_force[i]).cast<Real>();
+  }
+  // Moment matrices, their regularised inverses and the pair weights (in double).
+  size_t regularised = 0;
+#pragma omp parallel for schedule(static) reduction(+ : regularised)
+  for (size_t i = 0; i < n; ++i) {
+    const double h = set.objects[set.object[i]].support_radius;
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+      const Vec3 x = set.rest[nbr_.index[k]] - set.rest[i];
+      const double w = poly6(x.squaredNorm(), h);
+      w_[k] = Real(w);
+      a += w * x * x.transpose();
+    }
+    const MomentInverse inv = regularised_inverse(a);
+    a_inv_[i] = inv.inverse.cast<Real>();
+    a_residual_[i] = inv.residual.cast<Real>();
+    regularised_[i] = inv.regularised;
+    regularised += inv.regularised ? 1 : 0;
+    // Hourglass stiffness: gamma mu v_i / (tr A_i / 3), so that the penalty energy of a
+    // gradient error dG is about gamma/2 mu v_i |dG|^2, comparable to the elastic energy.
+    const Material& mat = set.materials[set.material[i]];
+    const double tr = a.trace() / 3;
+    kappa_[i] = tr > 0 ? Real(mat.hourglass * lame_mu(mat) * set.volume[i] / tr) : Real(0);
+  }
+  regularised_count_ = regularised;
+  u_.assign(n, V3::Zero());
+  v_.resize(n);
+  for (size_t i = 0; i < n; ++i)
+    v_[i] = (flags_[i] & kFixed) ? V3::Zero() : V3(set.initial_velocity[i].cast<Real>());
+  f_.assign(n, V3::Zero());
+  d_.assign(n, M3::Zero());
+  compute_forces();
+}
+
+template <class Real>
+typename CpuSolver<Real>::M3 CpuSolver<Real>::moment_sum(size_t i) const {
+  M3 m = M3::Zero();
+  for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+    const uint32_t j = nbr_.index[k];
+    m += w_[k] * (u_[j] - u_[i]) * (rest_[j] - rest_[i]).transpose();
+  }
+  return m;
+}
+
+template <class Real>
+typename CpuSolver<Real>::M3 CpuSolver<Real>::gradient(size_t i) const {
+  return moment_sum(i) * a_inv_[i];
+}
+
+template <class Real>
+void CpuSolver<Real>::compute_forces() {
+  const long n = static_cast<long>(size());
+  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+#pragma omp parallel num_threads(threads)
+  {
+#pragma omp for schedule(static)
+    for (long i = 0; i < n; ++i) {
+      const M3 m = moment_sum(i);
+      const M3 g = m * a_inv_[i];
+      const M3 f = M3::Identity() + g;
+      const M3 p = first_piola<Real>(f, params_[i], nullptr);
+      M3 d = volume_[i] * p * a_inv_[i] - kappa_[i] * g;
+      if (regularised_[i]) d += kappa_[i] * m * a_residual_[i];
+      d_[i] = d;
+    }
+#pragma omp for schedule(static)
+    for (long k = 0; k < n; ++k) {
+      V3 force = external_[k];
+      for (uint32_t s = nbr_.offset[k]; s < nbr_.offset[k + 1]; ++s) {
+        const uint32_t j = nbr_.index[s];
+        const V3 x = rest_[j] - rest_[k];
+        force += w_[s] * ((d_[k] + d_[j]) * x + (kappa_[k] + kappa_[j]) * (u_[j] - u_[k]));
+      }
+      f_[k] = force;
+    }
+  }
+}
+
+template <class Real>
+void CpuSolver<Real>::step(Real dt) {
+  const long n = static_cast<long>(size());
+  const Real half = dt / 2;
+  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long i = 0; i < n; ++i) {
+    if (flags_[i] & (kFixed | kRemoved)) continue;
+    v_[i] = (v_[i] + half / mass_[i] * f_[i]) / (1 + damping_[i] * half);
+    u_[i] += dt * v_[i];
+  }
+  compute_forces();
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long i = 0; i < n; ++i) {
+    if (flags_[i] & (kFixed | kRemoved)) continue;
+    v_[i] = (v_[i] + half / mass_[i] * f_[i]) / (1 + damping_[i] * half);
+  }
+}
+
+template <class Real>
+double CpuSolver<Real>::internal_energy() const {
+  const long n = static_cast<long>(size());
+  double total = 0;
+#pragma omp parallel for schedule(static) reduction(+ : total)
+  for (long i = 0; i < n; ++i) {
+    const M3 g = gradient(i);
+    Real w_density = 0;
+    first_piola<Real>(M3::Identity() + g, params_[i], &w_density);
+    Real hourglass = 0;
+    for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+      const uint32_t j = nbr_.index[k];
+      const V3 e = g * (rest_[j] - rest_[i]) - (u_[j] - u_[i]);
+      hourglass += w_[k] * e.squaredNorm();
+    }
+    total += double(volume_[i] * w_density) + 0.5 * double(kappa_[i] * hourglass);
+  }
+  return total;
+}
+
+template <class Real>
+Energies CpuSolver<Real>::energies() const {
+  Energies e;
+  e.strain = internal_energy();
+  for (size_t i = 0; i < size(); ++i) {
+    e.kinetic += 0.5 * double(mass_[i]) * double(v_[i].squaredNorm());
+    e.potential -= double(external_[i].dot(u_[i]));
+  }
+  return e;
+}
+
+template <class Real>
+std::vector<double> CpuSolver<Real>::von_mises_stress() const {
+  std::vector<double> out(size());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < static_cast<long>(size()); ++i) {
+    const M3 f = M3::Identity() + gradient(i);
+    out[i] = double(von_mises<Real>(f, first_piola<Real>(f, params_[i], nullptr)));
+  }
+  return out;
+}
+
+template <class Real>
+long CpuSolver<Real>::first_non_finite() const {
+  for (size_t i = 0; i < size(); ++i)
+    if (!u_[i].allFinite() || !v_[i].allFinite()) return static_cast<long>(i);
+  return -1;
+}
+
+template class CpuSolver<double>;
+template class CpuSolver<float>;
+
+}  // namespace phyxel

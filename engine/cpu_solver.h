@@ -1,0 +1,87 @@
+// The CPU reference solver: meshless MLS elasticity (DESIGN.md section 3), templated on the
+// scalar type (double is the reference; float mirrors the GPU's precision).
+//
+// Per step, in two gather passes over the symmetric rest neighbour lists:
+//  1. per phyxel i: M_i = sum_j w_ij (u_j - u_i) x_ij^T, grad u_i = M_i A_i^-1, F = I + grad u,
+//     P_i (St Venant-Kirchhoff + volume term), and
+//     D_i = v_i P_i A_i^-1 + kappa_i M_i R_i - kappa_i grad u_i
+//  2. per phyxel k: f_k = sum_j w_kj [ (D_k + D_j) x_kj + (kappa_k + kappa_j) (u_j - u_k) ]
+// which is exactly -dU/du_k of U = sum_i v_i W(F_i) + kappa_i/2 sum_j w_ij |e_ij|^2, with the
+// hourglass residual e_ij = grad u_i x_ij - (u_j - u_i) (docs/decisions.md derives it).
+// No float atomics, no scatter: results do not depend on the thread count.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "engine/mls_model.h"
+#include "engine/neighbours.h"
+#include "engine/phyxel_set.h"
+
+namespace phyxel {
+
+struct Energies {
+  double kinetic = 0;    // sum 1/2 m |v|^2
+  double strain = 0;     // elastic + volume + hourglass
+  double potential = 0;  // of gravity and constant loads: -sum (m g + f_ext) . u
+  double total() const { return kinetic + strain + potential; }
+};
+
+template <class Real>
+class CpuSolver {
+ public:
+  using V3 = Eigen::Matrix<Real, 3, 1>;
+  using M3 = Eigen::Matrix<Real, 3, 3>;
+
+  CpuSolver(const PhyxelSet& set, const Vec3& gravity);
+
+  size_t size() const { return u_.size(); }
+  void set_threads(int threads) { threads_ = threads; }
+
+  std::vector<V3>& displacement() { return u_; }
+  std::vector<V3>& velocity() { return v_; }
+  const std::vector<V3>& displacement() const { return u_; }
+  const std::vector<V3>& velocity() const { return v_; }
+  // Total force on each phyxel (internal + gravity + loads) for the current displacement.
+  const std::vector<V3>& force() const { return f_; }
+  const NeighbourLists& neighbours() const { return nbr_; }
+  size_t regularised_count() const { return regularised_count_; }
+
+  // Recomputes force() from the current displacement; call after changing u by hand.
+  void compute_forces();
+  // One velocity-Verlet (leapfrog) step of size dt with implicit mass-proportional damping.
+  void step(Real dt);
+
+  Energies energies() const;
+  // Elastic + volume + hourglass energy only, for finite-difference checks.
+  double internal_energy() const;
+  // Displacement gradient of phyxel i for the current displacement.
+  M3 gradient(size_t i) const;
+  // Von Mises equivalent of the Cauchy stress per phyxel.
+  std::vector<double> von_mises_stress() const;
+  // Index of the first phyxel with a non-finite displacement or velocity, or -1.
+  long first_non_finite() const;
+
+ private:
+  M3 moment_sum(size_t i) const;  // M_i
+
+  std::vector<uint32_t> flags_;
+  std::vector<V3> rest_;
+  std::vector<Real> mass_, volume_, damping_, kappa_;
+  std::vector<ElasticParams<Real>> params_;
+  std::vector<M3> a_inv_, a_residual_;
+  std::vector<uint8_t> regularised_;
+  std::vector<V3> external_;  // m g + loads
+  NeighbourLists nbr_;
+  std::vector<Real> w_;  // w_ij aligned with nbr_.index
+  size_t regularised_count_ = 0;
+  int threads_ = 0;
+
+  std::vector<V3> u_, v_, f_;
+  std::vector<M3> d_;  // pass-1 result
+};
+
+extern template class CpuSolver<double>;
+extern template class CpuSolver<float>;
+
+}  // namespace phyxel

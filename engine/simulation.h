@@ -1,0 +1,48 @@
+// The run loop shared by every solver: time-step plan (stable step, substeps), stepping,
+// rest detection, non-finite detection and output scheduling.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/solver.h"
+
+namespace phyxel {
+
+struct TimeStepPlan {
+  double dt_requested = 0;
+  double dt_stable = 0;  // courant * min over phyxels of spacing / c_p
+  double dt_used = 0;    // dt_requested / substeps
+  int64_t substeps = 1;  // per requested step
+  std::string reason;    // why substepping, empty when none
+};
+
+// The stable-step bound dt <= C s / c_p of DESIGN.md section 3 over every phyxel's material.
+TimeStepPlan plan_time_step(const Scene& scene, const PhyxelSet& set);
+
+struct RunOptions {
+  int64_t steps = 0;              // requested steps (scene's unless overridden)
+  std::filesystem::path out_dir;  // empty: write nothing
+  std::function<void(int64_t step, int64_t total)> progress;  // may be empty
+};
+
+struct RunResult {
+  TimeStepPlan plan;
+  int64_t steps_done = 0;
+  double wall_seconds = 0;
+  bool stopped_at_rest = false;
+  bool non_finite = false;
+  int64_t non_finite_step = -1;  // first check at which a non-finite value was seen
+  long non_finite_phyxel = -1;
+  Energies energies;
+  double max_displacement = 0;
+  std::vector<std::string> outputs;  // files written, relative to out_dir
+};
+
+RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                         const RunOptions& options);
+
+}  // namespace phyxel

@@ -1,0 +1,37 @@
+// What the run loop needs from a solver, CPU reference or GPU.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/cpu_solver.h"
+#include "engine/phyxel_set.h"
+
+namespace phyxel {
+
+// A copy of the per-phyxel state in double precision, for outputs and checks.
+struct PointState {
+  std::vector<Vec3> displacement;
+  std::vector<Vec3> velocity;
+  std::vector<double> von_mises;
+};
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual std::string device() const = 0;                 // e.g. "cpu (double, 2 threads)"
+  virtual void advance(int64_t substeps, double dt) = 0;  // substeps of size dt
+  virtual Energies energies() = 0;
+  virtual long first_non_finite() = 0;  // phyxel index or -1
+  virtual PointState read_state(bool with_stress) = 0;
+  virtual size_t regularised_count() const = 0;  // ill-conditioned moment matrices
+  virtual const NeighbourLists& neighbours() const = 0;
+};
+
+// The CPU reference solver behind the Solver interface. threads <= 0: all cores.
+std::unique_ptr<Solver> make_cpu_solver(const PhyxelSet& set, const Vec3& gravity, int threads,
+                                        bool single_precision = false);
+
+}  // namespace phyxel

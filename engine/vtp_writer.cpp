@@ -1,0 +1,142 @@
+#include "engine/vtp_writer.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace phyxel {
+namespace {
+
+// One data array: its XML attributes and its values as raw bytes.
+struct Array {
+  std::string name;  // empty for Points
+  const char* type;
+  int components;
+  std::string bytes;
+};
+
+template <class T>
+void append_raw(std::string& bytes, const T& value) {
+  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+Array vec_array(const std::string& name, const PhyxelSet& set, auto&& value) {
+  Array a{name, "Float64", 3, {}};
+  a.bytes.reserve(set.size() * 24);
+  for (size_t i = 0; i < set.size(); ++i) {
+    const Vec3 v = value(i);
+    for (int c = 0; c < 3; ++c) append_raw(a.bytes, v[c]);
+  }
+  return a;
+}
+
+void write_ascii_values(std::ostream& out, const Array& a) {
+  const size_t width = std::strcmp(a.type, "UInt32") == 0 ? 4 : 8;
+  const size_t count = a.bytes.size() / width;
+  for (size_t k = 0; k < count; ++k) {
+    const char* p = a.bytes.data() + k * width;
+    if (std::strcmp(a.type, "Float64") == 0) {
+      double d;
+      std::memcpy(&d, p, 8);
+      out << d;
+    } else if (width == 8) {
+      int64_t v;
+      std::memcpy(&v, p, 8);
+      out << v;
+    } else {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      out << v;
+    }
+    out << ((k + 1) % (3 * static_cast<size_t>(a.components)) == 0 ? '\n' : ' ');
+  }
+}
+
+void write_array(std::ostream& out, const Array& a, bool binary, uint64_t& offset) {
+  out << "<DataArray type=\"" << a.type << "\"";
+  if (!a.name.empty()) out << " Name=\"" << a.name << "\"";
+  out << " NumberOfComponents=\"" << a.components << "\"";
+  if (binary) {
+    out << " format=\"appended\" offset=\"" << offset << "\"/>\n";
+    offset += sizeof(uint64_t) + a.bytes.size();
+    return;
+  }
+  out << " format=\"ascii\">\n";
+  write_ascii_values(out, a);
+  out << "\n</DataArray>\n";
+}
+
+}  // namespace
+
+void write_points_vtp(const std::filesystem::path& file, const PhyxelSet& set,
+                      const PointState& state, bool binary) {
+  const size_t n = set.size();
+  Array points =
+      vec_array("", set, [&](size_t i) { return Vec3(set.rest[i] + state.displacement[i]); });
+  std::vector<Array> data;
+  data.push_back(vec_array("rest_position", set, [&](size_t i) { return set.rest[i]; }));
+  data.push_back(vec_array("displacement", set, [&](size_t i) { return state.displacement[i]; }));
+  data.push_back(vec_array("velocity", set, [&](size_t i) { return state.velocity[i]; }));
+  Array vm{"von_mises", "Float64", 1, {}};
+  for (size_t i = 0; i < n; ++i)
+    append_raw(vm.bytes, state.von_mises.empty() ? 0.0 : state.von_mises[i]);
+  data.push_back(std::move(vm));
+  Array flags{"flags", "UInt32", 1, {}};
+  for (size_t i = 0; i < n; ++i) append_raw(flags.bytes, set.flags[i]);
+  data.push_back(std::move(flags));
+  Array connectivity{"connectivity", "Int64", 1, {}}, offsets{"offsets", "Int64", 1, {}};
+  for (size_t i = 0; i < n; ++i) {
+    append_raw(connectivity.bytes, static_cast<int64_t>(i));
+    append_raw(offsets.bytes, static_cast<int64_t>(i + 1));
+  }
+
+  std::ostringstream xml;
+  xml.precision(17);
+  xml << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n<PolyData>\n<Piece NumberOfPoints=\""
+      << n << "\" NumberOfVerts=\"" << n
+      << "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+  uint64_t offset = 0;
+  xml << "<Points>\n";
+  write_array(xml, points, binary, offset);
+  xml << "</Points>\n<PointData Vectors=\"displacement\" Scalars=\"von_mises\">\n";
+  for (const Array& a : data) write_array(xml, a, binary, offset);
+  xml << "</PointData>\n<Verts>\n";
+  write_array(xml, connectivity, binary, offset);
+  write_array(xml, offsets, binary, offset);
+  xml << "</Verts>\n</Piece>\n</PolyData>\n";
+  if (binary) {
+    xml << "<AppendedData encoding=\"raw\">\n_";
+    for (const Array* a :
+         {&points, &data[0], &data[1], &data[2], &data[3], &data[4], &connectivity, &offsets}) {
+      const uint64_t size = a->bytes.size();
+      xml.write(reinterpret_cast<const char*>(&size), sizeof size);
+      xml.write(a->bytes.data(), static_cast<std::streamsize>(a->bytes.size()));
+    }
+    xml << "\n</AppendedData>\n";
+  }
+  xml << "</VTKFile>\n";
+
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    const std::string text = xml.str();
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!out) {
+      throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno) +
+                               "; check that the output folder is writable and has space");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec)
+    throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " +
+                             ec.message());
+}
+
+}  // namespace phyxel
