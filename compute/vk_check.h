@@ -22,6 +22,16 @@ class VulkanError : public std::runtime_error {
   VkResult result_;
 };
 
+// A Vulkan structure with every member zero but sType (and pNext): avoids listing all members
+// (-Wmissing-field-initializers) without leaving any uninitialized.
+template <class T>
+T vk_struct(VkStructureType type, void* next = nullptr) {
+  T s{};
+  s.sType = type;
+  s.pNext = next;
+  return s;
+}
+
 // "VK_ERROR_DEVICE_LOST", ...; "VkResult(-12345)" for codes this build does not know.
 std::string vk_result_name(VkResult result);
 

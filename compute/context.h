@@ -1,0 +1,95 @@
+// The Vulkan context: one instance, one chosen physical device, one logical device with one
+// compute queue, its device function table, and the memory bookkeeping (allocation counter,
+// check_fits). Everything else (buffers, pipelines, recorders) takes a Context&.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "compute/instance.h"
+
+namespace phyxel::gpu {
+
+// The PHYXEL_VALIDATION CMake option: whether a Context validates unless told otherwise.
+bool validation_default();
+
+struct ContextOptions {
+  // "gpu", "gpu:N" or part of a device name (see select_device in device_info.h).
+  std::string device = "gpu";
+  bool validation = validation_default();
+  // Library to open; empty: $PHYXEL_VULKAN_LOADER, else libvulkan.so.1.
+  std::string loader_path;
+  // Use VK_KHR_push_descriptor where the device has it; false forces the descriptor-set path
+  // (one pool per Recorder) that devices without the extension take.
+  bool push_descriptors = true;
+  // How long Recorder::submit_and_wait waits for the GPU before giving up with an error.
+  uint32_t fence_timeout_ms = 120000;
+};
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Device-level entry points: ctx.fn().vkCmdDispatch(...).
+  const DeviceFunctions& fn() const { return fn_; }
+  VkDevice device() const { return device_; }
+  VkPhysicalDevice physical_device() const { return physical_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queue_family() const { return info_.compute_queue_family; }
+  const DeviceInfo& info() const { return info_; }
+  const Instance& instance() const { return *instance_; }
+  const ContextOptions& options() const { return options_; }
+
+  // Support actually enabled on this device.
+  bool push_descriptors() const { return push_descriptors_; }
+  bool memory_budget() const { return memory_budget_; }
+  bool float64() const { return info_.float64; }
+  bool int64() const { return info_.int64; }
+  bool timestamps() const { return info_.timestamps(); }
+
+  // Null unless validation is on; see ValidationLog.
+  std::shared_ptr<const ValidationLog> validation_log() const {
+    return instance_->validation_log();
+  }
+
+  // Memory.
+  const VkPhysicalDeviceMemoryProperties& memory_properties() const { return memory_; }
+  uint32_t device_local_heap() const { return device_heap_; }
+  uint64_t allocated_bytes() const { return allocated_.load(); }  // live, all intents
+  void track_allocation(int64_t delta_bytes) { allocated_ += static_cast<uint64_t>(delta_bytes); }
+  // Bytes that can still be allocated from the device-local heap: budget minus usage with
+  // VK_EXT_memory_budget, else heap size minus what this context allocated.
+  uint64_t available_device_memory() const;
+  // Throws VulkanError (VK_ERROR_OUT_OF_DEVICE_MEMORY) naming the bytes needed and available
+  // when `bytes` more device memory does not fit. Call it before allocating a scene.
+  void check_fits(uint64_t bytes) const;
+
+  // Debug name for RenderDoc and validation messages (VK_EXT_debug_utils; no-op without).
+  void set_name(VkObjectType type, uint64_t handle, const std::string& name) const;
+
+ private:
+  void destroy();
+
+  ContextOptions options_;
+  std::unique_ptr<Instance> instance_;
+  DeviceInfo info_;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  DeviceFunctions fn_;
+  VkPhysicalDeviceMemoryProperties memory_{};
+  uint32_t device_heap_ = 0;
+  bool push_descriptors_ = false;
+  bool memory_budget_ = false;
+  std::atomic<uint64_t> allocated_{0};
+};
+
+// "1.5 MiB", "12.0 GiB".
+std::string format_bytes(uint64_t bytes);
+
+}  // namespace phyxel::gpu

@@ -1,0 +1,254 @@
+#include "compute/pipeline.h"
+
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace phyxel::gpu {
+namespace {
+
+constexpr uint32_t kSpirvMagic = 0x07230203;
+constexpr uint32_t kOpExecutionMode = 16;
+constexpr uint32_t kOpExecutionModeId = 331;
+constexpr uint32_t kModeLocalSize = 17;
+constexpr uint32_t kModeLocalSizeId = 38;
+
+}  // namespace
+
+std::array<uint32_t, 3> spirv_workgroup_size(const ShaderCode& code) {
+  const std::string name = code.name;
+  if (code.words == nullptr || code.bytes < 20 || code.bytes % 4 != 0 ||
+      code.words[0] != kSpirvMagic) {
+    throw VulkanError("shader '" + name + "' is not SPIR-V");
+  }
+  const size_t count = code.bytes / 4;
+  for (size_t i = 5; i < count;) {
+    const uint32_t words = code.words[i] >> 16;
+    const uint32_t opcode = code.words[i] & 0xffffu;
+    if (words == 0 || i + words > count) break;
+    if (opcode == kOpExecutionMode && words >= 6 && code.words[i + 2] == kModeLocalSize) {
+      return {code.words[i + 3], code.words[i + 4], code.words[i + 5]};
+    }
+    if ((opcode == kOpExecutionMode || opcode == kOpExecutionModeId) && words >= 3 &&
+        code.words[i + 2] == kModeLocalSizeId) {
+      break;
+    }
+    i += words;
+  }
+  throw VulkanError("shader '" + name +
+                    "' has no literal local_size (specialization-constant workgroup sizes are "
+                    "not supported by dispatch())");
+}
+
+std::array<uint32_t, 3> group_counts(uint32_t elements, uint32_t workgroup_size,
+                                     const std::array<uint32_t, 3>& max_groups) {
+  if (elements == 0) return {0, 0, 0};
+  const uint64_t groups = (uint64_t{elements} + workgroup_size - 1) / workgroup_size;
+  if (groups <= max_groups[0]) return {static_cast<uint32_t>(groups), 1, 1};
+  const uint64_t rows = (groups + max_groups[0] - 1) / max_groups[0];
+  if (rows > max_groups[1]) {
+    throw VulkanError("a dispatch of " + std::to_string(elements) +
+                      " invocations exceeds the device's workgroup-count limits");
+  }
+  return {max_groups[0], static_cast<uint32_t>(rows), 1};
+}
+
+Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
+                   uint32_t push_constant_size)
+    : ctx_(&ctx), bindings_(bindings), push_size_(push_constant_size), name_(code.name) {
+  const DeviceInfo& info = ctx.info();
+  workgroup_ = spirv_workgroup_size(code);
+  const uint64_t invocations = uint64_t{workgroup_[0]} * workgroup_[1] * workgroup_[2];
+  if (invocations > info.max_workgroup_invocations || workgroup_[0] > info.max_workgroup_size[0] ||
+      workgroup_[1] > info.max_workgroup_size[1] || workgroup_[2] > info.max_workgroup_size[2]) {
+    throw VulkanError("shader '" + name_ + "': workgroup of " + std::to_string(invocations) +
+                      " invocations exceeds the limits of " + info.name);
+  }
+  if (push_constant_size % 4 != 0 || push_constant_size > info.max_push_constants_size) {
+    throw VulkanError("shader '" + name_ + "': " + std::to_string(push_constant_size) +
+                      " bytes of push constants (a multiple of 4, at most " +
+                      std::to_string(info.max_push_constants_size) + " on " + info.name + ")");
+  }
+  if (ctx.push_descriptors() && bindings > info.max_push_descriptors) {
+    throw VulkanError("shader '" + name_ + "': " + std::to_string(bindings) +
+                      " bindings exceed maxPushDescriptors (" +
+                      std::to_string(info.max_push_descriptors) + ")");
+  }
+  const DeviceFunctions& fn = ctx.fn();
+  VkShaderModule module = VK_NULL_HANDLE;
+  try {
+    std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
+    for (uint32_t i = 0; i < bindings; ++i) {
+      slots[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    }
+    auto set = vk_struct<VkDescriptorSetLayoutCreateInfo>(
+        VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+    if (ctx.push_descriptors()) {
+      set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    }
+    set.bindingCount = bindings;
+    set.pBindings = slots.data();
+    VK_CHECK(fn.vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &set_layout_));
+
+    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_size};
+    auto layout =
+        vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+    layout.setLayoutCount = 1;
+    layout.pSetLayouts = &set_layout_;
+    layout.pushConstantRangeCount = push_constant_size > 0 ? 1 : 0;
+    layout.pPushConstantRanges = &range;
+    VK_CHECK(fn.vkCreatePipelineLayout(ctx.device(), &layout, nullptr, &layout_));
+
+    auto shader = vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+    shader.codeSize = code.bytes;
+    shader.pCode = code.words;
+    VK_CHECK(fn.vkCreateShaderModule(ctx.device(), &shader, nullptr, &module));
+
+    auto create =
+        vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+    create.stage = vk_struct<VkPipelineShaderStageCreateInfo>(
+        VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+    create.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    create.stage.module = module;
+    create.stage.pName = "main";
+    create.layout = layout_;
+    VK_CHECK(
+        fn.vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &create, nullptr, &pipeline_));
+    fn.vkDestroyShaderModule(ctx.device(), module, nullptr);
+    ctx.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline_), name_);
+    ctx.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, reinterpret_cast<uint64_t>(layout_), name_);
+  } catch (...) {
+    if (module != VK_NULL_HANDLE) fn.vkDestroyShaderModule(ctx.device(), module, nullptr);
+    reset();
+    throw;
+  }
+}
+
+Pipeline::~Pipeline() {
+  reset();
+}
+
+Pipeline::Pipeline(Pipeline&& other) noexcept {
+  *this = std::move(other);
+}
+
+Pipeline& Pipeline::operator=(Pipeline&& other) noexcept {
+  if (this != &other) {
+    reset();
+    ctx_ = std::exchange(other.ctx_, nullptr);
+    pipeline_ = std::exchange(other.pipeline_, VK_NULL_HANDLE);
+    layout_ = std::exchange(other.layout_, VK_NULL_HANDLE);
+    set_layout_ = std::exchange(other.set_layout_, VK_NULL_HANDLE);
+    bindings_ = other.bindings_;
+    push_size_ = other.push_size_;
+    workgroup_ = other.workgroup_;
+    name_ = std::move(other.name_);
+  }
+  return *this;
+}
+
+void Pipeline::reset() {
+  if (ctx_ == nullptr) return;
+  const DeviceFunctions& fn = ctx_->fn();
+  if (pipeline_ != VK_NULL_HANDLE) fn.vkDestroyPipeline(ctx_->device(), pipeline_, nullptr);
+  if (layout_ != VK_NULL_HANDLE) fn.vkDestroyPipelineLayout(ctx_->device(), layout_, nullptr);
+  if (set_layout_ != VK_NULL_HANDLE) {
+    fn.vkDestroyDescriptorSetLayout(ctx_->device(), set_layout_, nullptr);
+  }
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  set_layout_ = VK_NULL_HANDLE;
+  ctx_ = nullptr;
+}
+
+namespace detail {
+
+void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, size_t push_size,
+                     std::initializer_list<BufferRef> bindings, uint32_t elements) {
+  const std::string& name = pipeline.name();
+  if (pipeline.handle() == VK_NULL_HANDLE) {
+    throw std::logic_error("dispatch of an empty Pipeline");
+  }
+  if (!rec.recording()) {
+    throw std::logic_error("dispatch of '" + name + "' into a submitted Recorder (wait() first)");
+  }
+  if (push_size != pipeline.push_constant_size()) {
+    throw std::logic_error("dispatch of '" + name + "': push constants of " +
+                           std::to_string(push_size) + " bytes, but the pipeline declares " +
+                           std::to_string(pipeline.push_constant_size()));
+  }
+  if (bindings.size() != pipeline.bindings()) {
+    throw std::logic_error("dispatch of '" + name + "': " + std::to_string(bindings.size()) +
+                           " buffers, but the pipeline declares " +
+                           std::to_string(pipeline.bindings()) + " bindings");
+  }
+  const std::array<uint32_t, 3>& wg = pipeline.workgroup_size();
+  if (wg[1] != 1 || wg[2] != 1) {
+    throw std::logic_error("dispatch of '" + name + "': dispatch() is for 1D workgroups");
+  }
+  Context& ctx = rec.context();
+  const DeviceInfo& info = ctx.info();
+  const std::array<uint32_t, 3> groups = group_counts(elements, wg[0], info.max_workgroup_count);
+
+  std::vector<VkDescriptorBufferInfo> infos;
+  infos.reserve(bindings.size());
+  for (const BufferRef& b : bindings) {
+    const std::string which = "dispatch of '" + name + "': binding " +
+                              std::to_string(infos.size()) + " ('" + b.buffer->name() + "')";
+    if (!*b.buffer) throw std::logic_error(which + " is an empty buffer");
+    const VkDeviceSize size = b.buffer->size();
+    const VkDeviceSize range =
+        b.range == VK_WHOLE_SIZE ? (size > b.offset ? size - b.offset : 0) : b.range;
+    if (b.offset > size || range > size - b.offset) {
+      throw std::logic_error(which + " runs past the end of the buffer");
+    }
+    if (b.offset % info.min_storage_buffer_offset_alignment != 0) {
+      throw std::logic_error(which + ": offset " + std::to_string(b.offset) +
+                             " is not a multiple of minStorageBufferOffsetAlignment (" +
+                             std::to_string(info.min_storage_buffer_offset_alignment) + ")");
+    }
+    if (range > info.max_storage_buffer_range) {
+      throw std::logic_error(
+          which + ": " + std::to_string(range) + " bytes exceed maxStorageBufferRange (" +
+          std::to_string(info.max_storage_buffer_range) + "); bind it in pieces");
+    }
+    infos.push_back({b.buffer->handle(), b.offset, b.range});
+  }
+  if (elements == 0) return;
+
+  const DeviceFunctions& fn = ctx.fn();
+  const VkCommandBuffer cmd = rec.cmd();
+  fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
+  if (!infos.empty()) {
+    std::vector<VkWriteDescriptorSet> writes(infos.size());
+    const VkDescriptorSet set = ctx.push_descriptors()
+                                    ? VK_NULL_HANDLE
+                                    : rec.allocate_descriptor_set(pipeline.set_layout());
+    for (uint32_t i = 0; i < writes.size(); ++i) {
+      writes[i] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+      writes[i].dstSet = set;
+      writes[i].dstBinding = i;
+      writes[i].descriptorCount = 1;
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[i].pBufferInfo = &infos[i];
+    }
+    const uint32_t n = static_cast<uint32_t>(writes.size());
+    if (ctx.push_descriptors()) {
+      fn.vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, n,
+                                   writes.data());
+    } else {
+      fn.vkUpdateDescriptorSets(ctx.device(), n, writes.data(), 0, nullptr);
+      fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set,
+                                 0, nullptr);
+    }
+  }
+  if (push_size > 0) {
+    fn.vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                          static_cast<uint32_t>(push_size), push);
+  }
+  fn.vkCmdDispatch(cmd, groups[0], groups[1], groups[2]);
+  rec.count_dispatch();
+}
+
+}  // namespace detail
+}  // namespace phyxel::gpu

@@ -1,0 +1,172 @@
+#include "compute/recorder.h"
+
+#include <cstdint>
+
+namespace phyxel::gpu {
+namespace {
+
+constexpr uint32_t kSetsPerPool = 256;
+constexpr uint32_t kBuffersPerPool = kSetsPerPool * 8;
+
+constexpr VkPipelineStageFlags kGpuStages =
+    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+
+}  // namespace
+
+Recorder::Recorder(Context& ctx, const std::string& name) : ctx_(&ctx), name_(name) {
+  const DeviceFunctions& fn = ctx.fn();
+  auto pool = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  pool.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+  pool.queueFamilyIndex = ctx.queue_family();
+  VK_CHECK(fn.vkCreateCommandPool(ctx.device(), &pool, nullptr, &pool_));
+  try {
+    auto alloc =
+        vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+    alloc.commandPool = pool_;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(fn.vkAllocateCommandBuffers(ctx.device(), &alloc, &cmd_));
+    auto fence = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+    VK_CHECK(fn.vkCreateFence(ctx.device(), &fence, nullptr, &fence_));
+    ctx.set_name(VK_OBJECT_TYPE_COMMAND_BUFFER, reinterpret_cast<uint64_t>(cmd_), name);
+    ctx.set_name(VK_OBJECT_TYPE_FENCE, reinterpret_cast<uint64_t>(fence_), name);
+    begin();
+  } catch (...) {
+    if (fence_ != VK_NULL_HANDLE) fn.vkDestroyFence(ctx.device(), fence_, nullptr);
+    fn.vkDestroyCommandPool(ctx.device(), pool_, nullptr);
+    throw;
+  }
+}
+
+Recorder::~Recorder() {
+  const DeviceFunctions& fn = ctx_->fn();
+  if (pending_) {
+    // Never free what the GPU may still use: if it does not finish in time (hung device),
+    // leak the pool rather than hang or free in-flight commands.
+    const uint64_t timeout_ns = uint64_t{ctx_->options().fence_timeout_ms} * 1000000u;
+    if (fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns) == VK_TIMEOUT) return;
+  }
+  for (VkDescriptorPool p : descriptor_pools_) {
+    fn.vkDestroyDescriptorPool(ctx_->device(), p, nullptr);
+  }
+  fn.vkDestroyFence(ctx_->device(), fence_, nullptr);
+  fn.vkDestroyCommandPool(ctx_->device(), pool_, nullptr);
+}
+
+void Recorder::begin() {
+  auto info = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VK_CHECK(ctx_->fn().vkBeginCommandBuffer(cmd_, &info));
+  recording_ = true;
+  dispatches_ = 0;
+}
+
+void Recorder::barrier() {
+  barrier(kGpuStages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kGpuStages,
+          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+              VK_ACCESS_TRANSFER_WRITE_BIT);
+}
+
+void Recorder::barrier(VkPipelineStageFlags src_stages, VkAccessFlags src_access,
+                       VkPipelineStageFlags dst_stages, VkAccessFlags dst_access) {
+  if (!recording_) throw VulkanError("Recorder '" + name_ + "': barrier() while not recording");
+  auto memory = vk_struct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  memory.srcAccessMask = src_access;
+  memory.dstAccessMask = dst_access;
+  ctx_->fn().vkCmdPipelineBarrier(cmd_, src_stages, dst_stages, 0, 1, &memory, 0, nullptr, 0,
+                                  nullptr);
+}
+
+void Recorder::copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
+                    VkDeviceSize src_offset, VkDeviceSize dst_offset) {
+  if (!recording_) throw VulkanError("Recorder '" + name_ + "': copy() while not recording");
+  if (bytes == VK_WHOLE_SIZE) bytes = src.size() > src_offset ? src.size() - src_offset : 0;
+  if (src_offset + bytes > src.size() || dst_offset + bytes > dst.size()) {
+    throw VulkanError("copy of " + std::to_string(bytes) + " bytes from '" + src.name() + "' to '" +
+                      dst.name() + "' runs past the end of a buffer");
+  }
+  if (bytes == 0) return;
+  VkBufferCopy region{src_offset, dst_offset, bytes};
+  ctx_->fn().vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &region);
+}
+
+void Recorder::fill(const Buffer& dst, uint32_t value, VkDeviceSize offset, VkDeviceSize bytes) {
+  if (!recording_) throw VulkanError("Recorder '" + name_ + "': fill() while not recording");
+  if (bytes == VK_WHOLE_SIZE) bytes = dst.size() > offset ? dst.size() - offset : 0;
+  if (offset % 4 != 0 || bytes % 4 != 0 || offset + bytes > dst.size()) {
+    throw VulkanError("fill of '" + dst.name() + "': offset " + std::to_string(offset) +
+                      " and size " + std::to_string(bytes) +
+                      " must be multiples of 4 inside the buffer");
+  }
+  if (bytes == 0) return;
+  ctx_->fn().vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);
+}
+
+void Recorder::submit() {
+  if (!recording_) throw VulkanError("Recorder '" + name_ + "': submit() while not recording");
+  const DeviceFunctions& fn = ctx_->fn();
+  // GPU writes → host reads of mapped Readback buffers after the fence wait.
+  barrier(kGpuStages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  recording_ = false;
+  VK_CHECK(fn.vkEndCommandBuffer(cmd_));
+  auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd_;
+  VK_CHECK(fn.vkQueueSubmit(ctx_->queue(), 1, &submit, fence_));
+  pending_ = true;
+}
+
+void Recorder::wait() {
+  if (!pending_) throw VulkanError("Recorder '" + name_ + "': wait() without submit()");
+  const DeviceFunctions& fn = ctx_->fn();
+  const uint64_t timeout_ns = uint64_t{ctx_->options().fence_timeout_ms} * 1000000u;
+  const VkResult waited = fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns);
+  if (waited == VK_TIMEOUT) {
+    throw VulkanError("the GPU did not finish '" + name_ + "' within " +
+                          std::to_string(ctx_->options().fence_timeout_ms) +
+                          " ms (hung or far too much work per submit); try a smaller scene, "
+                          "fewer steps per submit, or --device cpu",
+                      VK_TIMEOUT);
+  }
+  VK_CHECK(waited);
+  pending_ = false;
+  VK_CHECK(fn.vkResetFences(ctx_->device(), 1, &fence_));
+  VK_CHECK(fn.vkResetCommandPool(ctx_->device(), pool_, 0));
+  for (VkDescriptorPool p : descriptor_pools_) {
+    VK_CHECK(fn.vkResetDescriptorPool(ctx_->device(), p, 0));
+  }
+  descriptor_pool_in_use_ = 0;
+  begin();
+}
+
+VkDescriptorSet Recorder::allocate_descriptor_set(VkDescriptorSetLayout layout) {
+  const DeviceFunctions& fn = ctx_->fn();
+  while (true) {
+    if (descriptor_pool_in_use_ == descriptor_pools_.size()) {
+      VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBuffersPerPool};
+      auto info =
+          vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+      info.maxSets = kSetsPerPool;
+      info.poolSizeCount = 1;
+      info.pPoolSizes = &size;
+      VkDescriptorPool pool = VK_NULL_HANDLE;
+      VK_CHECK(fn.vkCreateDescriptorPool(ctx_->device(), &info, nullptr, &pool));
+      descriptor_pools_.push_back(pool);
+    }
+    auto alloc =
+        vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+    alloc.descriptorPool = descriptor_pools_[descriptor_pool_in_use_];
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &layout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    const VkResult result = fn.vkAllocateDescriptorSets(ctx_->device(), &alloc, &set);
+    if (result == VK_SUCCESS) return set;
+    if (result != VK_ERROR_OUT_OF_POOL_MEMORY && result != VK_ERROR_FRAGMENTED_POOL) {
+      VK_CHECK(result);
+    }
+    ++descriptor_pool_in_use_;  // this pool is full: move on to the next (or a new one)
+  }
+}
+
+}  // namespace phyxel::gpu

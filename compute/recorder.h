@@ -1,0 +1,78 @@
+// Command recording: many dispatches, copies and barriers go into one command buffer, which is
+// submitted once and waited for with a fence. A Recorder is recording from construction on and
+// again after each wait(), so it can be reused step after step.
+//
+//   Recorder rec(ctx, "step");
+//   dispatch(rec, forces, push, {x, f}, n);
+//   rec.barrier();                      // forces written → integrate reads them
+//   dispatch(rec, integrate, push2, {x, v, f}, n);
+//   rec.submit_and_wait();
+//
+// Passes are not separated automatically: put rec.barrier() between a pass that writes a
+// buffer and one that reads or writes it (the tests run with synchronization validation).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compute/buffer.h"
+
+namespace phyxel::gpu {
+
+class Recorder {
+ public:
+  explicit Recorder(Context& ctx, const std::string& name = "phyxel commands");
+  ~Recorder();
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  Context& context() const { return *ctx_; }
+  VkCommandBuffer cmd() const { return cmd_; }
+  uint32_t dispatch_count() const { return dispatches_; }  // since the last wait()
+  bool recording() const { return recording_; }            // false between submit() and wait()
+
+  // Compute-shader and transfer writes before it are visible to compute-shader and transfer
+  // reads and writes after it (one global memory barrier: the right tool for buffers).
+  void barrier();
+  void barrier(VkPipelineStageFlags src_stages, VkAccessFlags src_access,
+               VkPipelineStageFlags dst_stages, VkAccessFlags dst_access);
+
+  // vkCmdCopyBuffer; bytes = VK_WHOLE_SIZE copies all of src from src_offset.
+  void copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes = VK_WHOLE_SIZE,
+            VkDeviceSize src_offset = 0, VkDeviceSize dst_offset = 0);
+  // vkCmdFillBuffer with a 32-bit pattern (offset and size in multiples of 4).
+  void fill(const Buffer& dst, uint32_t value, VkDeviceSize offset = 0,
+            VkDeviceSize bytes = VK_WHOLE_SIZE);
+
+  // Ends the command buffer (with a barrier that makes GPU writes visible to the host) and
+  // submits it. Only one submission is in flight per Recorder.
+  void submit();
+  // Waits for the submission (ContextOptions::fence_timeout_ms); a timeout or a lost device
+  // throws VulkanError. Then recording starts again.
+  void wait();
+  void submit_and_wait() {
+    submit();
+    wait();
+  }
+
+  // For dispatch() on devices without push descriptors: a set from this recorder's pools,
+  // valid until the next wait().
+  VkDescriptorSet allocate_descriptor_set(VkDescriptorSetLayout layout);
+  void count_dispatch() { ++dispatches_; }
+
+ private:
+  void begin();
+
+  Context* ctx_;
+  std::string name_;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorPool> descriptor_pools_;
+  size_t descriptor_pool_in_use_ = 0;
+  uint32_t dispatches_ = 0;
+  bool recording_ = false;
+  bool pending_ = false;
+};
+
+}  // namespace phyxel::gpu

@@ -1,0 +1,65 @@
+// GPU timing: per-pass durations from timestamp queries, and the device's copy bandwidth
+// (the roofline that `phyxel bench` compares the solver passes with). Timing is for bench
+// and logs; a test never passes or fails on a time.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "compute/recorder.h"
+
+namespace phyxel::gpu {
+
+struct PassTime {
+  std::string name;
+  double ns = 0;
+};
+
+// Usage, per submit:
+//   timer.reset(rec);
+//   timer.begin(rec, "forces"); dispatch(...); timer.end(rec);
+//   rec.submit_and_wait();
+//   for (const PassTime& t : timer.results()) ...
+// Where the queue has no timestamps (timestampValidBits == 0) supported() is false, begin/end
+// record nothing and results() is empty.
+class PassTimer {
+ public:
+  explicit PassTimer(Context& ctx, uint32_t max_passes = 64);
+  ~PassTimer();
+  PassTimer(const PassTimer&) = delete;
+  PassTimer& operator=(const PassTimer&) = delete;
+
+  bool supported() const { return pool_ != VK_NULL_HANDLE; }
+  uint32_t max_passes() const { return max_passes_; }
+
+  void reset(Recorder& rec);  // forgets earlier passes; records the query reset
+  // Timestamps after all earlier commands finished / after the pass finished. Passes do not
+  // nest; more than max_passes() since reset() throw.
+  void begin(Recorder& rec, const std::string& name);
+  void end(Recorder& rec);
+  // After the recorder's wait(): durations of the passes since reset(), in order.
+  std::vector<PassTime> results() const;
+
+ private:
+  Context* ctx_;
+  VkQueryPool pool_ = VK_NULL_HANDLE;
+  uint32_t max_passes_;
+  std::vector<std::string> names_;
+  bool open_ = false;
+  bool was_reset_ = false;
+};
+
+struct CopyBandwidth {
+  uint64_t bytes = 0;       // size of the buffer copied
+  double seconds = 0;       // median duration of one vkCmdCopyBuffer of it
+  double gb_per_s = 0;      // memory traffic, read + written (2 * bytes / seconds / 1e9), as STREAM
+  bool timestamps = false;  // false: timed with the host clock around submit and wait
+};
+
+// Copies a `bytes` device buffer to another `repeats` times (after one warm-up) and reports
+// the median. Checks that 2 * bytes fit first.
+CopyBandwidth measure_copy_bandwidth(Context& ctx, uint64_t bytes = uint64_t{256} << 20,
+                                     int repeats = 5);
+
+}  // namespace phyxel::gpu
