@@ -1,0 +1,322 @@
+// Scene files: JSON text -> Scene, with strict validation. The format is documented in
+// docs/scene-format.md; every error names the file, the JSON path and what is allowed.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "engine/json_reader.h"
+#include "engine/mesh.h"
+#include "engine/scene.h"
+#include "engine/shape.h"
+
+namespace phyxel {
+namespace {
+
+namespace fs = std::filesystem;
+using json_reader::Limits;
+using json_reader::Node;
+
+constexpr std::string_view kShapeExpected =
+    "a shape object {\"type\": \"box\" | \"sphere\" | \"ellipsoid\" | \"mesh\", ...}";
+constexpr std::string_view kMaterialExpected =
+    "a material object {\"young\": Pa, \"poisson\": 1, \"density\": kg/m^3, ...}";
+// A phyxel at a convex lattice corner needs this many neighbours for a usable MLS fit.
+constexpr int kMinCornerNeighbours = 4;
+// Memory estimate per phyxel (state, neighbour lists, solver buffers), bytes.
+constexpr double kBytesPerPhyxel = 1024;
+
+void check_box(const Node& node, const Shape& s) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(s.max[axis] > s.min[axis])) {
+      const std::string i = "[" + std::to_string(axis) + "]";
+      node.find("max")->fail("max" + i + " = " + json_reader::format_number(s.max[axis]) +
+                                 " is not greater than min" + i + " = " +
+                                 json_reader::format_number(s.min[axis]),
+                             "allowed min < max on every axis (x, y, z)");
+    }
+  }
+}
+
+void load_mesh(const Node& path_node, Shape& s, const fs::path& folder) {
+  // Built by appending: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
+  std::string allowed =
+      "allowed a path to a closed triangle surface in OBJ format, relative to the scene file's "
+      "folder (";
+  allowed += folder.empty() ? std::string("the working directory") : folder.string();
+  allowed += ")";
+  std::error_code ec;
+  if (!fs::is_regular_file(s.path, ec)) {
+    path_node.fail("mesh file \"" + s.path.string() + "\" does not exist", allowed);
+  }
+  try {
+    s.mesh = std::make_shared<const TriangleMesh>(load_obj_mesh(s.path, s.scale));
+  } catch (const std::exception& e) {
+    path_node.fail("cannot use mesh file \"" + s.path.string() + "\": " + e.what(), allowed);
+  }
+}
+
+Shape read_shape(const Node& node, const fs::path& folder) {
+  node.expect_object(kShapeExpected,
+                     {"type", "min", "max", "center", "radius", "radii", "path", "scale"});
+  const std::string type = node.at("type", "\"box\", \"sphere\", \"ellipsoid\" or \"mesh\"")
+                               .choice({"box", "sphere", "ellipsoid", "mesh"});
+  Shape s;
+  if (type == "box") {
+    node.expect_object("a box", {"type", "min", "max"});
+    s.type = Shape::Type::Box;
+    s.min = node.vec3("min", Limits::any(), "m");
+    s.max = node.vec3("max", Limits::any(), "m");
+    check_box(node, s);
+  } else if (type == "sphere") {
+    node.expect_object("a sphere", {"type", "center", "radius"});
+    s.type = Shape::Type::Sphere;
+    s.center = node.vec3("center", Limits::any(), "m");
+    s.radius = node.number("radius", Limits::above(0), "m");
+  } else if (type == "ellipsoid") {
+    node.expect_object("an ellipsoid", {"type", "center", "radii"});
+    s.type = Shape::Type::Ellipsoid;
+    s.center = node.vec3("center", Limits::any(), "m");
+    s.radii = node.vec3("radii", Limits::above(0), "m");
+  } else {
+    node.expect_object("a mesh", {"type", "path", "scale"});
+    s.type = Shape::Type::Mesh;
+    const Node path_node = node.at("path", "the OBJ file, relative to the scene file's folder");
+    s.path = folder / path_node.text();
+    s.scale = node.number_or("scale", 1.0, Limits::above(0), "");
+    load_mesh(path_node, s, folder);
+  }
+  return s;
+}
+
+// Inclusions start from the host's material: damping, hourglass and volume_stiffness default
+// to the host's values; young, poisson and density are always required.
+Material read_material(const Node& node, const Material& defaults) {
+  node.expect_object(kMaterialExpected,
+                     {"young", "poisson", "density", "damping", "volume_stiffness", "hourglass"});
+  Material m = defaults;
+  m.young = node.number("young", Limits::above(0), "Pa");
+  m.poisson = node.number("poisson", Limits::open(-1, 0.5), "");
+  m.density = node.number("density", Limits::above(0), "kg/m^3");
+  m.damping = node.number_or("damping", m.damping, Limits::at_least(0), "1/s");
+  m.hourglass = node.number_or("hourglass", m.hourglass, Limits::at_least(0), "");
+  if (const auto kv = node.find("volume_stiffness")) {
+    m.volume_stiffness = kv->number(Limits::at_least(0), "Pa");
+  }
+  return m;
+}
+
+// Fails unless a phyxel at a convex lattice corner (offsets k >= 0 componentwise) has at least
+// kMinCornerNeighbours neighbours with |k| * spacing < support_radius.
+void check_support_radius(const Node& node, const ObjectDesc& o) {
+  std::vector<double> corner, interior;  // |k| of lattice offsets, in units of the spacing
+  for (int i = -2; i <= 2; ++i) {
+    for (int j = -2; j <= 2; ++j) {
+      for (int k = -2; k <= 2; ++k) {
+        if (i == 0 && j == 0 && k == 0) continue;
+        const double norm = std::sqrt(double(i * i + j * j + k * k));
+        interior.push_back(norm);
+        if (i >= 0 && j >= 0 && k >= 0) corner.push_back(norm);
+      }
+    }
+  }
+  std::sort(corner.begin(), corner.end());
+  const auto within = [&](const std::vector<double>& norms) {
+    return std::count_if(norms.begin(), norms.end(),
+                         [&](double n) { return n * o.spacing < o.support_radius; });
+  };
+  const auto corner_count = within(corner);
+  if (corner_count >= kMinCornerNeighbours) return;
+  const double factor = corner[kMinCornerNeighbours - 1];  // sqrt(2)
+  const Node h = *node.find("support_radius");
+  h.fail(json_reader::format_number(o.support_radius) + " gives a phyxel at a lattice corner " +
+             std::to_string(corner_count) + " neighbours and an interior phyxel " +
+             std::to_string(within(interior)) + ", too few for a stable MLS fit",
+         "allowed support_radius > " + json_reader::format_approx(factor * o.spacing) +
+             " (sqrt(2) * spacing, at least " + std::to_string(kMinCornerNeighbours) +
+             " neighbours at a corner); the default 2 * spacing = " +
+             json_reader::format_approx(2 * o.spacing) + " is recommended");
+}
+
+template <typename T, typename Read>
+std::vector<T> read_list(const Node& object, std::string_view key, std::string_view expected,
+                         Read read) {
+  std::vector<T> out;
+  if (const auto list = object.find(key)) {
+    for (const Node& element : list->elements(expected)) out.push_back(read(element));
+  }
+  return out;
+}
+
+ObjectDesc read_object(const Node& node, const fs::path& folder) {
+  node.expect_object("an object description",
+                     {"name", "shape", "spacing", "support_radius", "material", "inclusions",
+                      "fixed", "loads", "initial_velocity"});
+  ObjectDesc o;
+  o.name = node.at("name", "a non-empty string").text();
+  o.shape = read_shape(node.at("shape", kShapeExpected), folder);
+  o.spacing = node.number("spacing", Limits::above(0), "m");
+  o.support_radius = node.number_or("support_radius", 2 * o.spacing, Limits::above(0), "m");
+  check_support_radius(node, o);
+  o.material = read_material(node.at("material", kMaterialExpected), Material{});
+
+  std::map<std::string, std::string> inclusion_paths;  // name -> path, for duplicates
+  o.inclusions =
+      read_list<Inclusion>(node, "inclusions", "an array of inclusion objects", [&](const Node& n) {
+        n.expect_object("an inclusion object", {"name", "shape", "material"});
+        Inclusion inc;
+        const auto name = n.find("name");
+        inc.name = name ? name->text() : "inclusion" + std::to_string(inclusion_paths.size());
+        const std::string at = name ? name->path() : n.path();
+        if (const auto [it, fresh] = inclusion_paths.emplace(inc.name, at); !fresh) {
+          json_reader::fail(
+              n.file(), at,
+              "duplicate inclusion name \"" + inc.name + "\" (also " + it->second + ")",
+              "allowed a name that no other inclusion of this object uses");
+        }
+        inc.shape = read_shape(n.at("shape", kShapeExpected), folder);
+        inc.material = read_material(n.at("material", kMaterialExpected), o.material);
+        return inc;
+      });
+  o.fixed = read_list<Shape>(node, "fixed", "an array of shape objects",
+                             [&](const Node& n) { return read_shape(n, folder); });
+  o.loads = read_list<Load>(node, "loads", "an array of load objects", [&](const Node& n) {
+    n.expect_object("a load object {\"region\": shape, \"force\": [x, y, z]}", {"region", "force"});
+    Load load;
+    load.region = read_shape(n.at("region", kShapeExpected), folder);
+    load.force = n.vec3("force", Limits::any(), "N");
+    return load;
+  });
+  o.initial_velocity = node.vec3_or("initial_velocity", Vec3::Zero(), Limits::any(), "m/s");
+  return o;
+}
+
+SimulationSettings read_simulation(const Node& node) {
+  node.expect_object("a simulation object {\"dt\": s, \"steps\": n, ...}",
+                     {"dt", "steps", "gravity", "until_rest", "courant"});
+  SimulationSettings s;
+  s.dt = node.number("dt", Limits::above(0), "s");
+  s.steps = node.integer("steps", Limits::at_least(0));
+  s.gravity = node.vec3_or("gravity", Vec3::Zero(), Limits::any(), "m/s^2");
+  if (const auto rest = node.find("until_rest")) {
+    rest->expect_object("an until_rest object {\"kinetic_energy_below\": J, \"for_steps\": n}",
+                        {"kinetic_energy_below", "for_steps"});
+    s.until_rest.enabled = true;
+    s.until_rest.kinetic_energy_below = rest->number("kinetic_energy_below", Limits::above(0), "J");
+    s.until_rest.for_steps = rest->integer_or("for_steps", 1000, Limits::at_least(1));
+  }
+  s.courant = node.number_or("courant", 0.5, Limits::above_up_to(0, 1), "");
+  return s;
+}
+
+OutputSettings read_output(const Node& node) {
+  node.expect_object("an output object {\"every\": n, \"format\": \"ascii\" | \"binary\"}",
+                     {"every", "format"});
+  OutputSettings out;
+  out.every = node.integer_or("every", 0, Limits::at_least(0));
+  if (const auto format = node.find("format"))
+    out.binary = format->choice({"ascii", "binary"}) == "binary";
+  return out;
+}
+
+double bounds_volume(const Shape& s) {
+  const Eigen::AlignedBox3d box = shape_bounds(s);
+  return box.isEmpty() ? 0.0 : box.volume();
+}
+
+// Estimates the phyxel count (bounding-box volume / spacing^3) of every object and fails,
+// blaming the largest object's spacing, when the scene would not fit in physical memory.
+void check_memory(const std::string& file, const std::vector<ObjectDesc>& objects) {
+  const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+  std::vector<double> phyxels;
+  for (const ObjectDesc& o : objects) {
+    phyxels.push_back(bounds_volume(o.shape) / (o.spacing * o.spacing * o.spacing));
+  }
+  double total = 0;
+  for (double n : phyxels) total += n;
+  if (!(total * kBytesPerPhyxel > memory)) return;
+  const size_t i = std::max_element(phyxels.begin(), phyxels.end()) - phyxels.begin();
+  const double others = (total - phyxels[i]) * kBytesPerPhyxel;
+  std::string allowed = "a larger spacing is needed";
+  if (others < memory) {
+    const double needed =
+        std::cbrt(bounds_volume(objects[i].shape) * kBytesPerPhyxel / (memory - others));
+    allowed += ": spacing > " + json_reader::format_approx(needed) + " for this object";
+  } else {
+    allowed += " here and in the other objects";
+  }
+  using json_reader::format_approx;
+  json_reader::fail(
+      file, "objects[" + std::to_string(i) + "].spacing",
+      json_reader::format_number(objects[i].spacing) + " gives about " + format_approx(phyxels[i]) +
+          " phyxels (the scene about " + format_approx(total) + " phyxels, " +
+          format_approx(total * kBytesPerPhyxel) + " bytes at " + format_approx(kBytesPerPhyxel) +
+          " bytes each), more than this machine's memory of " + format_approx(memory) + " bytes",
+      allowed);
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const fs::path& file) {
+  const std::string name = file.string();
+  const nlohmann::json doc = json_reader::parse_document(json_text, name);
+  const Node root(doc, "", name);
+  root.expect_object(
+      "a scene object {\"simulation\": {...}, \"objects\": [...], \"output\": {...}}",
+      {"simulation", "objects", "output"});
+  Scene scene;
+  scene.file = file;
+  scene.simulation =
+      read_simulation(root.at("simulation", "a simulation object with dt and steps"));
+
+  const Node objects = root.at("objects", "an array of one or more objects");
+  const std::vector<Node> list = objects.elements("an array of one or more objects");
+  if (list.empty()) objects.fail("empty array", "allowed an array of one or more objects");
+  std::map<std::string, std::string> names;  // name -> path of its first use
+  for (const Node& node : list) {
+    scene.objects.push_back(read_object(node, file.parent_path()));
+    const std::string path = node.path() + ".name";
+    if (const auto [it, fresh] = names.emplace(scene.objects.back().name, path); !fresh) {
+      json_reader::fail(name, path,
+                        "duplicate object name \"" + it->first + "\" (also " + it->second + ")",
+                        "allowed a name that no other object uses");
+    }
+  }
+  check_memory(name, scene.objects);
+
+  if (const auto output = root.find("output")) scene.output = read_output(*output);
+  return scene;
+}
+
+Scene load_scene(const fs::path& file) {
+  const std::string name = file.string();
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    throw SceneError(name +
+                     ": cannot open the scene file (no such file); check the path (a "
+                     "relative path is resolved against the working directory " +
+                     fs::current_path(ec).string() + ")");
+  }
+  if (fs::is_directory(file, ec)) {
+    throw SceneError(name + ": is a directory, not a scene file; check the path");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    throw SceneError(name + ": cannot open the scene file (" + std::strerror(errno) +
+                     "); check the path and the file's permissions");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    throw SceneError(name + ": cannot read the scene file (" + std::strerror(errno) +
+                     "); check the path and the file's permissions");
+  }
+  return parse_scene(text.str(), file);
+}
+
+}  // namespace phyxel
