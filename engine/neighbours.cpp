@@ -60,6 +60,9 @@ NeighbourLists find_rest_neighbours(const PhyxelSet& set) {
       if (!(set.flags[i] & kRemoved)) members.push_back(i);
     if (members.empty()) continue;
     const double h = obj.support_radius;
+    // Points at distance h have zero weight: leave them out even when rounding puts them a
+    // hair inside (a lattice at h = 2 s would otherwise gain a few zero-weight neighbours).
+    const double h2 = h * h * (1 - 1e-9);
     const CellGrid g = build_grid(set, members, h);
 #pragma omp parallel for schedule(dynamic, 256)
     for (size_t m = 0; m < members.size(); ++m) {
@@ -74,7 +77,7 @@ NeighbourLists find_rest_neighbours(const PhyxelSet& set) {
             const size_t k = g.key(d);
             for (uint32_t s = g.cell_start[k]; s < g.cell_start[k + 1]; ++s) {
               const uint32_t j = g.sorted[s];
-              if (j != i && (set.rest[j] - set.rest[i]).squaredNorm() < h * h) row.push_back(j);
+              if (j != i && (set.rest[j] - set.rest[i]).squaredNorm() < h2) row.push_back(j);
             }
           }
       std::sort(row.begin(), row.end());

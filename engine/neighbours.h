@@ -17,7 +17,8 @@ struct NeighbourLists {
   uint32_t count(size_t i) const { return offset[i + 1] - offset[i]; }
 };
 
-// Pairs (i, j), i != j, of the same object with |x0_j - x0_i| < support radius of the object.
+// Pairs (i, j), i != j, of the same object with |x0_j - x0_i|^2 < h^2 (1 - 1e-9), h the
+// object's support radius.
 // Phyxels flagged kRemoved get no neighbours and are no one's neighbour.
 NeighbourLists find_rest_neighbours(const PhyxelSet& set);
 

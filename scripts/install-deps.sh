@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages Phyxel needs, and only those that are missing.
+# Idempotent: when everything is present it runs no apt-get at all.
+set -euo pipefail
+
+packages=(
+  cmake g++ make pkg-config            # toolchain
+  libeigen3-dev                        # CPU reference solver
+  nlohmann-json3-dev                   # scene files, summaries
+  libtinyobjloader-dev                 # mesh shapes
+  libstb-dev                           # PNG/JPEG textures and frames
+  libvulkan-dev                        # Vulkan headers and loader
+  mesa-vulkan-drivers                  # lavapipe: Vulkan on the CPU (tests, CI)
+  vulkan-validationlayers              # validation layers, on in every GPU test
+  glslang-tools spirv-tools            # shaders compiled at build time
+  libglfw3-dev                         # windowed viewer
+  libgtest-dev                         # tests
+  calculix-ccx                         # FEM reference solutions for validation
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null; then sudo="sudo"; else
+    echo "install-deps: need root (or sudo) to install: ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

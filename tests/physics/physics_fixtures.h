@@ -1,0 +1,51 @@
+// Small scenes built in code for the physics property tests.
+#pragma once
+
+#include <random>
+
+#include "engine/phyxel_set.h"
+#include "engine/scene.h"
+
+namespace phyxel::test {
+
+inline Shape box_shape(const Vec3& lo, const Vec3& hi) {
+  Shape s;
+  s.type = Shape::Type::Box;
+  s.min = lo;
+  s.max = hi;
+  return s;
+}
+
+inline Material tissue(double young = 1e6, double poisson = 0.3, double damping = 0) {
+  Material m;
+  m.young = young;
+  m.poisson = poisson;
+  m.density = 1000;
+  m.damping = damping;
+  return m;
+}
+
+// One box object sampled with spacing s and support radius h_factor * s.
+inline Scene box_scene(const Vec3& lo, const Vec3& hi, double s, const Material& m,
+                       double h_factor = 2.0) {
+  Scene scene;
+  scene.simulation.dt = 1e-5;
+  scene.simulation.steps = 1;
+  ObjectDesc o;
+  o.name = "box";
+  o.shape = box_shape(lo, hi);
+  o.spacing = s;
+  o.support_radius = h_factor * s;
+  o.material = m;
+  scene.objects.push_back(o);
+  return scene;
+}
+
+inline Eigen::Matrix3d random_matrix(std::mt19937& rng, double scale) {
+  std::uniform_real_distribution<double> d(-scale, scale);
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 9; ++i) m.data()[i] = d(rng);
+  return m;
+}
+
+}  // namespace phyxel::test

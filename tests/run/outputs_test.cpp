@@ -1,0 +1,154 @@
+// .vtp point files (ASCII and binary) and the `phyxel run` command line end to end.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "engine/vtp_writer.h"
+#include "tests/physics/physics_fixtures.h"
+
+namespace phyxel {
+namespace {
+
+std::filesystem::path out_dir(const std::string& name) {
+  const char* root = std::getenv("PHYXEL_TEST_OUT");
+  std::filesystem::path dir = std::filesystem::path(root ? root : "/tmp") / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+struct Written {
+  PhyxelSet set;
+  PointState state;
+};
+
+Written sample_state() {
+  Written w;
+  w.set = sample_scene(
+      test::box_scene(Vec3(0, 0, 0), Vec3(0.005, 0.0025, 0.0025), 0.0025, test::tissue()));
+  for (size_t i = 0; i < w.set.size(); ++i) {
+    w.state.displacement.push_back(Vec3(0.001 * i, 0, -0.5));
+    w.state.velocity.push_back(Vec3(0, 2.0 * i, 0));
+    w.state.von_mises.push_back(10.0 * i);
+  }
+  return w;
+}
+
+TEST(VtpWriter, AsciiFileHasPointsAndEveryArray) {
+  const Written w = sample_state();
+  const auto file = out_dir("vtp_ascii") / "points.vtp";
+  write_points_vtp(file, w.set, w.state, false);
+  const std::string text = read_file(file);
+  EXPECT_NE(text.find("NumberOfPoints=\"" + std::to_string(w.set.size()) + "\""),
+            std::string::npos);
+  for (const char* name : {"rest_position", "displacement", "velocity", "von_mises", "flags",
+                           "connectivity", "offsets"})
+    EXPECT_NE(text.find("Name=\"" + std::string(name) + "\""), std::string::npos) << name;
+  EXPECT_EQ(text.find("nan"), std::string::npos);
+  // The first point is written at its deformed position x0 + u = (0, 0, -0.5).
+  const size_t points = text.find("<Points>");
+  const size_t values = text.find('>', text.find("<DataArray", points)) + 1;
+  std::istringstream first(text.substr(values, 200));
+  double x, y, z;
+  first >> x >> y >> z;
+  EXPECT_DOUBLE_EQ(x, 0);
+  EXPECT_DOUBLE_EQ(y, 0);
+  EXPECT_DOUBLE_EQ(z, -0.5);
+  EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
+}
+
+TEST(VtpWriter, BinaryFileHasAppendedBlocksOfTheRightSize) {
+  const Written w = sample_state();
+  const auto file = out_dir("vtp_binary") / "points.vtp";
+  write_points_vtp(file, w.set, w.state, true);
+  const std::string text = read_file(file);
+  const size_t start = text.find("<AppendedData encoding=\"raw\">\n_");
+  ASSERT_NE(start, std::string::npos);
+  // First block: the points, n * 3 doubles, preceded by its UInt64 byte count.
+  uint64_t bytes = 0;
+  std::memcpy(&bytes, text.data() + text.find('_', start) + 1, sizeof bytes);
+  EXPECT_EQ(bytes, w.set.size() * 3 * sizeof(double));
+}
+
+TEST(VtpWriter, UnwritableFolderNamesTheFile) {
+  const Written w = sample_state();
+  try {
+    write_points_vtp("/nonexistent-folder/points.vtp", w.set, w.state, false);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-folder/points.vtp"), std::string::npos);
+  }
+}
+
+// Runs the phyxel binary; returns the exit status and what it printed on stderr.
+std::pair<int, std::string> phyxel(const std::string& args) {
+  const std::filesystem::path err = out_dir("cli_stderr") / "stderr.txt";
+  const std::string cmd = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel " + args + " --quiet 2>" +
+                          err.string() + " >/dev/null";
+  const int status = std::system(cmd.c_str());
+  return {WEXITSTATUS(status), read_file(err)};
+}
+
+TEST(PhyxelRun, DemoSceneWritesSummaryAndPoints) {
+  const auto dir = out_dir("cli_demo");
+  const auto [code, err] = phyxel("run " + std::string(PHYXEL_SOURCE_DIR) +
+                                  "/scenes/beam.json --steps 20 --threads 1 --out " + dir.string());
+  ASSERT_EQ(code, 0) << err;
+  const nlohmann::json s = nlohmann::json::parse(read_file(dir / "summary.json"));
+  EXPECT_EQ(s["phyxels"], 41 * 9 * 9);
+  EXPECT_EQ(s["steps_done"], 20);
+  EXPECT_EQ(s["non_finite"], false);
+  EXPECT_GT(s["substeps_per_step"].get<int>(), 1);  // the demo asks for dt above the bound
+  EXPECT_FALSE(s["substep_reason"].get<std::string>().empty());
+  EXPECT_LE(s["dt_used"].get<double>(), s["dt_stable_bound"].get<double>());
+  for (const char* key : {"device", "wall_seconds", "kinetic_energy", "strain_energy",
+                          "max_displacement", "stopped_at_rest", "dt_requested"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_TRUE(std::filesystem::exists(dir / "points_000020.vtp"));
+  EXPECT_NE(err.find("substeps"), std::string::npos) << err;  // and it says so
+}
+
+TEST(PhyxelRun, MissingSceneIsOneClearLine) {
+  const auto [code, err] =
+      phyxel("run /nonexistent/scene.json --out " + out_dir("cli_missing").string());
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(err.find("/nonexistent/scene.json"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+TEST(PhyxelRun, BadMaterialExitsNonZeroNamingTheJsonPath) {
+  const auto dir = out_dir("cli_bad_material");
+  std::string scene = read_file(std::string(PHYXEL_SOURCE_DIR) + "/scenes/beam.json");
+  const size_t at = scene.find("\"poisson\"");
+  ASSERT_NE(at, std::string::npos);
+  scene.replace(at, scene.find(',', at) - at, "\"poisson\": 0.7");
+  std::ofstream(dir / "bad.json") << scene;
+  const auto [code, err] = phyxel("run " + (dir / "bad.json").string() + " --out " + dir.string());
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(err.find("bad.json"), std::string::npos) << err;
+  EXPECT_NE(err.find("objects[0].material.poisson"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+TEST(PhyxelRun, UnknownOptionAndMissingValueAreUsageErrors) {
+  auto [code, err] = phyxel("run scene.json --stepz 3");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(err.find("--stepz"), std::string::npos) << err;
+  std::tie(code, err) = phyxel("run scene.json --steps -4");
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(err.find("--steps"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace phyxel

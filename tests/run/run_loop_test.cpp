@@ -1,0 +1,139 @@
+// The run loop: time-step plan, rest detection, non-finite detection, output schedule, and
+// thread-count independence of the CPU solver.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "engine/cpu_solver.h"
+#include "engine/simulation.h"
+#include "tests/physics/physics_fixtures.h"
+
+namespace phyxel {
+namespace {
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const char* root = std::getenv("PHYXEL_TEST_OUT");
+  std::filesystem::path dir = std::filesystem::path(root ? root : "/tmp") / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+Scene cube_scene() {
+  return test::box_scene(Vec3(0, 0, 0), Vec3(0.01, 0.01, 0.01), 0.0025, test::tissue(1e5, 0.3, 50));
+}
+
+TEST(TimeStepPlan, SubstepsWhenTheRequestedStepIsUnstable) {
+  Scene scene = cube_scene();
+  const PhyxelSet set = sample_scene(scene);
+  const double cp = p_wave_speed(scene.objects[0].material);
+  const double bound = 0.5 * 0.0025 / cp;
+  scene.simulation.dt = 0.5 * bound;
+  TimeStepPlan plan = plan_time_step(scene, set);
+  EXPECT_NEAR(plan.dt_stable, bound, 1e-15);
+  EXPECT_EQ(plan.substeps, 1);
+  EXPECT_EQ(plan.dt_used, scene.simulation.dt);
+  EXPECT_TRUE(plan.reason.empty());
+  scene.simulation.dt = 2.5 * bound;
+  plan = plan_time_step(scene, set);
+  EXPECT_EQ(plan.substeps, 3);
+  EXPECT_NEAR(plan.dt_used, 2.5 * bound / 3, 1e-15);
+  EXPECT_NE(plan.reason.find("3 substeps"), std::string::npos) << plan.reason;
+  EXPECT_NE(plan.reason.find("stable step"), std::string::npos) << plan.reason;
+}
+
+TEST(CpuSolver, ResultsDoNotDependOnTheThreadCount) {
+  Scene scene = cube_scene();
+  scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.001)));
+  const PhyxelSet set = sample_scene(scene);
+  const double dt = plan_time_step(scene, set).dt_stable;
+  CpuSolver<double> one(set, Vec3(0, 0, -9.81)), two(set, Vec3(0, 0, -9.81));
+  one.set_threads(1);
+  two.set_threads(2);
+  for (int k = 0; k < 50; ++k) {
+    one.step(dt);
+    two.step(dt);
+  }
+  for (size_t i = 0; i < set.size(); ++i) {
+    ASSERT_EQ(one.displacement()[i], two.displacement()[i]) << "phyxel " << i;
+    ASSERT_EQ(one.velocity()[i], two.velocity()[i]) << "phyxel " << i;
+  }
+}
+
+TEST(RunLoop, StopsAtRestAndWritesTheLastPoints) {
+  Scene scene = cube_scene();  // no load: it is at rest from the start
+  scene.simulation.steps = 100000;
+  scene.simulation.until_rest = {true, 1e-12, 300};
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = plan_time_step(scene, set).dt_stable;
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  RunOptions options;
+  options.steps = scene.simulation.steps;
+  options.out_dir = fresh_dir("run_rest");
+  const RunResult r = run_simulation(scene, set, *solver, options);
+  EXPECT_TRUE(r.stopped_at_rest);
+  EXPECT_GE(r.steps_done, 300);
+  EXPECT_LE(r.steps_done, 400);
+  ASSERT_EQ(r.outputs.size(), 1u);
+  EXPECT_TRUE(std::filesystem::exists(options.out_dir / r.outputs[0]));
+}
+
+TEST(RunLoop, MovingObjectIsNotAtRestAndOutputsFollowTheSchedule) {
+  Scene scene = cube_scene();
+  scene.simulation.gravity = Vec3(0, 0, -9.81);  // free fall: never at rest
+  scene.objects[0].material.damping = 0;
+  scene.simulation.steps = 250;
+  scene.simulation.until_rest = {true, 1e-12, 50};
+  scene.output.every = 100;
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = plan_time_step(scene, set).dt_stable;
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  RunOptions options;
+  options.steps = scene.simulation.steps;
+  options.out_dir = fresh_dir("run_schedule");
+  const RunResult r = run_simulation(scene, set, *solver, options);
+  EXPECT_FALSE(r.stopped_at_rest);
+  EXPECT_EQ(r.steps_done, 250);
+  const std::vector<std::string> expected = {"points_000100.vtp", "points_000200.vtp",
+                                             "points_000250.vtp"};
+  EXPECT_EQ(r.outputs, expected);
+  // Free fall: every phyxel has fallen g t^2 / 2.
+  const double t = 250 * scene.simulation.dt;
+  EXPECT_NEAR(r.max_displacement, 0.5 * 9.81 * t * t, 1e-9);
+}
+
+// A solver whose state turns non-finite after a given number of substeps.
+class FailingSolver final : public Solver {
+ public:
+  explicit FailingSolver(int64_t fail_after) : fail_after_(fail_after) {}
+  std::string device() const override { return "test"; }
+  void advance(int64_t substeps, double) override { done_ += substeps; }
+  Energies energies() override { return {}; }
+  long first_non_finite() override { return done_ >= fail_after_ ? 7 : -1; }
+  PointState read_state(bool) override { return {}; }
+  size_t regularised_count() const override { return 0; }
+  const NeighbourLists& neighbours() const override { return nbr_; }
+
+ private:
+  int64_t fail_after_, done_ = 0;
+  NeighbourLists nbr_;
+};
+
+TEST(RunLoop, StopsCleanlyAtTheFirstNonFiniteCheck) {
+  Scene scene = cube_scene();
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = plan_time_step(scene, set).dt_stable;
+  FailingSolver solver(250);
+  RunOptions options;
+  options.steps = 1000;
+  const RunResult r = run_simulation(scene, set, solver, options);
+  EXPECT_TRUE(r.non_finite);
+  EXPECT_EQ(r.non_finite_step, 300);  // checked every 100 steps
+  EXPECT_EQ(r.non_finite_phyxel, 7);
+  EXPECT_EQ(r.steps_done, 300);
+  EXPECT_TRUE(r.outputs.empty());  // no file with NaN in it
+}
+
+}  // namespace
+}  // namespace phyxel
