@@ -93,11 +93,41 @@ struct OutputSettings {
   bool binary = false;  // VTK XML appended raw binary instead of ASCII
 };
 
+// `camera`: a pinhole camera (render/camera.h builds the eye frusta from it).
+struct CameraSettings {
+  std::optional<Vec3> position;  // unset: looking at the scene's bounding box
+  std::optional<Vec3> target;    // unset: the centre of the scene's bounding box
+  Vec3 up = Vec3::UnitZ();
+  double fov_y_deg = 45;  // vertical field of view ("aperture")
+  double near = 0.01, far = 10;  // m, 0 < near < far
+};
+
+// `render.stereo`: parallel eyes, off-axis frusta (DESIGN.md section 5).
+struct StereoSettings {
+  enum class Layout { SideBySide, Anaglyph };
+  double ipd = 0.064;                     // eye separation, m (>= 0)
+  std::optional<double> focal_distance;   // zero-parallax distance, m; unset: camera to target
+  Layout layout = Layout::SideBySide;
+  bool swap_eyes = false;
+};
+
+// `render`: splat rendering of the surface phyxels (render/).
+struct RenderSettings {
+  enum class Mode { None, Mono, Stereo };
+  Mode mode = Mode::None;
+  int width = 1280, height = 720;  // pixels per eye
+  int64_t every = 10;              // a frame every this many steps
+  std::filesystem::path texture;   // resolved against the scene's folder; empty: procedural
+  StereoSettings stereo;
+};
+
 struct Scene {
   std::filesystem::path file;  // where it was read from (empty if built in code)
   SimulationSettings simulation;
   std::vector<ObjectDesc> objects;
   OutputSettings output;
+  CameraSettings camera;
+  RenderSettings render;
 };
 
 // Reads and validates a scene file. Throws SceneError naming the file and JSON path.
