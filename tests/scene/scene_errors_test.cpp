@@ -1,5 +1,5 @@
 // Every invalid scene gives one SceneError line "FILE: JSON.PATH: problem; allowed ...".
-// One test per case; each starts from the shipped demo (scenes/beam.json) and breaks one thing.
+// One test per case; each starts from the shipped demo (scenes/beam_tumour.json) and breaks one thing.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -20,7 +20,7 @@ using nlohmann::json;
 constexpr const char* kFile = "scenes/fake_scene.json";
 
 json demo() {
-  return json::parse(std::ifstream(fs::path(PHYXEL_SOURCE_DIR) / "scenes/beam.json"));
+  return json::parse(std::ifstream(fs::path(PHYXEL_SOURCE_DIR) / "scenes/beam_tumour.json"));
 }
 
 std::string error_text(const std::string& text) {

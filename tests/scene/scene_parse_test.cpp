@@ -188,13 +188,33 @@ TEST(SceneParse, MeshPathIsResolvedAgainstTheSceneFolderAndScaled) {
   EXPECT_NEAR(shape.mesh->bounds.max().x(), 0.02, 1e-12);
 }
 
-TEST(SceneParse, ShippedBeamSceneIsTheDemoWithFewerSteps) {
+TEST(SceneParse, ShippedBeamSceneIsTheIssueDemoWithFewerSteps) {
+  // The demo scene of the foundation issue, word for word but for the step count.
+  const char* issue_demo = R"({
+    "simulation": {"dt": 5e-5, "steps": 20000, "gravity": [0, 0, -9.81],
+                   "until_rest": {"kinetic_energy_below": 1e-10}},
+    "objects": [{
+      "name": "beam",
+      "shape": {"type": "box", "min": [0, -0.01, -0.01], "max": [0.1, 0.01, 0.01]},
+      "spacing": 0.0025,
+      "material": {"young": 1e6, "poisson": 0.3, "density": 1000, "damping": 2.0},
+      "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [0.0005, 1, 1]}]
+    }],
+    "output": {"every": 0}
+  })";
+  auto demo = nlohmann::json::parse(issue_demo);
+  demo["simulation"]["steps"] = 4000;
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(kSource / "scenes/beam.json")), demo);
   const Scene s = load_scene(kSource / "scenes/beam.json");
+  EXPECT_EQ(s.simulation.steps, 4000);
+  EXPECT_DOUBLE_EQ(s.objects[0].support_radius, 0.005);  // default 2 * spacing
+}
+
+TEST(SceneParse, ShippedTumourBeamSpellsOutEveryKey) {
   auto demo = nlohmann::json::parse(kDemo);
   demo["simulation"]["steps"] = 4000;
-  auto shipped = nlohmann::json::parse(std::ifstream(kSource / "scenes/beam.json"));
-  EXPECT_EQ(shipped, demo);
-  EXPECT_EQ(s.simulation.steps, 4000);
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(kSource / "scenes/beam_tumour.json")), demo);
+  EXPECT_EQ(load_scene(kSource / "scenes/beam_tumour.json").simulation.steps, 4000);
 }
 
 // Stable step estimate of the solver: courant * spacing / fastest p-wave speed.

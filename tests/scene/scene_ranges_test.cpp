@@ -19,7 +19,7 @@ using nlohmann::json;
 constexpr const char* kFile = "scenes/fake_scene.json";
 
 json demo() {
-  return json::parse(std::ifstream(fs::path(PHYXEL_SOURCE_DIR) / "scenes/beam.json"));
+  return json::parse(std::ifstream(fs::path(PHYXEL_SOURCE_DIR) / "scenes/beam_tumour.json"));
 }
 
 std::string error_with(const std::function<void(json&)>& edit) {
