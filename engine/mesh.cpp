@@ -1,0 +1,177 @@
+// OBJ loading (tinyobjloader) and the inside test of closed triangle surfaces.
+//
+// The one tinyobjloader implementation unit of the project. Coordinates are parsed in the
+// library's default single precision (the ABI of Debian's libtinyobjloader), then widened to
+// double and scaled.
+#define TINYOBJLOADER_IMPLEMENTATION
+#include <tiny_obj_loader.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "engine/mesh.h"
+#include "engine/mesh_query.h"
+
+namespace phyxel {
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
+  throw std::runtime_error(path.string() + ": " + message);
+}
+
+// tinyobjloader's messages are newline-separated; ours are one line.
+std::string one_line(const std::string& text) {
+  std::string out;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == '.' || line.back() == ' '))
+      line.pop_back();
+    if (line.empty()) continue;
+    if (!out.empty()) out += "; ";
+    out += line;
+  }
+  return out;
+}
+
+struct EdgeUse {
+  int count = 0;    // triangles using the edge
+  int forward = 0;  // of those, how many run from the lower to the higher vertex index
+};
+
+// Every edge must be shared by exactly two triangles that run it in opposite directions.
+void check_closed(const std::filesystem::path& path, const std::vector<Eigen::Vector3i>& tris,
+                  const std::vector<int>& obj_index) {
+  std::unordered_map<uint64_t, EdgeUse> edges;
+  edges.reserve(tris.size() * 2);
+  for (const Eigen::Vector3i& t : tris) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      EdgeUse& use = edges[edge_key(a, b)];
+      ++use.count;
+      if (a < b) ++use.forward;
+    }
+  }
+  size_t open = 0, flipped = 0;
+  uint64_t first_open = 0, first_flipped = 0;
+  int open_count = 0;
+  for (const auto& [key, use] : edges) {
+    if (use.count != 2) {
+      if (open++ == 0 || key < first_open) {
+        first_open = key;
+        open_count = use.count;
+      }
+    } else if (use.forward != 1) {
+      if (flipped++ == 0 || key < first_flipped) first_flipped = key;
+    }
+  }
+  auto vertices = [&](uint64_t key) {
+    return "OBJ vertices " + std::to_string(obj_index[key >> 32]) + " and " +
+           std::to_string(obj_index[key & 0xffffffffu]);
+  };
+  if (open > 0)
+    fail(path, "the surface is not closed: " + std::to_string(open) +
+                   " edges are not shared by exactly two triangles (first: the edge between " +
+                   vertices(first_open) + ", used by " + std::to_string(open_count) +
+                   "); a mesh shape must be a closed (watertight) surface: check every edge is "
+                   "shared by exactly two triangles");
+  if (flipped > 0)
+    fail(path, "the triangles are not consistently oriented: " + std::to_string(flipped) +
+                   " edges run the same way in both of their triangles (first: the edge between " +
+                   vertices(first_flipped) +
+                   "); re-export the surface with consistent face winding (normals all outward)");
+}
+
+}  // namespace
+
+bool TriangleMesh::contains(const Vec3& p) const {
+  return winding_number_direct(*this, p) > 0.5;
+}
+
+TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale) {
+  if (!(std::isfinite(scale) && scale > 0))
+    fail(path, "the mesh scale must be a positive number (got " + std::to_string(scale) + ")");
+  std::error_code ec;
+  std::ifstream in;
+  if (std::filesystem::is_regular_file(path, ec)) in.open(path);
+  if (!in.is_open()) throw std::runtime_error("cannot open " + path.string() + ": check the path");
+
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  // No material reader: `mtllib` lines are ignored, only the geometry matters here.
+  const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, nullptr,
+                                   /*triangulate=*/true, /*default_vcols_fallback=*/false);
+  if (!ok || !err.empty()) fail(path, "cannot parse the OBJ file: " + one_line(err));
+  // tinyobjloader drops faces with bad vertex indices with only a warning; a dropped face
+  // would surface later as an open mesh, so report the real cause.
+  if (warn.find("Vertex indices out of bounds") != std::string::npos ||
+      warn.find("invalid vertex index") != std::string::npos)
+    fail(path, "cannot parse the OBJ file: " + one_line(warn) +
+                   "; every face must refer to vertices defined in the file");
+
+  // Weld vertices at identical positions, so that exporters that repeat positions per face
+  // still give a connected surface. obj_index keeps the 1-based OBJ number for messages.
+  TriangleMesh mesh;
+  std::vector<int> obj_index;
+  std::map<std::array<tinyobj::real_t, 3>, int> welded;
+  std::vector<int> remap(attrib.vertices.size() / 3, -1);
+  auto vertex_id = [&](int v) {
+    if (remap[v] < 0) {
+      const std::array<tinyobj::real_t, 3> key = {
+          attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
+      auto [it, inserted] = welded.emplace(key, static_cast<int>(mesh.vertices.size()));
+      if (inserted) {
+        mesh.vertices.push_back(scale * Vec3(key[0], key[1], key[2]));
+        obj_index.push_back(v + 1);
+      }
+      remap[v] = it->second;
+    }
+    return remap[v];
+  };
+  for (const tinyobj::shape_t& shape : shapes) {
+    size_t offset = 0;
+    for (const unsigned char corners : shape.mesh.num_face_vertices) {
+      if (corners == 3) {
+        Eigen::Vector3i t;
+        for (int k = 0; k < 3; ++k) {
+          const int v = shape.mesh.indices[offset + k].vertex_index;
+          if (v < 0 || static_cast<size_t>(v) >= remap.size())
+            fail(path, "a face of '" + shape.name + "' refers to vertex " + std::to_string(v + 1) +
+                           ", but the file defines " + std::to_string(remap.size()) +
+                           " vertices; every face must refer to vertices defined in the file");
+          t[k] = vertex_id(v);
+        }
+        // A face that collapses onto an edge or a point bounds no area and is left out.
+        if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) mesh.triangles.push_back(t);
+      }
+      offset += corners;
+    }
+  }
+  if (mesh.triangles.empty())
+    fail(path,
+         "the file has no triangle or polygon faces; a mesh shape needs a closed "
+         "triangle surface");
+  check_closed(path, mesh.triangles, obj_index);
+
+  for (const Vec3& v : mesh.vertices) mesh.bounds.extend(v);
+  double volume = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6;
+  const double diagonal = mesh.bounds.diagonal().norm();
+  if (!(std::abs(volume) > 1e-12 * diagonal * diagonal * diagonal))
+    fail(path, "the closed surface encloses no volume; a mesh shape must bound a solid");
+  // Inward-facing surfaces (clockwise faces) are common in exported files: turn them outward,
+  // which the winding-number inside test needs.
+  if (volume < 0)
+    for (Eigen::Vector3i& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
+
+}  // namespace phyxel
