@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/bench_accuracy.h"
 #include "app/commands.h"
 #include "app/options.h"
 #include "engine/simulation.h"
@@ -75,6 +76,15 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int bench_command(const Args& args) {
+  if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
+    return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
+      if (device != "cpu")
+        throw UsageError("phyxel bench --accuracy: --device " + device + ": allowed cpu");
+      return [threads](const PhyxelSet& set, const Vec3& g) {
+        return make_cpu_solver(set, g, threads);
+      };
+    });
+  }
   OptionParser opts("bench", args);
   if (opts.flag("--help")) {
     std::puts(kBenchHelp);

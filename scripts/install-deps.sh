@@ -16,6 +16,7 @@ packages=(
   libglfw3-dev                         # windowed viewer
   libgtest-dev                         # tests
   calculix-ccx                         # FEM reference solutions for validation
+  gnuplot-nox                          # run-time-vs-error plot of phyxel bench --accuracy
 )
 
 missing=()

@@ -1,0 +1,154 @@
+#include "engine/validation.h"
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "engine/simulation.h"
+
+namespace phyxel {
+namespace {
+
+double calculix_tip(const std::filesystem::path& file, const char* which) {
+  std::ifstream in(file);
+  if (!in)
+    throw std::runtime_error(file.string() +
+                             ": cannot open the CalculiX reference; regenerate it with "
+                             "scenes/validation/ccx/make_cantilever_reference.sh");
+  return nlohmann::json::parse(in)["cases"][which]["results"]["tip_center_uz"].get<double>();
+}
+
+// Indices of the phyxels whose rest position has coordinate `axis` within tol of `at`.
+std::vector<size_t> layer(const PhyxelSet& set, int axis, double at, double tol) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < set.size(); ++i)
+    if (std::abs(set.rest[i][axis] - at) < tol) out.push_back(i);
+  return out;
+}
+
+size_t phyxel_at(const PhyxelSet& set, const Vec3& p, const std::string& scene) {
+  for (size_t i = 0; i < set.size(); ++i)
+    if ((set.rest[i] - p).norm() < 1e-9) return i;
+  throw std::runtime_error(scene +
+                           ": no phyxel at the probe point; use a spacing that puts "
+                           "a lattice point there");
+}
+
+// Steps a damped scene until its kinetic energy falls below 1e-10 of its peak.
+int64_t relax(Solver& solver, double dt, int64_t max_steps) {
+  double peak = 0;
+  const int64_t chunk = 100, min_steps = 2000;
+  for (int64_t done = 0; done < max_steps; done += chunk) {
+    solver.advance(chunk, dt);
+    const double ke = solver.energies().kinetic;
+    peak = std::max(peak, ke);
+    if (!std::isfinite(ke)) return done + chunk;
+    if (done >= min_steps && ke < 1e-10 * peak) return done + chunk;
+  }
+  return max_steps;
+}
+
+double mean_x_velocity(const PointState& s, const std::vector<size_t>& idx) {
+  double sum = 0;
+  for (size_t i : idx) sum += s.velocity[i].x();
+  return sum / static_cast<double>(idx.size());
+}
+
+}  // namespace
+
+std::vector<ValidationCase> validation_cases(const std::filesystem::path& source_dir) {
+  const std::filesystem::path dir = source_dir / "scenes/validation";
+  const std::filesystem::path ccx = dir / "cantilever_reference.json";
+  std::vector<ValidationCase> cases;
+  cases.push_back({"cantilever_small", dir / "cantilever_small.json", "tip u_z (m)",
+                   calculix_tip(ccx, "A"), "CalculiX C3D20R 40x8x8, linear"});
+  cases.push_back({"cantilever_large", dir / "cantilever_large.json", "tip u_z (m)",
+                   calculix_tip(ccx, "C-nl"), "CalculiX C3D20R 40x8x8, NLGEOM"});
+  const Scene bar = load_scene(dir / "uniaxial_bar.json");
+  cases.push_back({"uniaxial_bar", bar.file, "Young's modulus (Pa)", bar.objects[0].material.young,
+                   "closed form: E and nu of the material"});
+  const Scene wave = load_scene(dir / "wave_bar.json");
+  cases.push_back({"wave_bar", wave.file, "wave front speed (m/s)",
+                   p_wave_speed(wave.objects[0].material),
+                   "closed form: c_p = sqrt((lambda + 2 mu) / rho), nu = 0"});
+  return cases;
+}
+
+ValidationRun run_validation(const ValidationCase& c, double spacing_scale, double dt_fraction,
+                             const SolverFactory& make_solver) {
+  Scene scene = load_scene(c.scene);
+  ObjectDesc& obj = scene.objects.at(0);
+  obj.support_radius *= spacing_scale;
+  obj.spacing *= spacing_scale;
+  const PhyxelSet set = sample_scene(scene);
+  const double dt = dt_fraction * plan_time_step(scene, set).dt_stable;
+
+  ValidationRun run;
+  run.case_name = c.name;
+  run.spacing = obj.spacing;
+  run.dt = dt;
+  run.dt_fraction = dt_fraction;
+  run.phyxels = set.size();
+  run.reference = c.reference;
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<Solver> solver = make_solver(set, scene.simulation.gravity);
+  run.device = solver->device();
+  const std::string name = c.scene.string();
+
+  if (c.name == "cantilever_small" || c.name == "cantilever_large") {
+    const size_t tip = phyxel_at(set, Vec3(0.1, 0, 0), name);
+    run.steps = relax(*solver, dt, scene.simulation.steps * 10);
+    const Vec3 u = solver->read_state(false).displacement[tip];
+    run.value = u.z();
+    run.secondary = u.x();
+    run.error = std::abs(run.value / run.reference - 1);
+  } else if (c.name == "uniaxial_bar") {
+    run.steps = relax(*solver, dt, scene.simulation.steps * 10);
+    const PointState s = solver->read_state(false);
+    const double side = obj.shape.max.y() - obj.shape.min.y(), force = obj.loads.at(0).force.x(),
+                 x1 = 0.03, x2 = 0.07;
+    auto u = [&](const Vec3& p) { return s.displacement[phyxel_at(set, p, name)]; };
+    const double axial = (u(Vec3(x2, 0, 0)) - u(Vec3(x1, 0, 0))).x() / (x2 - x1);
+    const double lateral = (u(Vec3(0.05, side / 2, 0)) - u(Vec3(0.05, -side / 2, 0))).y() / side;
+    run.value = force / (side * side) / axial;
+    run.secondary = -lateral / axial;
+    run.error = std::max(std::abs(run.value / run.reference - 1),
+                         std::abs(run.secondary / obj.material.poisson - 1));
+  } else if (c.name == "wave_bar") {
+    // A constant pull on the free end x = L starts a step wave towards x = 0. Behind its
+    // front the particles move at F / (A rho c); the time at which each station's mean
+    // x-velocity crosses half of that gives the front speed between two stations.
+    const Vec3 size = obj.shape.max - obj.shape.min;
+    const double length = size.x(), area = size.y() * size.z();
+    const double plateau = obj.loads.at(0).force.x() / (area * obj.material.density * c.reference);
+    const double xa = 0.75 * length, xb = 0.25 * length, tol = 0.1 * obj.spacing;
+    const std::vector<size_t> sa = layer(set, 0, xa, tol), sb = layer(set, 0, xb, tol);
+    if (sa.empty() || sb.empty()) throw std::runtime_error(name + ": no station layer");
+    double ta = -1, tb = -1, prev_a = 0, prev_b = 0;
+    const int64_t max_steps = static_cast<int64_t>(1.2 * length / c.reference / dt) + 10;
+    for (int64_t k = 1; k <= max_steps && tb < 0; ++k) {
+      solver->advance(1, dt);
+      const PointState s = solver->read_state(false);
+      const double va = mean_x_velocity(s, sa), vb = mean_x_velocity(s, sb);
+      const double half = 0.5 * std::abs(plateau);
+      // Linear interpolation of the crossing between steps k-1 and k.
+      if (ta < 0 && va >= half) ta = dt * (k - 1 + (half - prev_a) / (va - prev_a));
+      if (tb < 0 && vb >= half) tb = dt * (k - 1 + (half - prev_b) / (vb - prev_b));
+      prev_a = va;
+      prev_b = vb;
+      run.steps = k;
+    }
+    run.value = (ta > 0 && tb > ta) ? (xa - xb) / (tb - ta) : 0;
+    run.error = std::abs(run.value / run.reference - 1);
+  } else {
+    throw std::runtime_error("unknown validation case " + c.name);
+  }
+  run.finite = solver->first_non_finite() < 0;
+  run.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+}  // namespace phyxel
