@@ -78,6 +78,7 @@ void write_plot(const std::filesystem::path& dir, const std::vector<ValidationRu
     plot += std::string(plot.empty() ? "plot " : ", ") + "'accuracy.dat' index " +
             std::to_string(index++) + " with linespoints title '" + name + "'";
   }
+  data.close();
   std::ofstream gp(dir / "accuracy.gp");
   gp << "set terminal pngcairo size 900,600\nset output 'accuracy.png'\n"
      << "set logscale xy\nset xlabel 'run time (s)'\nset ylabel 'relative error'\n"

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/kernel.h"
@@ -67,6 +68,16 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
 }
 
 template <class Real>
+int CpuSolver<Real>::threads_for(long n) const {
+  // Below a few thousand phyxels a step takes well under a millisecond and the fork/join
+  // barriers (several per step) cost more than they save, badly so when another process
+  // holds a core: run such problems on one thread.
+  constexpr long kMinPhyxelsPerThread = 1024;
+  const int wanted = threads_ > 0 ? threads_ : omp_get_max_threads();
+  return static_cast<int>(std::clamp<long>(n / kMinPhyxelsPerThread, 1, wanted));
+}
+
+template <class Real>
 typename CpuSolver<Real>::M3 CpuSolver<Real>::moment_sum(size_t i) const {
   M3 m = M3::Zero();
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
@@ -84,7 +95,7 @@ typename CpuSolver<Real>::M3 CpuSolver<Real>::gradient(size_t i) const {
 template <class Real>
 void CpuSolver<Real>::compute_forces() {
   const long n = static_cast<long>(size());
-  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  const int threads = threads_for(n);
 #pragma omp parallel num_threads(threads)
   {
 #pragma omp for schedule(static)
@@ -114,7 +125,7 @@ template <class Real>
 void CpuSolver<Real>::step(Real dt) {
   const long n = static_cast<long>(size());
   const Real half = dt / 2;
-  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  const int threads = threads_for(n);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long i = 0; i < n; ++i) {
     if (flags_[i] & (kFixed | kRemoved)) continue;

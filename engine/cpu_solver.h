@@ -64,6 +64,7 @@ class CpuSolver {
 
  private:
   M3 moment_sum(size_t i) const;  // M_i
+  int threads_for(long n) const;   // threads worth using for n phyxels
 
   std::vector<uint32_t> flags_;
   std::vector<V3> rest_;

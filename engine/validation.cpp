@@ -28,9 +28,11 @@ std::vector<size_t> layer(const PhyxelSet& set, int axis, double at, double tol)
   return out;
 }
 
+// The phyxel at p, allowing for the rounding of a spacing scale like 4/3 written 1.333333.
 size_t phyxel_at(const PhyxelSet& set, const Vec3& p, const std::string& scene) {
+  const double tol = 0.01 * set.objects.at(0).spacing;
   for (size_t i = 0; i < set.size(); ++i)
-    if ((set.rest[i] - p).norm() < 1e-9) return i;
+    if ((set.rest[i] - p).norm() < tol) return i;
   throw std::runtime_error(scene +
                            ": no phyxel at the probe point; use a spacing that puts "
                            "a lattice point there");

@@ -44,13 +44,16 @@ TEST(TimeStepPlan, SubstepsWhenTheRequestedStepIsUnstable) {
 }
 
 TEST(CpuSolver, ResultsDoNotDependOnTheThreadCount) {
-  Scene scene = cube_scene();
+  // Large enough (2601 phyxels) for the solver to really use two threads.
+  Scene scene = test::box_scene(Vec3(0, 0, 0), Vec3(0.04, 0.04, 0.02), 0.0025,
+                                test::tissue(1e5, 0.3, 50));
   scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.001)));
   const PhyxelSet set = sample_scene(scene);
   const double dt = plan_time_step(scene, set).dt_stable;
   CpuSolver<double> one(set, Vec3(0, 0, -9.81)), two(set, Vec3(0, 0, -9.81));
   one.set_threads(1);
   two.set_threads(2);
+  ASSERT_GE(set.size(), 2048u);
   for (int k = 0; k < 50; ++k) {
     one.step(dt);
     two.step(dt);
