@@ -82,7 +82,7 @@ void write_plot(const std::filesystem::path& dir, const std::vector<ValidationRu
   std::ofstream gp(dir / "accuracy.gp");
   gp << "set terminal pngcairo size 900,600\nset output 'accuracy.png'\n"
      << "set logscale xy\nset xlabel 'run time (s)'\nset ylabel 'relative error'\n"
-     << "set key outside right\nset grid\n"
+     << "set termoption noenhanced\nset key below\nset grid\n"
      << plot << "\n";
   gp.close();
   const std::string cmd = "cd '" + dir.string() + "' && gnuplot accuracy.gp 2>&1";
