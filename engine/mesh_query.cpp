@@ -276,14 +276,21 @@ bool MeshQuery::contains_near(const Vec3& p, double eps) const {
   return t >= 0 && inside_by_normal(p, static_cast<uint32_t>(t), cp, eps);
 }
 
-uint64_t MeshQuery::inside_subcells(const Vec3& center, double side, int n, bool center_inside,
+uint64_t MeshQuery::inside_subcells(const Vec3& center, double side, bool center_inside,
                                     double eps) const {
-  // Every point is within rho of the centre. A triangle within rho + eps of a point is within
-  // 2 rho + eps of the centre, so those are the only candidates; a point with none has no
-  // surface between it and the centre and shares the centre's status.
-  const double rho = std::sqrt(3.0) * side / 2 * (1 - 1.0 / n);
+  // Every point below is within rho of the centre. A triangle within rho + eps of such a point
+  // is within 2 rho + eps of the centre, so those are the only candidates; a point with none
+  // nearer than rho + eps has no surface between it and the centre and shares its status.
+  const double rho = std::sqrt(3.0) * side * 3 / 8;  // centre to the corner sub-cell centres
   const double reach = 2 * rho + eps;
-  std::vector<uint32_t> near;
+  // Candidates with their bounding spheres, which skip most point-triangle distances.
+  struct Candidate {
+    uint32_t t;
+    Vec3 center;
+    double radius;
+  };
+  std::vector<Candidate> near;
+  double center_d2 = std::numeric_limits<double>::infinity();
   if (!nodes_.empty()) {
     int32_t stack[128];
     int top = 0;
@@ -298,29 +305,72 @@ uint64_t MeshQuery::inside_subcells(const Vec3& center, double side, int n, bool
       }
       for (uint32_t i = node.first; i < node.first + node.count; ++i) {
         const uint32_t t = order_[i];
-        if (closest_point_on_triangle(center, vertex(t, 0), vertex(t, 1), vertex(t, 2))
-                .distance_squared <= reach * reach)
-          near.push_back(t);
+        const Vec3 a = vertex(t, 0), b = vertex(t, 1), c = vertex(t, 2);
+        const double d2 = closest_point_on_triangle(center, a, b, c).distance_squared;
+        if (d2 > reach * reach) continue;
+        center_d2 = std::min(center_d2, d2);
+        const Vec3 mid = (a + b + c) / 3;
+        near.push_back({t, mid,
+                        std::sqrt(std::max({(a - mid).squaredNorm(), (b - mid).squaredNorm(),
+                                            (c - mid).squaredNorm()}))});
       }
     }
   }
+  constexpr uint64_t kAll = ~uint64_t(0);
+  // No surface within rho of the centre: the whole cell is on the centre's side.
+  if (center_d2 > (rho + eps) * (rho + eps)) return center_inside ? kAll : 0;
+
+  // Status of a point within rho of the centre, and its squared distance to the surface
+  // (capped at (rho + eps)^2). `warm` is the last closest triangle: neighbouring points
+  // usually share it, and the tight bound it gives lets the bounding spheres skip the rest.
+  int64_t warm = -1;
+  auto classify = [&](const Vec3& q, double* d2) {
+    double best = (rho + eps) * (rho + eps);
+    int64_t best_t = -1;
+    ClosestPoint best_cp;
+    if (warm >= 0) {
+      const ClosestPoint cp =
+          closest_point_on_triangle(q, vertex(warm, 0), vertex(warm, 1), vertex(warm, 2));
+      if (cp.distance_squared <= best) {
+        best = cp.distance_squared;
+        best_t = warm;
+        best_cp = cp;
+      }
+    }
+    double bound = std::sqrt(best);
+    for (const Candidate& cand : near) {
+      const double reach_t = cand.radius + bound;
+      if (cand.t == best_t || (q - cand.center).squaredNorm() > reach_t * reach_t) continue;
+      const ClosestPoint cp =
+          closest_point_on_triangle(q, vertex(cand.t, 0), vertex(cand.t, 1), vertex(cand.t, 2));
+      if (cp.distance_squared < best) {
+        best = cp.distance_squared;
+        bound = std::sqrt(best);
+        best_t = cand.t;
+        best_cp = cp;
+      }
+    }
+    warm = best_t;
+    *d2 = best;
+    return best_t < 0 ? center_inside : inside_by_normal(q, uint32_t(best_t), best_cp, eps);
+  };
+
+  // Octants of 2x2x2 sub-cells: one whose centre is further from the surface than from its
+  // sub-cell centres (sqrt(3) side / 8) is on one side as a whole.
+  const double octant_radius = std::sqrt(3.0) * side / 8 + eps;
   uint64_t mask = 0;
-  const double limit2 = (rho + eps) * (rho + eps);
-  for (int c = 0, bit = 0; c < n; ++c) {
-    for (int b = 0; b < n; ++b) {
-      for (int a = 0; a < n; ++a, ++bit) {
-        const Vec3 q = center + side * ((Vec3(a, b, c).array() + 0.5) / n - 0.5).matrix();
-        bool inside = center_inside;
-        double best = limit2;
-        for (const uint32_t t : near) {
-          const ClosestPoint cp =
-              closest_point_on_triangle(q, vertex(t, 0), vertex(t, 1), vertex(t, 2));
-          if (cp.distance_squared <= best) {
-            best = cp.distance_squared;
-            inside = inside_by_normal(q, t, cp, eps);
-          }
+  for (int octant = 0; octant < 8; ++octant) {
+    const int oa = octant & 1, ob = (octant >> 1) & 1, oc = octant >> 2;
+    const Vec3 o = center + side * 0.25 * Vec3(2 * oa - 1, 2 * ob - 1, 2 * oc - 1);
+    double d2 = 0;
+    const bool o_inside = classify(o, &d2);
+    const bool uniform = d2 > octant_radius * octant_radius;
+    for (int c = 2 * oc; c < 2 * oc + 2; ++c) {
+      for (int b = 2 * ob; b < 2 * ob + 2; ++b) {
+        for (int a = 2 * oa; a < 2 * oa + 2; ++a) {
+          const Vec3 q = center + side * ((Vec3(a, b, c).array() + 0.5) / 4 - 0.5).matrix();
+          if (uniform ? o_inside : classify(q, &d2)) mask |= uint64_t(1) << (a + 4 * (b + 4 * c));
         }
-        if (inside) mask |= uint64_t(1) << bit;
       }
     }
   }

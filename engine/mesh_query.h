@@ -57,13 +57,12 @@ class MeshQuery {
   bool contains(const Vec3& p, double eps) const;
   // Same answer by the closest surface point; for points near the surface.
   bool contains_near(const Vec3& p, double eps) const;
-  // Which of the n^3 (n <= 4) sub-cell centres of the cube of side `side` centred on `center`
-  // are inside or within eps of the surface: bit a + n (b + n c) for the centre at offset
-  // ((a, b, c) + 1/2) side / n - side / 2. `center_inside` is the centre's own status, which
+  // Which of the 4x4x4 sub-cell centres of the cube of side `side` centred on `center` are
+  // inside or within eps of the surface: bit a + 4 (b + 4 c) for the centre at offset
+  // ((a, b, c) + 1/2) side / 4 - side / 2. `center_inside` is the centre's own status, which
   // points with no surface nearer than the centre inherit. One search for the triangles near
-  // the cube serves all the points.
-  uint64_t inside_subcells(const Vec3& center, double side, int n, bool center_inside,
-                           double eps) const;
+  // the cube serves all the points, and octants far enough from the surface take one test.
+  uint64_t inside_subcells(const Vec3& center, double side, bool center_inside, double eps) const;
   // True when some triangle lies within distance r of p.
   bool surface_within(const Vec3& p, double r) const;
   double surface_distance(const Vec3& p) const;

@@ -252,6 +252,20 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base, Phyxe
   if (!(std::isfinite(s) && s > 0))
     errors.fail(path + ".spacing", "the spacing must be a positive length in metres");
   const double eps = kBoundaryTolerance * s;
+  // Scenes built in code may skip load_obj_mesh; the scene reader always loads meshes.
+  auto check_mesh = [&](const Shape& shape, const std::string& at) {
+    if (shape.type == Shape::Type::Mesh && !shape.mesh)
+      errors.fail(at,
+                  "the mesh shape has no loaded surface; read the scene with load_scene() "
+                  "or fill Shape::mesh with load_obj_mesh()");
+  };
+  check_mesh(object.shape, path + ".shape");
+  for (size_t c = 0; c < object.inclusions.size(); ++c)
+    check_mesh(object.inclusions[c].shape, path + ".inclusions[" + std::to_string(c) + "].shape");
+  for (size_t f = 0; f < object.fixed.size(); ++f)
+    check_mesh(object.fixed[f], path + ".fixed[" + std::to_string(f) + "]");
+  for (size_t l = 0; l < object.loads.size(); ++l)
+    check_mesh(object.loads[l].region, path + ".loads[" + std::to_string(l) + "].region");
   const Region shape(object.shape);
   Occupancy occ;
   occ.lattice = make_lattice(object, path, errors);
@@ -288,9 +302,20 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base, Phyxe
   for (size_t c = 0; c < object.inclusions.size(); ++c) {
     const Region region(object.inclusions[c].shape);
     const auto material = static_cast<uint32_t>(inclusion_base + c);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (int64_t n = 0; n < count; ++n)
-      if (region.contains(out.rest[first + n], eps)) out.material[first + n] = material;
+    int64_t hits = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : hits)
+    for (int64_t n = 0; n < count; ++n) {
+      if (region.contains(out.rest[first + n], eps)) {
+        out.material[first + n] = material;
+        ++hits;
+      }
+    }
+    if (hits == 0)
+      errors.fail(path + ".inclusions[" + std::to_string(c) + "].shape",
+                  "the inclusion contains no phyxel of the object, so its material would be "
+                  "unused; move or enlarge it so that it covers some of the object's lattice "
+                  "points (spacing " +
+                      length(s) + ")");
   }
   for (size_t p = first; p < total; ++p)
     out.mass[p] = out.materials[out.material[p]].density * out.volume[p];

@@ -76,7 +76,8 @@ void Region::classify_block(const Lattice& lattice, std::array<int64_t, 3> lo,
 }
 
 uint64_t Region::subcells(const Vec3& x, double s, bool x_inside, double eps) const {
-  if (query_) return query_->inside_subcells(x, s, kSubcells, x_inside, eps);
+  static_assert(kSubcells == 4, "MeshQuery::inside_subcells samples 4x4x4 sub-cells");
+  if (query_) return query_->inside_subcells(x, s, x_inside, eps);
   uint64_t mask = 0;
   for (int bit = 0; bit < kSubcells * kSubcells * kSubcells; ++bit)
     if (shape_contains(shape_, x + s * subcell_offset(bit), eps)) mask |= uint64_t(1) << bit;

@@ -120,6 +120,28 @@ TEST(SamplingErrors, LoadRegionWithoutPhyxelsNamesItsPath) {
       << message;
 }
 
+TEST(SamplingErrors, InclusionWithoutPhyxelsNamesItsPath) {
+  ObjectDesc a = beam();
+  a.inclusions.push_back(inclusion("tumour", sphere(Vec3(0.05, 0.01, 0.01), 0.004), 1100));
+  // Between lattice points: no site within 1 mm of (1.25, 1.25, 1.25) mm.
+  a.inclusions.push_back(inclusion("speck", sphere(Vec3(0.00125, 0.00125, 0.00125), 0.001), 1));
+  const std::string message = scene_error([&] { sample_scene(scene_of({a})); });
+  EXPECT_NE(message.find("test_scene.json: objects[0].inclusions[1].shape: "), std::string::npos)
+      << message;
+}
+
+TEST(SamplingErrors, MeshShapeWithoutASurface) {
+  ObjectDesc a = beam();
+  Shape unloaded;
+  unloaded.type = Shape::Type::Mesh;
+  unloaded.path = "liver.obj";
+  a.fixed.push_back(unloaded);
+  const std::string message = scene_error([&] { sample_scene(scene_of({a})); });
+  EXPECT_NE(message.find("test_scene.json: objects[0].fixed[0]: the mesh shape has no loaded"),
+            std::string::npos)
+      << message;
+}
+
 TEST(SamplingErrors, ObjectWithoutPhyxelsNamesShapeAndSpacing) {
   ObjectDesc a = beam();
   ObjectDesc b = object("inverted", box(Vec3(0.01, 0, 0), Vec3(0, 0.01, 0.01)), kS);
