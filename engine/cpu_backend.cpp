@@ -42,6 +42,15 @@ class CpuBackend final : public Solver {
   }
   size_t regularised_count() const override { return solver_->regularised_count(); }
   const NeighbourLists& neighbours() const override { return solver_->neighbours(); }
+  bool supports_pass_selection() const override { return true; }
+  void set_pass_selection(bool enabled) override { solver_->set_pass_selection(enabled); }
+  void set_object_awake(uint32_t object, bool awake) override {
+    solver_->set_object_awake(object, awake);
+  }
+  size_t stress_pass_size() const override { return solver_->stress_pass_size(); }
+  size_t force_pass_size() const override { return solver_->force_pass_size(); }
+  bool supports_load_changes() const override { return true; }
+  void set_external_forces(const std::vector<Vec3>& f) override { solver_->set_external_forces(f); }
 
  private:
   int threads_;

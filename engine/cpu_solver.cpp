@@ -11,7 +11,11 @@ namespace phyxel {
 
 template <class Real>
 CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
-    : flags_(set.flags), nbr_(find_rest_neighbours(set)) {
+    : gravity_(gravity),
+      object_(set.object),
+      awake_(set.objects.size(), 1),
+      flags_(set.flags),
+      nbr_(find_rest_neighbours(set)) {
   const size_t n = set.size();
   rest_.resize(n);
   mass_.resize(n);
@@ -58,6 +62,8 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     kappa_[i] = tr > 0 ? Real(mat.hourglass * lame_mu(mat) * set.volume[i] / tr) : Real(0);
   }
   regularised_count_ = regularised;
+  mass_d_ = set.mass;
+  build_pass_lists();
   u_.assign(n, V3::Zero());
   v_.resize(n);
   for (size_t i = 0; i < n; ++i)
@@ -94,12 +100,14 @@ typename CpuSolver<Real>::M3 CpuSolver<Real>::gradient(size_t i) const {
 
 template <class Real>
 void CpuSolver<Real>::compute_forces() {
-  const long n = static_cast<long>(size());
-  const int threads = threads_for(n);
+  const long ns = static_cast<long>(stress_list_.size());
+  const long nf = static_cast<long>(force_list_.size());
+  const int threads = threads_for(ns);
 #pragma omp parallel num_threads(threads)
   {
 #pragma omp for schedule(static)
-    for (long i = 0; i < n; ++i) {
+    for (long s = 0; s < ns; ++s) {
+      const uint32_t i = stress_list_[s];
       const M3 m = moment_sum(i);
       const M3 g = m * a_inv_[i];
       const M3 f = M3::Identity() + g;
@@ -109,12 +117,13 @@ void CpuSolver<Real>::compute_forces() {
       d_[i] = d;
     }
 #pragma omp for schedule(static)
-    for (long k = 0; k < n; ++k) {
+    for (long s = 0; s < nf; ++s) {
+      const uint32_t k = force_list_[s];
       V3 force = external_[k];
-      for (uint32_t s = nbr_.offset[k]; s < nbr_.offset[k + 1]; ++s) {
-        const uint32_t j = nbr_.index[s];
+      for (uint32_t p = nbr_.offset[k]; p < nbr_.offset[k + 1]; ++p) {
+        const uint32_t j = nbr_.index[p];
         const V3 x = rest_[j] - rest_[k];
-        force += w_[s] * ((d_[k] + d_[j]) * x + (kappa_[k] + kappa_[j]) * (u_[j] - u_[k]));
+        force += w_[p] * ((d_[k] + d_[j]) * x + (kappa_[k] + kappa_[j]) * (u_[j] - u_[k]));
       }
       f_[k] = force;
     }
@@ -122,20 +131,69 @@ void CpuSolver<Real>::compute_forces() {
 }
 
 template <class Real>
+void CpuSolver<Real>::build_pass_lists() {
+  const size_t n = flags_.size();
+  stress_list_.clear();
+  force_list_.clear();
+  std::vector<uint8_t> stress(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    if (!awake_[object_[i]] || (flags_[i] & kRemoved)) continue;
+    // Without selection, fixed phyxels get forces too (reactions; they do not move).
+    if (!select_ || !(flags_[i] & kFixed)) {
+      force_list_.push_back(static_cast<uint32_t>(i));
+      stress[i] = 1;
+      if (select_)
+        for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) stress[nbr_.index[k]] = 1;
+    }
+  }
+  for (size_t i = 0; i < n; ++i)
+    if (stress[i]) stress_list_.push_back(static_cast<uint32_t>(i));
+}
+
+template <class Real>
+void CpuSolver<Real>::set_pass_selection(bool enabled) {
+  select_ = enabled;
+  build_pass_lists();
+  compute_forces();
+}
+
+template <class Real>
+void CpuSolver<Real>::set_object_awake(uint32_t object, bool awake) {
+  if (bool(awake_[object]) == awake) return;
+  awake_[object] = awake;
+  if (!awake)
+    for (size_t i = 0; i < v_.size(); ++i)
+      if (object_[i] == object) v_[i] = V3::Zero();
+  build_pass_lists();
+  compute_forces();
+}
+
+template <class Real>
+void CpuSolver<Real>::set_external_forces(const std::vector<Vec3>& loads) {
+  for (size_t i = 0; i < external_.size(); ++i)
+    external_[i] = (mass_d_[i] * gravity_ + loads[i]).template cast<Real>();
+  compute_forces();
+}
+
+template <class Real>
 void CpuSolver<Real>::step(Real dt) {
-  const long n = static_cast<long>(size());
+  const long nf = static_cast<long>(force_list_.size());
   const Real half = dt / 2;
-  const int threads = threads_for(n);
+  const int threads = threads_for(nf);
+  // The force list holds exactly the phyxels that move (when selection is off it also holds
+  // fixed ones, which are skipped here).
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (long i = 0; i < n; ++i) {
-    if (flags_[i] & (kFixed | kRemoved)) continue;
+  for (long s = 0; s < nf; ++s) {
+    const uint32_t i = force_list_[s];
+    if (flags_[i] & kFixed) continue;
     v_[i] = (v_[i] + half / mass_[i] * f_[i]) / (1 + damping_[i] * half);
     u_[i] += dt * v_[i];
   }
   compute_forces();
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (long i = 0; i < n; ++i) {
-    if (flags_[i] & (kFixed | kRemoved)) continue;
+  for (long s = 0; s < nf; ++s) {
+    const uint32_t i = force_list_[s];
+    if (flags_[i] & kFixed) continue;
     v_[i] = (v_[i] + half / mass_[i] * f_[i]) / (1 + damping_[i] * half);
   }
 }

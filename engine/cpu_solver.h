@@ -47,6 +47,20 @@ class CpuSolver {
   const NeighbourLists& neighbours() const { return nbr_; }
   size_t regularised_count() const { return regularised_count_; }
 
+  // Pass selection (on by default): the force pass runs only for phyxels that move, and the
+  // stress pass only for those and their neighbours; fixed-only regions cost nothing. Sleeping
+  // objects are skipped entirely. Off: every pass runs over every phyxel (--no-skip).
+  void set_pass_selection(bool enabled);
+  bool pass_selection() const { return select_; }
+  // Sleep (velocities zeroed, all passes skipped) or wake an object.
+  void set_object_awake(uint32_t object, bool awake);
+  bool object_awake(uint32_t object) const { return awake_[object] != 0; }
+  // Replaces the loads (per phyxel, N; gravity stays) and recomputes the forces.
+  void set_external_forces(const std::vector<Vec3>& loads);
+  // Phyxels in the stress and force passes now.
+  size_t stress_pass_size() const { return stress_list_.size(); }
+  size_t force_pass_size() const { return force_list_.size(); }
+
   // Recomputes force() from the current displacement; call after changing u by hand.
   void compute_forces();
   // One velocity-Verlet (leapfrog) step of size dt with implicit mass-proportional damping.
@@ -64,7 +78,14 @@ class CpuSolver {
 
  private:
   M3 moment_sum(size_t i) const;  // M_i
-  int threads_for(long n) const;   // threads worth using for n phyxels
+  int threads_for(long n) const;  // threads worth using for n phyxels
+  void build_pass_lists();
+
+  Vec3 gravity_;
+  std::vector<uint32_t> object_;
+  std::vector<uint8_t> awake_;  // per object
+  bool select_ = true;
+  std::vector<uint32_t> stress_list_, force_list_;  // phyxels each pass visits
 
   std::vector<uint32_t> flags_;
   std::vector<V3> rest_;
@@ -73,6 +94,7 @@ class CpuSolver {
   std::vector<M3> a_inv_, a_residual_;
   std::vector<uint8_t> regularised_;
   std::vector<V3> external_;  // m g + loads
+  std::vector<double> mass_d_;
   NeighbourLists nbr_;
   std::vector<Real> w_;  // w_ij aligned with nbr_.index
   size_t regularised_count_ = 0;

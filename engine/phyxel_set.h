@@ -25,6 +25,15 @@ struct ObjectRange {
   double support_radius = 0;
 };
 
+// One scene load spread over its phyxels (volume-weighted), with its time window.
+struct LoadSpread {
+  uint32_t object = 0;
+  double from = 0, until = 0;  // active during [from, until) of simulated time
+  std::vector<uint32_t> phyxels;
+  std::vector<Vec3> forces;  // N, adding up to the load's force
+  bool active_at(double t) const { return from <= t && t < until; }
+};
+
 struct PhyxelSet {
   std::vector<Vec3> rest;            // x0, m
   std::vector<double> volume;        // quadrature volume: the part of its lattice cell inside
@@ -34,13 +43,17 @@ struct PhyxelSet {
   std::vector<uint32_t> flags;       // PhyxelFlags
   std::vector<Vec3> normal;          // outward unit normal at rest (zero inside)
   std::vector<double> splat_radius;  // m (zero inside)
-  std::vector<Vec3> external_force;  // constant load per phyxel (scene `loads`), N
+  std::vector<Vec3> external_force;  // the loads active at t = 0, per phyxel, N
+  std::vector<LoadSpread> loads;     // every load, for loads that switch on or off
   std::vector<Vec3> initial_velocity;
-  std::vector<Material> materials;   // object materials then inclusion materials
+  std::vector<Material> materials;  // object materials then inclusion materials
   std::vector<ObjectRange> objects;
 
   size_t size() const { return rest.size(); }
 };
+
+// Sum of the loads active at simulated time t, per phyxel.
+std::vector<Vec3> external_forces_at(const PhyxelSet& set, double t);
 
 // Samples every object of the scene on its lattice (corners included). Throws SceneError
 // when an object has no phyxel or would not fit in memory.

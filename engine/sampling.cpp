@@ -353,9 +353,20 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base, Phyxe
                   "nothing; move or enlarge it so that it covers some of the object's lattice "
                   "points (spacing " +
                       length(s) + ")");
-    for (int64_t n = 0; n < count; ++n)
-      if (in_region[n])
-        out.external_force[first + n] += object.loads[l].force * (out.volume[first + n] / volume);
+    const Load& load = object.loads[l];
+    LoadSpread spread;
+    spread.object = static_cast<uint32_t>(out.objects.size());
+    spread.from = load.from;
+    spread.until = load.until;
+    for (int64_t n = 0; n < count; ++n) {
+      if (!in_region[n]) continue;
+      spread.phyxels.push_back(static_cast<uint32_t>(first + n));
+      spread.forces.push_back(load.force * (out.volume[first + n] / volume));
+    }
+    if (spread.active_at(0))
+      for (size_t k = 0; k < spread.phyxels.size(); ++k)
+        out.external_force[spread.phyxels[k]] += spread.forces[k];
+    out.loads.push_back(std::move(spread));
   }
 
   ObjectRange range;
@@ -383,6 +394,14 @@ PhyxelSet sample_scene(const Scene& scene) {
   }
   for (size_t k = 0; k < scene.objects.size(); ++k) sample_object(scene, k, inclusion_base[k], out);
   return out;
+}
+
+std::vector<Vec3> external_forces_at(const PhyxelSet& set, double t) {
+  std::vector<Vec3> f(set.size(), Vec3::Zero());
+  for (const LoadSpread& load : set.loads)
+    if (load.active_at(t))
+      for (size_t k = 0; k < load.phyxels.size(); ++k) f[load.phyxels[k]] += load.forces[k];
+  return f;
 }
 
 }  // namespace phyxel

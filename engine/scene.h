@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -55,10 +56,13 @@ struct Inclusion {
   Material material;
 };
 
-// A constant external force spread over the phyxels inside `region`, weighted by volume.
+// An external force spread over the phyxels inside `region`, weighted by volume, acting
+// during [from, until) of simulated time (always, by default).
 struct Load {
   Shape region;
-  Vec3 force = Vec3::Zero();  // total force, N
+  Vec3 force = Vec3::Zero();                               // total force, N
+  double from = 0;                                         // s
+  double until = std::numeric_limits<double>::infinity();  // s
 };
 
 struct ObjectDesc {
@@ -79,17 +83,25 @@ struct UntilRest {
   int64_t for_steps = 1000;         // the energy must stay below the bound this long
 };
 
+// Objects at rest are put to sleep: their phyxels are skipped until a load changes.
+struct SleepSettings {
+  bool enabled = false;
+  double kinetic_energy_below = 0;  // J, per object
+  int64_t for_steps = 500;          // the object's energy must stay below the bound this long
+};
+
 struct SimulationSettings {
   double dt = 1e-4;  // requested step, s
   int64_t steps = 1000;
   Vec3 gravity = Vec3::Zero();
   UntilRest until_rest;
+  SleepSettings sleep;
   // Courant factor C of the stable step dt <= C * s / c_p (see docs/decisions.md).
   double courant = 0.5;
 };
 
 struct OutputSettings {
-  int64_t every = 0;  // write points_NNNNNN.vtp every this many steps (0: only the last)
+  int64_t every = 0;    // write points_NNNNNN.vtp every this many steps (0: only the last)
   bool binary = false;  // VTK XML appended raw binary instead of ASCII
 };
 
@@ -98,15 +110,15 @@ struct CameraSettings {
   std::optional<Vec3> position;  // unset: looking at the scene's bounding box
   std::optional<Vec3> target;    // unset: the centre of the scene's bounding box
   Vec3 up = Vec3::UnitZ();
-  double fov_y_deg = 45;  // vertical field of view ("aperture")
+  double fov_y_deg = 45;         // vertical field of view ("aperture")
   double near = 0.01, far = 10;  // m, 0 < near < far
 };
 
 // `render.stereo`: parallel eyes, off-axis frusta (DESIGN.md section 5).
 struct StereoSettings {
   enum class Layout { SideBySide, Anaglyph };
-  double ipd = 0.064;                     // eye separation, m (>= 0)
-  std::optional<double> focal_distance;   // zero-parallax distance, m; unset: camera to target
+  double ipd = 0.064;                    // eye separation, m (>= 0)
+  std::optional<double> focal_distance;  // zero-parallax distance, m; unset: camera to target
   Layout layout = Layout::SideBySide;
   bool swap_eyes = false;
 };
@@ -139,7 +151,9 @@ Scene parse_scene(const std::string& json_text, const std::filesystem::path& fil
 inline double lame_lambda(const Material& m) {
   return m.young * m.poisson / ((1 + m.poisson) * (1 - 2 * m.poisson));
 }
-inline double lame_mu(const Material& m) { return m.young / (2 * (1 + m.poisson)); }
+inline double lame_mu(const Material& m) {
+  return m.young / (2 * (1 + m.poisson));
+}
 inline double volume_stiffness(const Material& m) {
   return m.volume_stiffness ? *m.volume_stiffness : 0.5 * lame_lambda(m);
 }

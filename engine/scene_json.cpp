@@ -186,10 +186,15 @@ ObjectDesc read_object(const Node& node, const fs::path& folder) {
   o.fixed = read_list<Shape>(node, "fixed", "an array of shape objects",
                              [&](const Node& n) { return read_shape(n, folder); });
   o.loads = read_list<Load>(node, "loads", "an array of load objects", [&](const Node& n) {
-    n.expect_object("a load object {\"region\": shape, \"force\": [x, y, z]}", {"region", "force"});
+    n.expect_object("a load object {\"region\": shape, \"force\": [x, y, z]}",
+                    {"region", "force", "from", "until"});
     Load load;
     load.region = read_shape(n.at("region", kShapeExpected), folder);
     load.force = n.vec3("force", Limits::any(), "N");
+    load.from = n.number_or("from", 0.0, Limits::at_least(0), "s");
+    if (n.find("until")) {
+      load.until = n.number_or("until", 0.0, Limits::above(load.from), "s");
+    }
     return load;
   });
   o.initial_velocity = node.vec3_or("initial_velocity", Vec3::Zero(), Limits::any(), "m/s");
@@ -198,7 +203,7 @@ ObjectDesc read_object(const Node& node, const fs::path& folder) {
 
 SimulationSettings read_simulation(const Node& node) {
   node.expect_object("a simulation object {\"dt\": s, \"steps\": n, ...}",
-                     {"dt", "steps", "gravity", "until_rest", "courant"});
+                     {"dt", "steps", "gravity", "until_rest", "sleep", "courant"});
   SimulationSettings s;
   s.dt = node.number("dt", Limits::above(0), "s");
   s.steps = node.integer("steps", Limits::at_least(0));
@@ -209,6 +214,13 @@ SimulationSettings read_simulation(const Node& node) {
     s.until_rest.enabled = true;
     s.until_rest.kinetic_energy_below = rest->number("kinetic_energy_below", Limits::above(0), "J");
     s.until_rest.for_steps = rest->integer_or("for_steps", 1000, Limits::at_least(1));
+  }
+  if (const auto sleep = node.find("sleep")) {
+    sleep->expect_object("a sleep object {\"kinetic_energy_below\": J, \"for_steps\": n}",
+                         {"kinetic_energy_below", "for_steps"});
+    s.sleep.enabled = true;
+    s.sleep.kinetic_energy_below = sleep->number("kinetic_energy_below", Limits::above(0), "J");
+    s.sleep.for_steps = sleep->integer_or("for_steps", 500, Limits::at_least(1));
   }
   s.courant = node.number_or("courant", 0.5, Limits::above_up_to(0, 1), "");
   return s;
@@ -262,13 +274,16 @@ void check_memory(const std::string& file, const std::vector<ObjectDesc>& object
 
 }  // namespace
 
+// `camera` and `render` (scene_json_render.cpp).
+void read_view_settings(const Node& root, Scene& scene);
+
 Scene parse_scene(const std::string& json_text, const fs::path& file) {
   const std::string name = file.string();
   const nlohmann::json doc = json_reader::parse_document(json_text, name);
   const Node root(doc, "", name);
   root.expect_object(
       "a scene object {\"simulation\": {...}, \"objects\": [...], \"output\": {...}}",
-      {"simulation", "objects", "output"});
+      {"simulation", "objects", "output", "camera", "render"});
   Scene scene;
   scene.file = file;
   scene.simulation =
@@ -290,6 +305,7 @@ Scene parse_scene(const std::string& json_text, const fs::path& file) {
   check_memory(name, scene.objects);
 
   if (const auto output = root.find("output")) scene.output = read_output(*output);
+  read_view_settings(root, scene);
   return scene;
 }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
+#include <stdexcept>
 
 #include "engine/vtp_writer.h"
 
@@ -54,16 +56,58 @@ double max_norm(const std::vector<Vec3>& u) {
 
 }  // namespace
 
+namespace {
+
+// Steps (of the requested size) at which some load switches on or off, inside (0, total).
+std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, int64_t total) {
+  std::vector<int64_t> steps;
+  for (const LoadSpread& load : set.loads)
+    for (const double t : {load.from, load.until}) {
+      if (!(t > 0) || !std::isfinite(t)) continue;
+      const auto k = static_cast<int64_t>(std::ceil(t / step_time - 1e-9));
+      if (k > 0 && k < total) steps.push_back(k);
+    }
+  std::sort(steps.begin(), steps.end());
+  steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+  return steps;
+}
+
+int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping) {
+  if (options.check_every > 0) return options.check_every;
+  int64_t check = 100;
+  const UntilRest& rest = scene.simulation.until_rest;
+  if (rest.enabled) check = std::min(check, std::clamp<int64_t>(rest.for_steps / 10, 1, 100));
+  if (sleeping)
+    check = std::min(check, std::clamp<int64_t>(scene.simulation.sleep.for_steps / 10, 1, 100));
+  return check;
+}
+
+}  // namespace
+
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
                          const RunOptions& options) {
   RunResult result;
   result.plan = plan_time_step(scene, set);
   const int64_t total = options.steps;
   const int64_t every = scene.output.every;
+  const double step_time = result.plan.dt_requested;
+  const bool select = options.pass_selection && solver.supports_pass_selection();
+  if (solver.supports_pass_selection()) solver.set_pass_selection(select);
+  const SleepSettings& sleep = scene.simulation.sleep;
+  const bool sleeping = select && sleep.enabled;
   const UntilRest& rest = scene.simulation.until_rest;
-  // Energy and finiteness are looked at every `check` steps (a readback on the GPU).
-  const int64_t check = rest.enabled ? std::clamp<int64_t>(rest.for_steps / 10, 1, 100) : 100;
+  const std::vector<int64_t> events = load_event_steps(set, step_time, total);
+  if (!events.empty() && !solver.supports_load_changes())
+    throw std::runtime_error(scene.file.string() +
+                             ": loads with from/until switch during the run, "
+                             "which " +
+                             solver.device() + " cannot do; use --device cpu");
+  const int64_t check = check_interval(scene, options, sleeping);
+  std::vector<double> wave_speed(set.materials.size());
+  for (size_t m = 0; m < set.materials.size(); ++m) wave_speed[m] = p_wave_speed(set.materials[m]);
   int64_t below_since = -1;
+  std::vector<int64_t> object_below_since(set.objects.size(), -1);
+  std::vector<uint8_t> awake(set.objects.size(), 1);
 
   auto write_points = [&](int64_t step) {
     if (options.out_dir.empty()) return;
@@ -72,16 +116,38 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     write_points_vtp(options.out_dir / name, set, state, scene.output.binary);
     result.outputs.push_back(name);
   };
+  auto next_multiple = [](int64_t step, int64_t n) { return (step / n + 1) * n; };
 
   const auto start = std::chrono::steady_clock::now();
   int64_t step = 0;
+  size_t next_event = 0;
   while (step < total) {
     // Advance to the next step at which something has to be looked at.
-    int64_t next = std::min(total, (step / check + 1) * check);
-    if (every > 0) next = std::min(next, (step / every + 1) * every);
+    int64_t next = std::min(total, next_multiple(step, check));
+    if (every > 0) next = std::min(next, next_multiple(step, every));
+    if (options.frame_every > 0) next = std::min(next, next_multiple(step, options.frame_every));
+    if (next_event < events.size()) next = std::min(next, events[next_event]);
     solver.advance((next - step) * result.plan.substeps, result.plan.dt_used);
+    const int64_t previous = step;
     step = next;
     if (options.progress) options.progress(step, total);
+
+    if (next_event < events.size() && events[next_event] == step) {
+      // Loads switch: apply the new ones and wake every object whose loads changed.
+      ++next_event;
+      ++result.load_changes;
+      solver.set_external_forces(external_forces_at(set, step * step_time));
+      for (const LoadSpread& load : set.loads) {
+        if (load.active_at(previous * step_time) == load.active_at(step * step_time)) continue;
+        object_below_since[load.object] = -1;
+        if (!awake[load.object]) {
+          awake[load.object] = 1;
+          solver.set_object_awake(load.object, true);
+          ++result.wakes;
+        }
+      }
+    }
+
     if (step % check == 0 || step == total) {
       const long bad = solver.first_non_finite();
       if (bad >= 0) {
@@ -90,31 +156,120 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         result.non_finite_phyxel = bad;
         break;
       }
+      const PointState state = solver.read_state(false);
+      double kinetic = 0;
+      std::vector<double> object_kinetic(set.objects.size(), 0.0);
+      for (size_t i = 0; i < set.size(); ++i) {
+        const double v2 = state.velocity[i].squaredNorm();
+        const double c = wave_speed[set.material[i]];
+        if (v2 > c * c && !result.unstable) {
+          result.unstable = true;
+          result.unstable_step = step;
+          result.unstable_phyxel = static_cast<long>(i);
+          result.unstable_speed = std::sqrt(v2);
+          result.unstable_wave_speed = c;
+        }
+        object_kinetic[set.object[i]] += 0.5 * set.mass[i] * v2;
+        kinetic += 0.5 * set.mass[i] * v2;
+      }
+      if (result.unstable) break;
       if (rest.enabled) {
-        const double ke = solver.energies().kinetic;
-        if (ke >= rest.kinetic_energy_below) {
+        if (kinetic >= rest.kinetic_energy_below) {
           below_since = -1;
         } else if (below_since < 0) {
           below_since = step;
         }
-        if (below_since >= 0 && step - below_since >= rest.for_steps) {
-          result.stopped_at_rest = true;
+        if (below_since >= 0 && step - below_since >= rest.for_steps) result.stopped_at_rest = true;
+      }
+      for (size_t o = 0; sleeping && o < set.objects.size(); ++o) {
+        if (!awake[o]) continue;
+        if (object_kinetic[o] >= sleep.kinetic_energy_below) {
+          object_below_since[o] = -1;
+        } else if (object_below_since[o] < 0) {
+          object_below_since[o] = step;
+        }
+        if (object_below_since[o] >= 0 && step - object_below_since[o] >= sleep.for_steps) {
+          awake[o] = 0;
+          solver.set_object_awake(static_cast<uint32_t>(o), false);
+          ++result.sleeps;
         }
       }
     }
-    if (every > 0 && step % every == 0 && step != total && !result.stopped_at_rest)
-      write_points(step);
+    const bool last = step == total || result.stopped_at_rest;
+    if (every > 0 && step % every == 0 && !last) write_points(step);
+    if (options.on_frame && options.frame_every > 0 && (step % options.frame_every == 0 || last))
+      options.on_frame(step, solver);
     if (result.stopped_at_rest) break;
   }
   result.steps_done = step;
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!result.non_finite) {
+  if (!result.non_finite && !result.unstable) {
     write_points(step);
     result.energies = solver.energies();
     result.max_displacement = max_norm(solver.read_state(false).displacement);
   }
   return result;
+}
+
+std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                           const RunOptions& options) {
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  const bool select = options.pass_selection && solver.supports_pass_selection();
+  if (solver.supports_pass_selection()) solver.set_pass_selection(select);
+  size_t fixed = 0;
+  for (uint32_t f : set.flags) fixed += (f & kFixed) ? 1 : 0;
+  const size_t n = set.size(), moving = n - fixed;
+  std::ostringstream out;
+  char line[320];
+  auto add = [&](const char* fmt, auto... args) {
+    std::snprintf(line, sizeof line, fmt, args...);
+    out << line << "\n";
+  };
+  add("pass plan for %s: %zu phyxels in %zu object(s), %zu fixed, on %s",
+      scene.file.string().c_str(), n, set.objects.size(), fixed, solver.device().c_str());
+  add("  time step: requested %.4g s, stable bound %.4g s -> %lld substep(s) of %.4g s",
+      plan.dt_requested, plan.dt_stable, static_cast<long long>(plan.substeps), plan.dt_used);
+  add("  per substep:");
+  add("    kick + drift   %zu phyxels (fixed ones never move)", moving);
+  if (select) {
+    const size_t stress = solver.stress_pass_size();
+    add("    stress (MLS)   %zu phyxels: the moving ones and their neighbours; %zu fixed-only "
+        "phyxels skipped",
+        stress, n - stress);
+    add("    force + kick   %zu phyxels: the moving ones", solver.force_pass_size());
+  } else if (solver.supports_pass_selection()) {
+    add("    stress (MLS)   %zu phyxels: all (--no-skip)", n);
+    add("    force + kick   %zu phyxels: all, fixed ones for their reactions (--no-skip)", n);
+  } else {
+    add("    stress (MLS)   %zu phyxels: all (this device has no pass selection)", n);
+    add("    force + kick   %zu phyxels: all", n);
+  }
+  const bool sleeping = select && scene.simulation.sleep.enabled;
+  if (sleeping)
+    add("  sleeping: on; an object whose kinetic energy stays below %.3g J for %lld steps "
+        "sleeps (all its passes skipped) until one of its loads switches",
+        scene.simulation.sleep.kinetic_energy_below,
+        static_cast<long long>(scene.simulation.sleep.for_steps));
+  else
+    add("  sleeping: off (%s)", !scene.simulation.sleep.enabled ? "no simulation.sleep in the scene"
+                                : select                        ? ""
+                                                                : "--no-skip");
+  const auto events = load_event_steps(set, plan.dt_requested, options.steps);
+  add("  load changes: %zu (loads with from/until)", events.size());
+  add("  checks: kinetic energy, finiteness and runaway speed every %lld steps%s",
+      static_cast<long long>(check_interval(scene, options, sleeping)),
+      scene.simulation.until_rest.enabled ? " (until_rest is on)" : "");
+  if (scene.output.every > 0)
+    add("  outputs: points_*.vtp every %lld steps and at the end; no readback otherwise",
+        static_cast<long long>(scene.output.every));
+  else
+    add("  outputs: points_*.vtp at the end only; no readback otherwise");
+  add("  not recorded: %s",
+      options.frame_every > 0 ? "cutting/collision passes (no tool), stress eigen pass (no tearing)"
+                              : "render passes (no rendering), cutting/collision passes (no "
+                                "tool), stress eigen pass (no tearing)");
+  return out.str();
 }
 
 }  // namespace phyxel

@@ -27,6 +27,11 @@ struct RunOptions {
   int64_t steps = 0;              // requested steps (scene's unless overridden)
   std::filesystem::path out_dir;  // empty: write nothing
   std::function<void(int64_t step, int64_t total)> progress;  // may be empty
+  bool pass_selection = true;  // false: --no-skip (every pass over every phyxel, no sleep)
+  int64_t check_every = 0;     // steps between energy/finiteness checks; 0: automatic
+  // Frames: on_frame(step, solver) every frame_every steps and at the end (0: never).
+  int64_t frame_every = 0;
+  std::function<void(int64_t step, Solver& solver)> on_frame;
 };
 
 struct RunResult {
@@ -37,6 +42,13 @@ struct RunResult {
   bool non_finite = false;
   int64_t non_finite_step = -1;  // first check at which a non-finite value was seen
   long non_finite_phyxel = -1;
+  // A finite but runaway state: some phyxel faster than its material's p-wave speed.
+  bool unstable = false;
+  int64_t unstable_step = -1;
+  long unstable_phyxel = -1;
+  double unstable_speed = 0, unstable_wave_speed = 0;
+  int64_t sleeps = 0, wakes = 0;  // object sleep and wake events
+  int64_t load_changes = 0;
   Energies energies;
   double max_displacement = 0;
   std::vector<std::string> outputs;  // files written, relative to out_dir
@@ -44,5 +56,9 @@ struct RunResult {
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
                          const RunOptions& options);
+
+// The passes the run will record and why, one per line (phyxel run --explain).
+std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                           const RunOptions& options);
 
 }  // namespace phyxel

@@ -28,6 +28,18 @@ class Solver {
   virtual PointState read_state(bool with_stress) = 0;
   virtual size_t regularised_count() const = 0;  // ill-conditioned moment matrices
   virtual const NeighbourLists& neighbours() const = 0;
+
+  // Optional abilities; a solver without one says so and the run loop does without it.
+  // Pass selection (skip fixed-only regions and sleeping objects): see CpuSolver.
+  virtual bool supports_pass_selection() const { return false; }
+  virtual void set_pass_selection(bool) {}
+  virtual void set_object_awake(uint32_t, bool) {}
+  // Phyxels visited by the stress and force passes of one substep now.
+  virtual size_t stress_pass_size() const { return 0; }
+  virtual size_t force_pass_size() const { return 0; }
+  // Loads that switch on or off during the run (scene loads with from/until).
+  virtual bool supports_load_changes() const { return false; }
+  virtual void set_external_forces(const std::vector<Vec3>&) {}
 };
 
 // The CPU reference solver behind the Solver interface. threads <= 0: all cores.

@@ -1,5 +1,6 @@
 // Every invalid scene gives one SceneError line "FILE: JSON.PATH: problem; allowed ...".
-// One test per case; each starts from the shipped demo (scenes/beam_tumour.json) and breaks one thing.
+// One test per case; each starts from the shipped demo (scenes/beam_tumour.json) and breaks one
+// thing.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -125,7 +126,7 @@ TEST(SceneErrors, UnknownTopLevelKeySuggestsTheRightOne) {
 TEST(SceneErrors, UnknownSimulationKey) {
   const std::string msg = error_with([](json& j) { j["simulation"]["time_step"] = 1; });
   expect_error(msg, "simulation.time_step",
-               {"unknown key", "dt, steps, gravity, until_rest, courant"});
+               {"unknown key", "dt, steps, gravity, until_rest, sleep, courant"});
 }
 
 TEST(SceneErrors, UnknownUntilRestKey) {

@@ -236,5 +236,43 @@ TEST(SceneRanges, MemoryCheckBlamesTheLargestObject) {
   expect_error(msg, "objects[1].spacing", {"8e+15 phyxels", "a larger spacing is needed"});
 }
 
+TEST(SceneRanges, LoadUntilNotAfterFrom) {
+  expect_error(error_with([](json& j) {
+                 object0(j)["loads"][0]["from"] = 0.2;
+                 object0(j)["loads"][0]["until"] = 0.1;
+               }),
+               "objects[0].loads[0].until", {"0.1"});
+}
+
+TEST(SceneRanges, LoadFromNegative) {
+  expect_error(error_with([](json& j) { object0(j)["loads"][0]["from"] = -1; }),
+               "objects[0].loads[0].from", {"-1"});
+}
+
+TEST(SceneRanges, SleepEnergyNotPositive) {
+  expect_error(error_with([](json& j) {
+                 j["simulation"]["sleep"] = {{"kinetic_energy_below", 0}};
+               }),
+               "simulation.sleep.kinetic_energy_below", {"0"});
+}
+
+TEST(SceneParseTimedLoads, WindowAndSleepAreRead) {
+  json j = demo();
+  object0(j)["loads"][0]["from"] = 0.1;
+  object0(j)["loads"][0]["until"] = 0.3;
+  j["simulation"]["sleep"] = {{"kinetic_energy_below", 1e-9}, {"for_steps", 50}};
+  const Scene s = parse_scene(j.dump(), kFile);
+  EXPECT_DOUBLE_EQ(s.objects[0].loads[0].from, 0.1);
+  EXPECT_DOUBLE_EQ(s.objects[0].loads[0].until, 0.3);
+  EXPECT_TRUE(std::isinf(s.objects[0].loads.at(0).until) == false);
+  EXPECT_TRUE(s.simulation.sleep.enabled);
+  EXPECT_DOUBLE_EQ(s.simulation.sleep.kinetic_energy_below, 1e-9);
+  EXPECT_EQ(s.simulation.sleep.for_steps, 50);
+  j = demo();
+  const Scene plain = parse_scene(j.dump(), kFile);
+  EXPECT_TRUE(std::isinf(plain.objects[0].loads[0].until));
+  EXPECT_FALSE(plain.simulation.sleep.enabled);
+}
+
 }  // namespace
 }  // namespace phyxel
