@@ -51,10 +51,20 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       {"stopped_at_rest", result.stopped_at_rest},
       {"ill_conditioned_moment_matrices", solver.regularised_count()},
       {"non_finite", result.non_finite},
+      {"unstable", result.unstable},
+      {"pass_selection", options.pass_selection && solver.supports_pass_selection()},
+      {"sleeps", result.sleeps},
+      {"wakes", result.wakes},
+      {"load_changes", result.load_changes},
       {"outputs", result.outputs},
   };
   if (result.non_finite) {
     j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};
+  } else if (result.unstable) {
+    j["unstable_at"] = {{"step", result.unstable_step},
+                        {"phyxel", result.unstable_phyxel},
+                        {"speed", result.unstable_speed},
+                        {"p_wave_speed", result.unstable_wave_speed}};
   } else {
     j["kinetic_energy"] = result.energies.kinetic;
     j["strain_energy"] = result.energies.strain;

@@ -1,0 +1,78 @@
+// phyxel bench --skips: what pass selection saves on real scenes (fixed-only regions skipped,
+// sleeping objects skipped), as median seconds per step with and without it.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/bench_extras.h"
+#include "app/options.h"
+#include "engine/simulation.h"
+
+namespace phyxel::app {
+namespace {
+
+double median_step_seconds(Solver& solver, double dt, int64_t steps, int repeats) {
+  std::vector<double> t;
+  for (int r = 0; r < repeats; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    solver.advance(steps, dt);
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
+                double(steps));
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+}  // namespace
+
+int bench_skips(const Args& args) {
+  OptionParser opts("bench", args);
+  opts.flag("--skips");
+  std::string scenes_text =
+      opts.value("--scenes", "scenes/brain_tumour.json,scenes/breast_tumour.json,scenes/beam.json");
+  const int64_t steps = opts.integer("--steps", 200, 1, 1 << 30);
+  const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
+  const std::string json_file = opts.value("--json", "");
+  opts.finish();
+  std::vector<std::string> scenes;
+  std::stringstream ss(scenes_text);
+  for (std::string item; std::getline(ss, item, ',');) scenes.push_back(item);
+
+  nlohmann::json rows = nlohmann::json::array();
+  std::printf("%-28s %8s %8s %12s %12s %12s %8s %12s\n", "scene", "phyxels", "fixed", "all s/step",
+              "skip s/step", "saved", "stress", "asleep s/step");
+  for (const std::string& file : scenes) {
+    const Scene scene = load_scene(file);
+    const PhyxelSet set = sample_scene(scene);
+    const double dt = plan_time_step(scene, set).dt_stable;
+    size_t fixed = 0;
+    for (uint32_t f : set.flags) fixed += (f & kFixed) ? 1 : 0;
+    auto solver = make_cpu_solver(set, scene.simulation.gravity, threads);
+    solver->set_pass_selection(false);
+    const double all = median_step_seconds(*solver, dt, steps, 5);
+    solver->set_pass_selection(true);
+    const double skip = median_step_seconds(*solver, dt, steps, 5);
+    const size_t stress = solver->stress_pass_size();
+    for (uint32_t o = 0; o < set.objects.size(); ++o) solver->set_object_awake(o, false);
+    const double asleep = median_step_seconds(*solver, dt, steps, 5);
+    std::printf("%-28s %8zu %8zu %12.4g %12.4g %11.1f%% %8zu %12.4g\n", file.c_str(), set.size(),
+                fixed, all, skip, 100 * (1 - skip / all), stress, asleep);
+    rows.push_back({{"scene", file},
+                    {"phyxels", set.size()},
+                    {"fixed", fixed},
+                    {"device", solver->device()},
+                    {"seconds_per_step_no_skip", all},
+                    {"seconds_per_step_skip", skip},
+                    {"stress_pass_phyxels", stress},
+                    {"seconds_per_step_asleep", asleep},
+                    {"steps", steps},
+                    {"repeats", 5}});
+  }
+  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace phyxel::app
