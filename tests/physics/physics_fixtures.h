@@ -1,7 +1,10 @@
 // Small scenes built in code for the physics property tests.
 #pragma once
 
+#include <cstdlib>
+#include <filesystem>
 #include <random>
+#include <string>
 
 #include "engine/phyxel_set.h"
 #include "engine/scene.h"
@@ -39,6 +42,15 @@ inline Scene box_scene(const Vec3& lo, const Vec3& hi, double s, const Material&
   o.material = m;
   scene.objects.push_back(o);
   return scene;
+}
+
+// A fresh, empty folder for a test's files under $PHYXEL_TEST_OUT (set by ctest).
+inline std::filesystem::path test_output_dir(const std::string& name) {
+  const char* root = std::getenv("PHYXEL_TEST_OUT");
+  const std::filesystem::path dir = std::filesystem::path(root ? root : "/tmp") / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 inline Eigen::Matrix3d random_matrix(std::mt19937& rng, double scale) {

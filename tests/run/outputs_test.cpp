@@ -13,14 +13,6 @@
 namespace phyxel {
 namespace {
 
-std::filesystem::path out_dir(const std::string& name) {
-  const char* root = std::getenv("PHYXEL_TEST_OUT");
-  std::filesystem::path dir = std::filesystem::path(root ? root : "/tmp") / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 std::string read_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream ss;
@@ -47,7 +39,7 @@ Written sample_state() {
 
 TEST(VtpWriter, AsciiFileHasPointsAndEveryArray) {
   const Written w = sample_state();
-  const auto file = out_dir("vtp_ascii") / "points.vtp";
+  const auto file = test::test_output_dir("vtp_ascii") / "points.vtp";
   write_points_vtp(file, w.set, w.state, false);
   const std::string text = read_file(file);
   EXPECT_NE(text.find("NumberOfPoints=\"" + std::to_string(w.set.size()) + "\""),
@@ -70,7 +62,7 @@ TEST(VtpWriter, AsciiFileHasPointsAndEveryArray) {
 
 TEST(VtpWriter, BinaryFileHasAppendedBlocksOfTheRightSize) {
   const Written w = sample_state();
-  const auto file = out_dir("vtp_binary") / "points.vtp";
+  const auto file = test::test_output_dir("vtp_binary") / "points.vtp";
   write_points_vtp(file, w.set, w.state, true);
   const std::string text = read_file(file);
   const size_t start = text.find("<AppendedData encoding=\"raw\">\n_");
@@ -93,7 +85,7 @@ TEST(VtpWriter, UnwritableFolderNamesTheFile) {
 
 // Runs the phyxel binary; returns the exit status and what it printed on stderr.
 std::pair<int, std::string> phyxel(const std::string& args) {
-  const std::filesystem::path err = out_dir("cli_stderr") / "stderr.txt";
+  const std::filesystem::path err = test::test_output_dir("cli_stderr") / "stderr.txt";
   const std::string cmd = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel " + args + " --quiet 2>" +
                           err.string() + " >/dev/null";
   const int status = std::system(cmd.c_str());
@@ -101,7 +93,7 @@ std::pair<int, std::string> phyxel(const std::string& args) {
 }
 
 TEST(PhyxelRun, DemoSceneWritesSummaryAndPoints) {
-  const auto dir = out_dir("cli_demo");
+  const auto dir = test::test_output_dir("cli_demo");
   const auto [code, err] = phyxel("run " + std::string(PHYXEL_SOURCE_DIR) +
                                   "/scenes/beam.json --steps 20 --threads 1 --out " + dir.string());
   ASSERT_EQ(code, 0) << err;
@@ -121,14 +113,14 @@ TEST(PhyxelRun, DemoSceneWritesSummaryAndPoints) {
 
 TEST(PhyxelRun, MissingSceneIsOneClearLine) {
   const auto [code, err] =
-      phyxel("run /nonexistent/scene.json --out " + out_dir("cli_missing").string());
+      phyxel("run /nonexistent/scene.json --out " + test::test_output_dir("cli_missing").string());
   EXPECT_EQ(code, 1);
   EXPECT_NE(err.find("/nonexistent/scene.json"), std::string::npos) << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
 TEST(PhyxelRun, BadMaterialExitsNonZeroNamingTheJsonPath) {
-  const auto dir = out_dir("cli_bad_material");
+  const auto dir = test::test_output_dir("cli_bad_material");
   std::string scene = read_file(std::string(PHYXEL_SOURCE_DIR) + "/scenes/beam.json");
   const size_t at = scene.find("\"poisson\"");
   ASSERT_NE(at, std::string::npos);

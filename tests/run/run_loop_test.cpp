@@ -12,14 +12,6 @@
 namespace phyxel {
 namespace {
 
-std::filesystem::path fresh_dir(const std::string& name) {
-  const char* root = std::getenv("PHYXEL_TEST_OUT");
-  std::filesystem::path dir = std::filesystem::path(root ? root : "/tmp") / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
 Scene cube_scene() {
   return test::box_scene(Vec3(0, 0, 0), Vec3(0.01, 0.01, 0.01), 0.0025, test::tissue(1e5, 0.3, 50));
 }
@@ -45,8 +37,8 @@ TEST(TimeStepPlan, SubstepsWhenTheRequestedStepIsUnstable) {
 
 TEST(CpuSolver, ResultsDoNotDependOnTheThreadCount) {
   // Large enough (2601 phyxels) for the solver to really use two threads.
-  Scene scene = test::box_scene(Vec3(0, 0, 0), Vec3(0.04, 0.04, 0.02), 0.0025,
-                                test::tissue(1e5, 0.3, 50));
+  Scene scene =
+      test::box_scene(Vec3(0, 0, 0), Vec3(0.04, 0.04, 0.02), 0.0025, test::tissue(1e5, 0.3, 50));
   scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.001)));
   const PhyxelSet set = sample_scene(scene);
   const double dt = plan_time_step(scene, set).dt_stable;
@@ -73,7 +65,7 @@ TEST(RunLoop, StopsAtRestAndWritesTheLastPoints) {
   auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
   RunOptions options;
   options.steps = scene.simulation.steps;
-  options.out_dir = fresh_dir("run_rest");
+  options.out_dir = test::test_output_dir("run_rest");
   const RunResult r = run_simulation(scene, set, *solver, options);
   EXPECT_TRUE(r.stopped_at_rest);
   EXPECT_GE(r.steps_done, 300);
@@ -94,7 +86,7 @@ TEST(RunLoop, MovingObjectIsNotAtRestAndOutputsFollowTheSchedule) {
   auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
   RunOptions options;
   options.steps = scene.simulation.steps;
-  options.out_dir = fresh_dir("run_schedule");
+  options.out_dir = test::test_output_dir("run_schedule");
   const RunResult r = run_simulation(scene, set, *solver, options);
   EXPECT_FALSE(r.stopped_at_rest);
   EXPECT_EQ(r.steps_done, 250);
@@ -109,17 +101,20 @@ TEST(RunLoop, MovingObjectIsNotAtRestAndOutputsFollowTheSchedule) {
 // A solver whose state turns non-finite after a given number of substeps.
 class FailingSolver final : public Solver {
  public:
-  explicit FailingSolver(int64_t fail_after) : fail_after_(fail_after) {}
+  FailingSolver(int64_t fail_after, size_t phyxels) : fail_after_(fail_after), n_(phyxels) {}
   std::string device() const override { return "test"; }
   void advance(int64_t substeps, double) override { done_ += substeps; }
   Energies energies() override { return {}; }
   long first_non_finite() override { return done_ >= fail_after_ ? 7 : -1; }
-  PointState read_state(bool) override { return {}; }
+  PointState read_state(bool) override {
+    return {std::vector<Vec3>(n_, Vec3::Zero()), std::vector<Vec3>(n_, Vec3::Zero()), {}};
+  }
   size_t regularised_count() const override { return 0; }
   const NeighbourLists& neighbours() const override { return nbr_; }
 
  private:
   int64_t fail_after_, done_ = 0;
+  size_t n_;
   NeighbourLists nbr_;
 };
 
@@ -127,7 +122,7 @@ TEST(RunLoop, StopsCleanlyAtTheFirstNonFiniteCheck) {
   Scene scene = cube_scene();
   const PhyxelSet set = sample_scene(scene);
   scene.simulation.dt = plan_time_step(scene, set).dt_stable;
-  FailingSolver solver(250);
+  FailingSolver solver(250, set.size());
   RunOptions options;
   options.steps = 1000;
   const RunResult r = run_simulation(scene, set, solver, options);
