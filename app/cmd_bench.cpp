@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "app/bench_accuracy.h"
 #include "app/commands.h"
 #include "app/options.h"
+#include "compute/gpu_solver_bench.h"
+#include "compute/timing.h"
 #include "engine/simulation.h"
 
 namespace phyxel::app {
@@ -19,12 +22,21 @@ constexpr const char* kBenchHelp =
     "usage: phyxel bench [options]\n"
     "\n"
     "Times the solver on an elastic box clamped at its base under gravity, for each size and\n"
-    "thread count: median seconds per step over repeats and phyxel-steps per second.\n"
+    "thread count: median seconds per step over repeats and phyxel-steps per second. GPU rows\n"
+    "add GPU memory per phyxel, the counted bytes per phyxel-step against the device's copy\n"
+    "bandwidth (roofline), per-pass timestamps, and the error against the CPU reference\n"
+    "(double) after the same steps.\n"
     "\n"
     "options:\n"
-    "  --device cpu          solver device\n"
-    "  --sizes LIST          approximate phyxel counts (default 1000,10000,100000)\n"
+    "  --device D            cpu (default), gpu, gpu:N, part of a GPU's name, or all (cpu and\n"
+    "                        gpu)\n"
+    "  --sizes LIST          approximate phyxel counts (default 1000,10000,100000 on the CPU,\n"
+    "                        10000,100000,1000000 with a GPU)\n"
     "  --threads LIST        CPU thread counts (default 1,2)\n"
+    "  --check-steps N       steps of the GPU-vs-CPU comparison (default 100; 20 above 200k\n"
+    "                        phyxels)\n"
+    "  --pair-weights W      GPU pair weights: auto (default: recomputed from x0 unless a pair\n"
+    "                        was cut), stored (always read), or both\n"
     "  --steps N             steps per timed repeat (default: about 0.5 s of work)\n"
     "  --repeats N           timed repeats, the median is reported (default 5)\n"
     "  --json FILE           also write the rows as JSON";
@@ -73,6 +85,80 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The GPU rows: one Vulkan context for every size, its copy bandwidth measured once.
+void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
+                    const std::string& pair_weights, int64_t steps, int64_t repeats,
+                    int64_t check_steps, const std::map<int64_t, double>& cpu_rate,
+                    nlohmann::json& rows) {
+  gpu::ContextOptions context;
+  context.device = spec;
+  context.validation = false;
+  gpu::Context ctx(context);
+  const gpu::CopyBandwidth bandwidth = gpu::measure_copy_bandwidth(ctx);
+  std::printf("\n%s: copy bandwidth %.1f GB/s (read + write, %s)\n", ctx.info().name.c_str(),
+              bandwidth.gb_per_s, gpu::format_bytes(bandwidth.bytes).c_str());
+  std::printf("%9s %10s %8s %11s %14s %9s %10s %9s %9s %10s %s\n", "phyxels", "weights", "nbr/phx",
+              "s/step", "phyxel-steps/s", "B/phyxel", "B/phx-step", "roofline", "vs cpu",
+              "err/extent", "passes (us)");
+  for (const int64_t size : sizes) {
+    Scene scene = bench_scene(size);
+    const PhyxelSet set = sample_scene(scene);
+    const double dt = plan_time_step(scene, set).dt_stable;
+    for (const bool stored : {false, true}) {
+      if (pair_weights != "both" && stored != (pair_weights == "stored")) continue;
+      gpu::GpuBenchOptions options;
+      options.steps = steps;
+      options.repeats = repeats;
+      options.check_steps = check_steps;
+      options.pair_weights = stored ? gpu::GpuSolverOptions::PairWeights::Stored
+                                    : gpu::GpuSolverOptions::PairWeights::Auto;
+      const gpu::GpuBenchResult r = gpu::bench_gpu_solver(ctx, set, scene.simulation.gravity, dt,
+                                                          bandwidth.gb_per_s, options);
+      const auto cpu = cpu_rate.find(size);
+      const double speedup = cpu != cpu_rate.end() ? r.phyxel_steps_per_second / cpu->second : 0;
+      std::string passes;
+      nlohmann::json pass_json = nlohmann::json::object();
+      for (const gpu::PassTime& p : r.passes) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ", p.name.c_str(),
+                      p.ns / 1000);
+        passes += text;
+        pass_json[p.name] = p.ns;
+      }
+      std::printf("%9zu %10s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
+                  r.phyxels, r.pair_weights.c_str(), r.neighbours_per_phyxel,
+                  r.median_seconds_per_step, r.phyxel_steps_per_second, r.gpu_bytes_per_phyxel,
+                  r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup, r.error_over_extent,
+                  passes.c_str());
+      rows.push_back({{"device", r.device},
+                      {"backend", "gpu"},
+                      {"pair_weights", r.pair_weights},
+                      {"phyxels", r.phyxels},
+                      {"neighbours_per_phyxel", r.neighbours_per_phyxel},
+                      {"median_seconds_per_step", r.median_seconds_per_step},
+                      {"phyxel_steps_per_second", r.phyxel_steps_per_second},
+                      {"steps_per_repeat", r.steps_per_repeat},
+                      {"repeats", r.repeats},
+                      {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
+                      {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
+                      {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
+                      {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
+                      {"roofline_fraction", r.roofline_fraction},
+                      {"pass_ns", pass_json},
+                      {"speedup_vs_cpu", speedup},
+                      {"check_steps", r.check_steps},
+                      {"error_over_extent", r.error_over_extent},
+                      {"error_over_max_displacement", r.error_over_max_displacement},
+                      {"max_displacement", r.max_displacement},
+                      {"finite", r.finite}});
+      std::fflush(stdout);
+    }
+  }
+  std::printf(
+      "(err/extent: max |u_gpu - u_cpu| / box side after the check steps, CPU in double; "
+      "'vs cpu': against the fastest CPU row of that size)\n");
+}
+
 }  // namespace
 
 int bench_command(const Args& args) {
@@ -91,20 +177,27 @@ int bench_command(const Args& args) {
     return 0;
   }
   const std::string device = opts.value("--device", "cpu");
-  const auto sizes = parse_list(opts.value("--sizes", "1000,10000,100000"), "--sizes");
+  const bool want_cpu = device == "cpu" || device == "all";
+  const bool want_gpu = device != "cpu";
+  const auto sizes = parse_list(
+      opts.value("--sizes", want_gpu ? "10000,100000,1000000" : "1000,10000,100000"), "--sizes");
   const auto threads = parse_list(opts.value("--threads", "1,2"), "--threads");
   const int64_t fixed_steps = opts.integer("--steps", 0, 0, 1 << 30);
   const int64_t repeats = opts.integer("--repeats", 5, 1, 1000);
   const std::string json_file = opts.value("--json", "");
+  const int64_t check_steps = opts.integer("--check-steps", 0, 0, 1 << 30);
+  const std::string pair_weights = opts.value("--pair-weights", "auto");
   opts.finish();
-  if (device != "cpu")
-    throw UsageError("phyxel bench: --device " + device +
-                     ": this build has only the CPU reference solver; use --device cpu");
+  if (pair_weights != "auto" && pair_weights != "stored" && pair_weights != "both")
+    throw UsageError("phyxel bench: --pair-weights " + pair_weights +
+                     ": allowed auto, stored or both");
 
   nlohmann::json rows = nlohmann::json::array();
-  std::printf("%-26s %9s %8s %12s %16s %10s\n", "device", "phyxels", "nbr/phx", "s/step",
-              "phyxel-steps/s", "steps");
-  for (const int64_t size : sizes) {
+  std::map<int64_t, double> cpu_rate;  // best CPU phyxel-steps/s per size, for the GPU speedup
+  if (want_cpu)
+    std::printf("%-26s %9s %8s %12s %16s %10s\n", "device", "phyxels", "nbr/phx", "s/step",
+                "phyxel-steps/s", "steps");
+  for (const int64_t size : want_cpu ? sizes : std::vector<int64_t>{}) {
     Scene scene = bench_scene(size);
     const PhyxelSet set = sample_scene(scene);
     scene.simulation.dt = plan_time_step(scene, set).dt_stable;
@@ -130,6 +223,7 @@ int bench_command(const Args& args) {
       }
       const double med = median(per_step);
       const double rate = double(set.size()) / med;
+      cpu_rate[size] = std::max(cpu_rate[size], rate);
       std::printf("%-26s %9zu %8.1f %12.4g %16.4g %10lld\n", solver->device().c_str(), set.size(),
                   nbr, med, rate, static_cast<long long>(steps));
       rows.push_back({{"device", solver->device()},
@@ -143,6 +237,9 @@ int bench_command(const Args& args) {
                       {"finite", solver->first_non_finite() < 0}});
     }
   }
+  if (want_gpu)
+    bench_gpu_rows(device == "all" ? "gpu" : device, sizes, pair_weights, fixed_steps, repeats,
+                   check_steps, cpu_rate, rows);
   if (!json_file.empty()) {
     std::ofstream out(json_file);
     out << rows.dump(2) << "\n";

@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "app/commands.h"
 #include "app/options.h"
 #include "app/run_report.h"
+#include "compute/gpu_solver.h"
 #include "engine/simulation.h"
 
 namespace phyxel::app {
@@ -23,11 +25,15 @@ constexpr const char* kRunHelp =
     "and DIR/points_NNNNNN.vtp (every output.every steps and always at the end).\n"
     "\n"
     "options:\n"
-    "  --device cpu        solver device (cpu: the double-precision reference solver)\n"
+    "  --device D          solver device: cpu (the double-precision reference solver, default),\n"
+    "                      gpu (the best Vulkan device), gpu:N (device N of `phyxel info`) or\n"
+    "                      part of a device name; the GPU solver computes in float32\n"
+    "  --validate          with a GPU device: Vulkan validation layers on; the run fails\n"
+    "                      (exit 1) if they report an error\n"
     "  --steps N           number of steps (default: the scene's simulation.steps)\n"
     "  --out DIR           output folder (default: out)\n"
     "  --threads N         CPU threads (default: all cores)\n"
-    "  --precision P       double (default) or float, for the CPU solver\n"
+    "  --precision P       double (default) or float, for the CPU solver; float on the GPU\n"
     "  --quiet             no progress bar\n"
     "  --help              this text\n"
     "\n"
@@ -73,7 +79,9 @@ int run_command(const Args& args) {
   const std::string device = opts.value("--device", "cpu");
   const std::filesystem::path out_dir = opts.value("--out", "out");
   const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
-  const std::string precision = opts.value("--precision", "double");
+  const bool gpu = device != "cpu";
+  const bool validate = opts.flag("--validate");
+  const std::string precision = opts.value("--precision", gpu ? "float" : "double");
   const bool quiet = opts.flag("--quiet");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
   const std::vector<std::string> positional = opts.finish();
@@ -81,11 +89,15 @@ int run_command(const Args& args) {
     std::fprintf(stderr, "phyxel run: expected one SCENE file (see phyxel run --help)\n");
     return 1;
   }
-  if (device != "cpu") {
+  if (gpu && precision != "float") {
     std::fprintf(stderr,
-                 "phyxel run: --device %s: this build has only the CPU reference solver; "
-                 "use --device cpu\n",
-                 device.c_str());
+                 "phyxel run: --precision %s: the GPU solver computes in float32; use --device "
+                 "cpu for double\n",
+                 precision.c_str());
+    return 1;
+  }
+  if (validate && !gpu) {
+    std::fprintf(stderr, "phyxel run: --validate: only with a GPU device (--device gpu)\n");
     return 1;
   }
   if (precision != "double" && precision != "float") {
@@ -103,7 +115,17 @@ int run_command(const Args& args) {
                    ec.message().c_str());
       return 1;
     }
-    auto solver = make_cpu_solver(set, scene.simulation.gravity, threads, precision == "float");
+    std::unique_ptr<Solver> solver;
+    std::shared_ptr<const gpu::ValidationLog> validation;
+    if (gpu) {
+      gpu::ContextOptions context;
+      context.device = device;
+      context.validation = validate;
+      solver = make_gpu_solver(set, scene.simulation.gravity, context);
+      validation = static_cast<gpu::GpuSolver&>(*solver).context().validation_log();
+    } else {
+      solver = make_cpu_solver(set, scene.simulation.gravity, threads, precision == "float");
+    }
     RunOptions options;
     options.steps = steps_override >= 0 ? steps_override : scene.simulation.steps;
     options.out_dir = out_dir;
@@ -114,6 +136,12 @@ int run_command(const Args& args) {
     write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result);
     if (!result.plan.reason.empty())
       std::fprintf(stderr, "phyxel run: %s\n", result.plan.reason.c_str());
+    const std::string device_name = solver->device();
+    solver.reset();  // the validation layer also checks the teardown
+    if (validation != nullptr) {
+      std::fprintf(stderr, "phyxel run: Vulkan validation: %s\n", validation->summary().c_str());
+      if (validation->error_count() > 0) return 1;
+    }
     if (result.non_finite) {
       std::fprintf(stderr,
                    "phyxel run: %s: the simulation became non-finite by step %lld (phyxel %ld); "
@@ -126,10 +154,18 @@ int run_command(const Args& args) {
       std::printf("%s: %zu phyxels, %lld steps%s in %.2f s on %s; wrote %s\n", scene.file.c_str(),
                   set.size(), static_cast<long long>(result.steps_done),
                   result.stopped_at_rest ? " (stopped at rest)" : "", result.wall_seconds,
-                  solver->device().c_str(), (out_dir / "summary.json").c_str());
+                  device_name.c_str(), (out_dir / "summary.json").c_str());
     return 0;
   } catch (const SceneError& e) {
     std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  } catch (const VulkanError& e) {
+    // No loader or driver, no such device, not enough GPU memory, a lost device: one line.
+    // Output files written before a failure stay whole (the writers replace files atomically).
+    std::fprintf(stderr, "phyxel run: %s%s\n", e.what(),
+                 e.result() == VK_ERROR_DEVICE_LOST
+                     ? " (the GPU was lost; the .vtp files written so far are intact)"
+                     : "");
     return 1;
   }
 }

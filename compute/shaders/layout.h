@@ -56,6 +56,198 @@ struct AxpyPush {
 };
 PHYXEL_ASSERT_SIZE(AxpyPush, 8);
 
+// ---------------------------------------------------------------------------------------
+// GPU solver (compute/gpu_solver*.cpp, shaders/nbr_*.comp, scan_*.comp, solver_*.comp).
+// Per-phyxel buffers are arrays of vec4 (or uint/float), indexed by phyxel; per-pair buffers
+// are aligned with the CSR neighbour index (see compute/README.md, "GPU solver buffers").
+
+// The engine's PhyxelFlags (engine/phyxel_set.h) in the low byte of the per-phyxel flags word,
+// the GPU's own status bits above them, and the phyxel's parameter class in the high 16 bits.
+PHYXEL_CONST uint kFlagFixed = 1u;
+PHYXEL_CONST uint kFlagSurface = 2u;
+PHYXEL_CONST uint kFlagRemoved = 4u;
+PHYXEL_CONST uint kFlagRegularised = 256u;  // set by solver_precompute: A_i was regularised
+// Some of the phyxel's pairs were deactivated (weight 0 in the pair-weight buffer): the passes
+// read its stored weights instead of recomputing them from x0 (see kWeightsAuto).
+PHYXEL_CONST uint kFlagPairsEdited = 512u;
+PHYXEL_CONST uint kFlagClassShift = 16u;    // flags >> 16 = index into the SolverClass array
+PHYXEL_CONST uint kMaxSolverClasses = 65536u;
+
+// One (object, material) combination: what the passes need besides per-phyxel data.
+struct SolverClass {
+  vec4 elastic;  // lambda' = lambda - k_v, mu, k_v, mass-proportional damping c (1/s)
+  vec4 kernel;   // h^2, 315 / (64 pi h^3) (poly6 = that (1 - r^2/h^2)^3), hourglass gamma,
+                 // hash cell size
+  vec4 search;   // h^2 (1 - 1e-9) as hi + lo (two floats, for the double test);
+                 // h^2 (1 - 1e-5) (the float test); 0
+  uvec4 ids;     // object index, material index, 0, 0
+};
+PHYXEL_ASSERT_SIZE(SolverClass, 64);
+
+// Neighbour search (nbr_cells, nbr_scatter, nbr_pairs). Buckets of the spatial hash: a power
+// of two; cell = floor(x_local / cell size) per axis, hashed with the object index.
+struct NbrPush {
+  uint count;        // phyxels
+  uint bucket_mask;  // buckets - 1
+  uint mode;         // nbr_pairs: kNbrCount or kNbrFill
+  uint pad;
+};
+PHYXEL_ASSERT_SIZE(NbrPush, 16);
+PHYXEL_CONST uint kNbrCount = 0u;
+PHYXEL_CONST uint kNbrFill = 1u;
+
+// nbr_cells: buffers {local, flags, classes, cell_of, slot, bucket_count}
+PHYXEL_CONST uint kNbrCellsBindingLocal = 0;
+PHYXEL_CONST uint kNbrCellsBindingFlags = 1;
+PHYXEL_CONST uint kNbrCellsBindingClasses = 2;
+PHYXEL_CONST uint kNbrCellsBindingCellOf = 3;
+PHYXEL_CONST uint kNbrCellsBindingSlot = 4;
+PHYXEL_CONST uint kNbrCellsBindingBucketCount = 5;
+// nbr_scatter: buffers {cell_of, slot, bucket_start, sorted}
+PHYXEL_CONST uint kNbrScatterBindingCellOf = 0;
+PHYXEL_CONST uint kNbrScatterBindingSlot = 1;
+PHYXEL_CONST uint kNbrScatterBindingBucketStart = 2;
+PHYXEL_CONST uint kNbrScatterBindingSorted = 3;
+// nbr_pairs: buffers {local, rest_lo, flags, classes, cell_of, bucket_start, sorted, count,
+// offset, index, weight}; kNbrCount writes count[i], kNbrFill writes the sorted row i of index
+// (from offset[i]) and its poly6 weights.
+PHYXEL_CONST uint kNbrPairsBindingLocal = 0;
+PHYXEL_CONST uint kNbrPairsBindingRestLo = 1;
+PHYXEL_CONST uint kNbrPairsBindingFlags = 2;
+PHYXEL_CONST uint kNbrPairsBindingClasses = 3;
+PHYXEL_CONST uint kNbrPairsBindingCellOf = 4;
+PHYXEL_CONST uint kNbrPairsBindingBucketStart = 5;
+PHYXEL_CONST uint kNbrPairsBindingSorted = 6;
+PHYXEL_CONST uint kNbrPairsBindingCount = 7;
+PHYXEL_CONST uint kNbrPairsBindingOffset = 8;
+PHYXEL_CONST uint kNbrPairsBindingIndex = 9;
+PHYXEL_CONST uint kNbrPairsBindingWeight = 10;
+
+// Exclusive prefix sum in blocks of kScanBlock elements (scan_block then scan_add per level):
+// out[i] = sum of in[k] for k < i, i < count, where in[k] = 0 for k >= input_count.
+#define PHYXEL_SCAN_PER_THREAD 4
+PHYXEL_CONST uint kScanBlock = PHYXEL_WORKGROUP_SIZE * PHYXEL_SCAN_PER_THREAD;
+struct ScanPush {
+  uint count;
+  uint input_count;
+};
+PHYXEL_ASSERT_SIZE(ScanPush, 8);
+PHYXEL_CONST uint kScanBindingIn = 0;  // scan_block: {in, out, block_sums}
+PHYXEL_CONST uint kScanBindingOut = 1;
+PHYXEL_CONST uint kScanBindingSums = 2;
+PHYXEL_CONST uint kScanAddBindingOut = 0;  // scan_add: {out, scanned block sums}
+PHYXEL_CONST uint kScanAddBindingSums = 1;
+
+// solver_precompute: buffers {offset, index, weight, local, flags, classes, rest, ainv, resid}.
+// Per phyxel (all, or those listed when `indexed`): A_i from the stored pair weights, its
+// regularised inverse (2 vec4: a00 a01 a02 a11 | a12 a22 volume 0), the residual
+// A^-1 A A^-1 - A^-1 (same packing, zero unless regularised), kappa_i into local.w and the
+// kFlagRegularised bit. Idempotent: after pairs are deactivated (weight 0) it recomputes the
+// phyxels they touch.
+struct PrecomputePush {
+  uint count;
+  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = invocation
+};
+PHYXEL_ASSERT_SIZE(PrecomputePush, 8);
+PHYXEL_CONST uint kPrecomputeBindingOffset = 0;
+PHYXEL_CONST uint kPrecomputeBindingIndex = 1;
+PHYXEL_CONST uint kPrecomputeBindingWeight = 2;
+PHYXEL_CONST uint kPrecomputeBindingLocal = 3;
+PHYXEL_CONST uint kPrecomputeBindingFlags = 4;
+PHYXEL_CONST uint kPrecomputeBindingClasses = 5;
+PHYXEL_CONST uint kPrecomputeBindingRest = 6;
+PHYXEL_CONST uint kPrecomputeBindingAinv = 7;
+PHYXEL_CONST uint kPrecomputeBindingResid = 8;
+PHYXEL_CONST uint kPrecomputeBindingList = 9;
+
+// The step passes. dt in seconds; `weights` selects where w_ij comes from.
+struct StepPush {
+  uint count;
+  float dt;
+  uint mode;     // solver_force: kForceOnly, kForceKick or kForceKickDrift
+  uint weights;  // kWeightsStored or kWeightsAuto
+};
+PHYXEL_ASSERT_SIZE(StepPush, 16);
+PHYXEL_CONST uint kForceOnly = 0u;       // f = ext + internal
+PHYXEL_CONST uint kForceKick = 1u;       // ... then the closing half kick of this step
+PHYXEL_CONST uint kForceKickDrift = 2u;  // ... then the next step's half kick and drift
+// kWeightsStored: every w_ij from the pair-weight buffer. kWeightsAuto: recomputed as poly6 of
+// x0 (the same float expression that filled the buffer, so the same value) except for phyxels
+// flagged kFlagPairsEdited, which read the buffer. Reading 4 bytes per pair with one row per
+// thread costs far more than the bytes (the rows of a warp stride through L1): 3.6x per step
+// at 1M phyxels on an H100 (docs/performance.md).
+PHYXEL_CONST uint kWeightsStored = 0u;
+PHYXEL_CONST uint kWeightsAuto = 1u;
+
+// solver_kick_drift: {disp_in, disp_out, vel, force, ext, flags, classes}
+PHYXEL_CONST uint kKickDriftBindingDispIn = 0;
+PHYXEL_CONST uint kKickDriftBindingDispOut = 1;
+PHYXEL_CONST uint kKickDriftBindingVel = 2;
+PHYXEL_CONST uint kKickDriftBindingForce = 3;
+PHYXEL_CONST uint kKickDriftBindingExt = 4;
+PHYXEL_CONST uint kKickDriftBindingFlags = 5;
+PHYXEL_CONST uint kKickDriftBindingClasses = 6;
+// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress}
+// stress = D_i as 3 vec4 columns (xyz; w unused).
+PHYXEL_CONST uint kStressBindingOffset = 0;
+PHYXEL_CONST uint kStressBindingIndex = 1;
+PHYXEL_CONST uint kStressBindingWeight = 2;
+PHYXEL_CONST uint kStressBindingLocal = 3;
+PHYXEL_CONST uint kStressBindingDisp = 4;
+PHYXEL_CONST uint kStressBindingAinv = 5;
+PHYXEL_CONST uint kStressBindingResid = 6;
+PHYXEL_CONST uint kStressBindingFlags = 7;
+PHYXEL_CONST uint kStressBindingClasses = 8;
+PHYXEL_CONST uint kStressBindingStress = 9;
+// solver_force: {offset, index, weight, local, disp_in, disp_out, stress, vel, force, ext, flags,
+// classes}
+PHYXEL_CONST uint kForceBindingOffset = 0;
+PHYXEL_CONST uint kForceBindingIndex = 1;
+PHYXEL_CONST uint kForceBindingWeight = 2;
+PHYXEL_CONST uint kForceBindingLocal = 3;
+PHYXEL_CONST uint kForceBindingDispIn = 4;
+PHYXEL_CONST uint kForceBindingDispOut = 5;
+PHYXEL_CONST uint kForceBindingStress = 6;
+PHYXEL_CONST uint kForceBindingVel = 7;
+PHYXEL_CONST uint kForceBindingForce = 8;
+PHYXEL_CONST uint kForceBindingExt = 9;
+PHYXEL_CONST uint kForceBindingFlags = 10;
+PHYXEL_CONST uint kForceBindingClasses = 11;
+
+// solver_energy: {offset, index, weight, local, disp, vel, ainv, ext, flags, classes, out}
+// out[i] = (strain, kinetic, potential, 0) of phyxel i; solver_von_mises: the same inputs but
+// vel and ext unused (bound anyway), out = float von Mises stress per phyxel.
+PHYXEL_CONST uint kEnergyBindingOffset = 0;
+PHYXEL_CONST uint kEnergyBindingIndex = 1;
+PHYXEL_CONST uint kEnergyBindingWeight = 2;
+PHYXEL_CONST uint kEnergyBindingLocal = 3;
+PHYXEL_CONST uint kEnergyBindingDisp = 4;
+PHYXEL_CONST uint kEnergyBindingVel = 5;
+PHYXEL_CONST uint kEnergyBindingAinv = 6;
+PHYXEL_CONST uint kEnergyBindingExt = 7;
+PHYXEL_CONST uint kEnergyBindingFlags = 8;
+PHYXEL_CONST uint kEnergyBindingClasses = 9;
+PHYXEL_CONST uint kEnergyBindingOut = 10;
+
+// solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
+PHYXEL_CONST uint kReduceBindingIn = 0;
+PHYXEL_CONST uint kReduceBindingOut = 1;
+struct ReducePush {
+  uint count;  // input elements
+  uint pad;
+};
+PHYXEL_ASSERT_SIZE(ReducePush, 8);
+
+// solver_check: result[0] = min(result[0], i) for every phyxel with a non-finite u or v.
+PHYXEL_CONST uint kCheckBindingDisp = 0;
+PHYXEL_CONST uint kCheckBindingVel = 1;
+PHYXEL_CONST uint kCheckBindingResult = 2;
+struct CheckPush {
+  uint count;
+  uint pad;
+};
+PHYXEL_ASSERT_SIZE(CheckPush, 8);
+
 #ifdef __cplusplus
 }  // namespace phyxel::gpu::layout
 #else

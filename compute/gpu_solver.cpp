@@ -1,0 +1,275 @@
+// GpuSolver: construction, the step recording of advance(), state upload and the Solver
+// interface plumbing. The neighbour search and precompute are in gpu_solver_neighbours.cpp,
+// the downloads and GPU queries in gpu_solver_queries.cpp.
+#include "compute/gpu_solver.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+#include "compute/gpu_solver_kernels.h"
+#include "compute/gpu_solver_setup.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+namespace {
+
+// A buffer bound as one storage-buffer range must fit maxStorageBufferRange.
+void check_binding_size(const Context& ctx, uint64_t bytes, const char* what) {
+  const uint64_t limit = ctx.info().max_storage_buffer_range;
+  if (bytes <= limit) return;
+  throw VulkanError(std::string("the scene needs a ") + what + " buffer of " + format_bytes(bytes) +
+                        " but " + ctx.info().name + " binds at most " + format_bytes(limit) +
+                        " (maxStorageBufferRange); use a smaller scene, "
+                        "or --device cpu",
+                    VK_ERROR_OUT_OF_DEVICE_MEMORY);
+}
+
+std::vector<vec4> to_vec4(const std::vector<Vec3>& x) {
+  std::vector<vec4> out(x.size());
+  for (size_t i = 0; i < x.size(); ++i)
+    out[i] = {float(x[i].x()), float(x[i].y()), float(x[i].z()), 0.0f};
+  return out;
+}
+
+}  // namespace
+
+uint64_t GpuSolver::required_device_bytes(const PhyxelSet& set) {
+  const uint64_t n = set.size();
+  const uint64_t buckets = hash_buckets(set.size());
+  // Scan levels and reduction levels hold about 1/256 of their input each; allocation
+  // granularity is covered by a page per buffer (about 40 buffers).
+  const uint64_t small = 2 * (n + buckets) * sizeof(uint32_t) / (kScanBlock - 1) + 2 * 16 * n / 255;
+  return n * (kPersistentBytesPerPhyxel + kSearchBytesPerPhyxel) +
+         lattice_pair_bound(set) * kBytesPerPair + buckets * kSearchBytesPerBucket + small +
+         64 * 4096;
+}
+
+GpuSolver::GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
+                     const GpuSolverOptions& options)
+    : ctx_(&ctx), options_(options) {
+  build(set, gravity);
+}
+
+GpuSolver::GpuSolver(std::unique_ptr<Context> ctx, const PhyxelSet& set, const Vec3& gravity,
+                     const GpuSolverOptions& options)
+    : owned_ctx_(std::move(ctx)), ctx_(owned_ctx_.get()), options_(options) {
+  if (ctx_ == nullptr) throw std::invalid_argument("GpuSolver: no context");
+  build(set, gravity);
+}
+
+GpuSolver::~GpuSolver() = default;
+
+void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
+  if (set.size() >= (size_t{1} << 31))
+    throw std::invalid_argument("the GPU solver indexes phyxels with 31 bits");
+  count_ = static_cast<uint32_t>(set.size());
+  // Everything this set needs, before the first allocation: one clear error with the bytes.
+  ctx_->check_fits(required_device_bytes(set));
+  check_binding_size(*ctx_, uint64_t{count_} * 48, "stress (48 bytes per phyxel)");
+  check_binding_size(*ctx_, lattice_pair_bound(set) * 4, "neighbour index");
+
+  const SolverSetup host = prepare_solver_setup(set, gravity);
+  kernels_ = std::make_unique<SolverKernels>(*ctx_);
+  Context& ctx = *ctx_;
+  const uint64_t n = count_;
+  auto device = [&](uint64_t bytes, const char* name) {
+    return Buffer(ctx, bytes, MemoryIntent::Device, name);
+  };
+  classes_ = device(host.classes.size() * sizeof(SolverClass), "solver classes");
+  rest_ = device(n * sizeof(vec4), "rest (x0, volume)");
+  local_ = device(n * sizeof(vec4), "local rest (x0 - centre, kappa)");
+  disp_[0] = device(n * sizeof(vec4), "displacement");
+  disp_[1] = device(n * sizeof(vec4), "displacement (next)");
+  vel_ = device(n * sizeof(vec4), "velocity");
+  force_ = device(n * sizeof(vec4), "force");
+  ext_ = device(n * sizeof(vec4), "external force, mass");
+  flags_ = device(n * sizeof(uint32_t), "flags");
+  ainv_ = device(2 * n * sizeof(vec4), "moment inverse");
+  resid_ = device(2 * n * sizeof(vec4), "moment residual");
+  stress_ = device(3 * n * sizeof(vec4), "stress D");
+  nbr_offset_ = device((n + 1) * sizeof(uint32_t), "neighbour offsets");
+  energy_ = device(n * sizeof(vec4), "energy per phyxel");
+  const uint64_t level1 = (n + kScanBlock - 1) / kScanBlock;
+  reduce_[0] = device(level1 * sizeof(vec4), "energy partial sums");
+  reduce_[1] =
+      device(((level1 + kScanBlock - 1) / kScanBlock) * sizeof(vec4), "energy partial sums (next)");
+  von_mises_ = device(n * sizeof(float), "von Mises stress");
+  check_ = device(sizeof(uint32_t), "non-finite check");
+  list_ = device(sizeof(uint32_t), "precompute list");
+
+  upload(ctx, classes_, host.classes);
+  upload(ctx, rest_, host.rest);
+  upload(ctx, local_, host.local);
+  upload(ctx, ext_, host.ext);
+  upload(ctx, vel_, host.velocity);
+  upload(ctx, flags_, host.flags);
+  {
+    Recorder rec(ctx, "solver init");
+    rec.fill(disp_[0], 0);
+    rec.fill(disp_[1], 0);
+    rec.fill(list_, 0);
+    rec.submit_and_wait();
+  }
+  build_neighbours(host.rest_lo);  // CSR, weights, A^-1, kappa; then the first forces
+  for (int k = 0; k < 2; ++k)
+    rec_[k] = std::make_unique<Recorder>(ctx, k == 0 ? "solver steps A" : "solver steps B");
+  compute_forces();
+}
+
+std::string GpuSolver::device() const {
+  const DeviceInfo& info = ctx_->info();
+  return "gpu:" + std::to_string(info.index) + " " + info.name + " (float32)";
+}
+
+SolverBuffers GpuSolver::buffers() const {
+  return {&rest_, &disp_[0], &nbr_offset_, &nbr_index_, count_};
+}
+
+StepPush GpuSolver::push(float dt, uint32_t mode) const {
+  return {count_, dt, mode,
+          options_.pair_weights == GpuSolverOptions::PairWeights::Stored ? kWeightsStored
+                                                                         : kWeightsAuto};
+}
+
+void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
+  dispatch(
+      rec, kernels_->stress, push(0.0f),
+      {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, resid_, flags_, classes_, stress_},
+      count_);
+}
+
+void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
+                             const Buffer& out) {
+  dispatch(rec, kernels_->force, push(dt, mode),
+           {nbr_offset_, nbr_index_, weight_, local_, in, out, stress_, vel_, force_, ext_, flags_,
+            classes_},
+           count_);
+}
+
+// Steps [from, to) of an advance of `total` steps. u lives in disp_[cur]. The first step opens
+// with the kick-drift pass; every step but the last closes with the force pass fused with the
+// next step's kick and drift, which writes u into the other buffer (its neighbours still read
+// the current one), and the last closes with the plain half kick. The opening pass writes
+// in place or into the other buffer so that the u of the last step lands in disp_[0].
+void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt,
+                             int& cur, PassTimer* timer) {
+  auto timed = [&](const char* name, auto&& record) {
+    if (timer) timer->begin(rec, name);
+    record();
+    if (timer) timer->end(rec);
+    rec.barrier();
+  };
+  for (int64_t step = from; step < to; ++step) {
+    if (step == 0) {
+      const int target = (total - 1) % 2 == 0 ? 0 : 1;
+      timed("kick_drift", [&] {
+        dispatch(rec, kernels_->kick_drift, push(dt),
+                 {disp_[0], disp_[target], vel_, force_, ext_, flags_, classes_}, count_);
+      });
+      cur = target;
+    }
+    timed("stress", [&] { record_stress(rec, disp_[cur]); });
+    if (step == total - 1) {
+      timed("force", [&] { record_force(rec, kForceKick, dt, disp_[cur], disp_[cur]); });
+    } else {
+      timed("force", [&] { record_force(rec, kForceKickDrift, dt, disp_[cur], disp_[1 - cur]); });
+      cur = 1 - cur;
+    }
+  }
+}
+
+void GpuSolver::advance(int64_t substeps, double dt) {
+  if (substeps <= 0) return;
+  const float fdt = static_cast<float>(dt);
+  int cur = 0;
+  bool pending[2] = {false, false};
+  int which = 0;
+  try {
+    for (int64_t done = 0; done < substeps;) {
+      const int64_t next = std::min(substeps, done + kStepsPerSubmit);
+      Recorder& rec = *rec_[which];
+      rec.barrier();  // the previous submission's writes (same queue, submission order)
+      record_steps(rec, done, next, substeps, fdt, cur, nullptr);
+      rec.submit();
+      pending[which] = true;
+      // Keep at most two command buffers in flight: wait for the older one, then record the
+      // next chunk while the GPU runs this one.
+      const int other = 1 - which;
+      if (pending[other]) {
+        pending[other] = false;
+        rec_[other]->wait();
+      }
+      which = other;
+      done = next;
+    }
+    for (int k = 0; k < 2; ++k) {
+      if (pending[k]) {
+        pending[k] = false;
+        rec_[k]->wait();
+      }
+    }
+  } catch (...) {
+    // Leave no submission behind that a later call would wait on twice.
+    for (int k = 0; k < 2; ++k) {
+      if (!pending[k]) continue;
+      try {
+        rec_[k]->wait();
+      } catch (...) {
+        // The first error is the one to report.
+      }
+    }
+    throw;
+  }
+  if (cur != 0)
+    throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
+}
+
+void GpuSolver::compute_forces() {
+  Recorder& rec = *rec_[0];
+  record_stress(rec, disp_[0]);
+  rec.barrier();
+  record_force(rec, kForceOnly, 0.0f, disp_[0], disp_[0]);
+  rec.submit_and_wait();
+}
+
+void GpuSolver::set_state(const std::vector<Vec3>& displacement,
+                          const std::vector<Vec3>& velocity) {
+  if (displacement.size() != count_ || velocity.size() != count_)
+    throw std::invalid_argument("GpuSolver::set_state: expected " + std::to_string(count_) +
+                                " displacements and velocities");
+  upload(*ctx_, disp_[0], to_vec4(displacement));
+  upload(*ctx_, vel_, to_vec4(velocity));
+  compute_forces();
+}
+
+double GpuSolver::bytes_per_phyxel_step() const {
+  const double n = count_ > 0 ? double(count_) : 1.0;
+  const double pairs_per_phyxel = double(pairs_) / n;
+  // index, and the weight where it is read
+  const double stored =
+      options_.pair_weights == GpuSolverOptions::PairWeights::Stored ? 1.0 : double(edited_) / n;
+  const double per_pair = 4.0 + 4.0 * stored;
+  const double regularised = double(regularised_) / n;
+  // stress: offset 4, local 16, u 16, flags 4, A^-1 32, (residual 32 if regularised), D 48
+  const double stress = 4 + 16 + 16 + 4 + 32 + 32 * regularised + 48 + per_pair * pairs_per_phyxel;
+  // force: offset 4, local 16, u in 16, D 48, ext 16, flags 4, v 16 + 16, f 16, u out 16
+  const double force = 4 + 16 + 16 + 48 + 16 + 4 + 32 + 16 + 16 + per_pair * pairs_per_phyxel;
+  return stress + force;
+}
+
+}  // namespace phyxel::gpu
+
+namespace phyxel {
+
+std::unique_ptr<Solver> make_gpu_solver(const PhyxelSet& set, const Vec3& gravity,
+                                        const gpu::ContextOptions& options,
+                                        const gpu::GpuSolverOptions& solver_options) {
+  return std::make_unique<gpu::GpuSolver>(std::make_unique<gpu::Context>(options), set, gravity,
+                                          solver_options);
+}
+
+}  // namespace phyxel

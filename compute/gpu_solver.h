@@ -1,0 +1,183 @@
+// The GPU solver: the CPU reference's MLS physics (engine/cpu_solver.h, docs/decisions.md) as
+// Vulkan compute passes in float32, behind the engine's Solver interface.
+//
+//   construction  neighbour search on the GPU (hash grid, counting sort, CSR rows sorted by
+//                 index), per-pair poly6 weights, moment matrices and their regularised
+//                 inverses, hourglass stiffness, the forces of the initial state
+//   advance(n)    n velocity-Verlet steps, recorded up to kStepsPerSubmit per command buffer
+//                 (two command buffers in flight: the next is recorded while the GPU runs
+//                 the last); per step a stress pass (D_i) and a force pass (gather, half
+//                 kick, and fused with the next step's half kick and drift)
+//   queries       energies (GPU pass + fixed-order reduction), first non-finite phyxel (GPU
+//                 check), state download, von Mises stress (GPU pass)
+//
+// Buffers (compute/README.md, "GPU solver buffers", has the full list): everything per phyxel
+// is a vec4 or a 32-bit word indexed by phyxel; everything per pair is aligned with the CSR
+// neighbour index, so a pair or a phyxel can be deactivated in place (pair weight 0 on both
+// sides, kRemoved in the flags word) and the precompute pass rerun for the phyxels it touches.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compute/buffer.h"
+#include "compute/context.h"
+#include "compute/shaders/layout.h"
+#include "compute/timing.h"
+#include "engine/solver.h"
+
+namespace phyxel::gpu {
+
+// What the renderer reads (valid for the solver's lifetime; contents change with advance()):
+//   rest          vec4 per phyxel: x0.xyz (world, m), volume (m^3)
+//   displacement  vec4 per phyxel: u.xyz (m), 0      (the state between advance() calls)
+//   nbr_offset    uint[count + 1]  CSR row starts, as NeighbourLists::offset
+//   nbr_index     uint[pairs]      CSR neighbour indices, as NeighbourLists::index
+struct SolverBuffers {
+  const Buffer* rest;
+  const Buffer* displacement;
+  const Buffer* nbr_offset;
+  const Buffer* nbr_index;
+  uint32_t count;
+};
+
+struct GpuSolverOptions {
+  // Where the step passes take w_ij from. Auto (default): recomputed from x0 (the same float
+  // expression that filled the pair-weight buffer, so the same value), except for phyxels with
+  // deactivated pairs (kFlagPairsEdited), which read the buffer (weight 0 marks a removed pair).
+  // Stored: always the buffer. Auto moves 4 bytes less per pair and, more to the point, avoids a
+  // second per-thread row of pair data striding through L1: 3.6x faster per step at 1M phyxels
+  // on an H100 (docs/performance.md).
+  enum class PairWeights { Auto, Stored };
+  PairWeights pair_weights = PairWeights::Auto;
+  // How the neighbour search tests |x0_j - x0_i|^2 < h^2 (1 - 1e-9): in double where the
+  // device has shaderFloat64 (Auto, Float64: exactly the CPU's pairs), else in float against
+  // h^2 (1 - 1e-5) (see compute/shaders/solver_nbr.glsl). Float64 throws without the feature.
+  enum class SupportTest { Auto, Float64, Float32 };
+  SupportTest support_test = SupportTest::Auto;
+};
+
+// A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
+struct MomentInverseRow {
+  float inverse[6];
+  bool regularised;
+};
+
+class SolverKernels;
+
+class GpuSolver final : public Solver {
+ public:
+  static constexpr int64_t kStepsPerSubmit = 256;
+
+  // Uses (does not own) `ctx`, which must outlive the solver.
+  GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
+            const GpuSolverOptions& options = {});
+  // Owns its context.
+  GpuSolver(std::unique_ptr<Context> ctx, const PhyxelSet& set, const Vec3& gravity,
+            const GpuSolverOptions& options = {});
+  ~GpuSolver() override;
+  GpuSolver(const GpuSolver&) = delete;
+  GpuSolver& operator=(const GpuSolver&) = delete;
+
+  // Solver.
+  std::string device() const override;  // "gpu:0 NVIDIA H100 80GB HBM3 (float32)"
+  void advance(int64_t substeps, double dt) override;
+  Energies energies() override;
+  long first_non_finite() override;
+  PointState read_state(bool with_stress) override;
+  size_t regularised_count() const override { return regularised_; }
+  const NeighbourLists& neighbours() const override { return neighbours_; }
+
+  Context& context() const { return *ctx_; }
+  SolverBuffers buffers() const;
+  size_t size() const { return count_; }
+  uint64_t pair_count() const { return pairs_; }
+
+  // Replaces u and v (uploads) and recomputes the forces for the new u.
+  void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity);
+  // Recomputes the forces for the current u (as CpuSolver::compute_forces).
+  void compute_forces();
+  // Total force per phyxel for the current u (download).
+  std::vector<Vec3> forces();
+  // The per-phyxel moment inverses and the per-pair weights (downloads, for tests).
+  std::vector<MomentInverseRow> moment_inverses();
+  std::vector<float> pair_weights();
+
+  // Deactivates phyxels in place (what a cut does): flags them kRemoved, sets the weight of
+  // every pair that touches them to 0 on both sides, flags their neighbours kFlagPairsEdited,
+  // reruns the precompute pass for exactly those phyxels and recomputes the forces. A removed
+  // phyxel keeps its u and v and no longer moves. The CSR (and neighbours()) is unchanged:
+  // removed pairs stay in it with weight 0.
+  void remove_phyxels(const std::vector<uint32_t>& ids);
+
+  // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
+  // median time per pass name ("kick_drift" once, then "stress" and "force" per step). Empty
+  // where the device has no timestamps. Advances the state like advance(steps, dt).
+  std::vector<PassTime> profile(int64_t steps, double dt);
+  // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
+  // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
+  // with its own phyxel, i.e. assumed to come from cache).
+  double bytes_per_phyxel_step() const;
+
+  // Device memory a set needs at most (persistent buffers plus the neighbour search's
+  // temporaries), for Context::check_fits before anything is allocated. Assumes lattice
+  // sampling (as sample_scene) to bound the pair count.
+  static uint64_t required_device_bytes(const PhyxelSet& set);
+
+ private:
+  void build(const PhyxelSet& set, const Vec3& gravity);
+  void build_neighbours(const std::vector<layout::vec4>& rest_lo);
+  void count_flags();
+  void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
+                    PassTimer* timer);
+  void record_stress(Recorder& rec, const Buffer& disp);
+  void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
+  layout::StepPush push(float dt, uint32_t mode = 0) const;
+
+  std::unique_ptr<Context> owned_ctx_;
+  Context* ctx_;
+  GpuSolverOptions options_;
+  std::unique_ptr<SolverKernels> kernels_;
+  uint32_t count_ = 0;
+  uint64_t pairs_ = 0;
+  size_t regularised_ = 0;
+  size_t edited_ = 0;  // phyxels flagged kFlagPairsEdited
+  NeighbourLists neighbours_;
+
+  // Per phyxel.
+  Buffer classes_;     // SolverClass per (object, material)
+  Buffer rest_;        // x0, volume
+  Buffer local_;       // x0 - object centre (float), kappa
+  Buffer disp_[2];     // u; disp_[0] holds it between advance() calls
+  Buffer vel_;         // v
+  Buffer force_;       // f for the u in disp_[0]
+  Buffer ext_;         // m g + loads, m
+  Buffer flags_;       // PhyxelFlags | kFlagRegularised | class << 16
+  Buffer ainv_;        // 2 vec4
+  Buffer resid_;       // 2 vec4
+  Buffer stress_;      // D_i, 3 vec4
+  Buffer nbr_offset_;  // N + 1
+  Buffer nbr_index_;   // pairs
+  Buffer weight_;      // pairs
+  Buffer energy_;      // per-phyxel energies, then the reduction levels
+  Buffer reduce_[2];
+  Buffer von_mises_;
+  Buffer check_;
+  Buffer list_;  // the precompute pass's phyxel list (remove_phyxels)
+
+  std::unique_ptr<Recorder> rec_[2];
+};
+
+}  // namespace phyxel::gpu
+
+namespace phyxel {
+
+// The GPU solver with a context of its own (options.device picks the device). Throws
+// VulkanError with one clear line when there is no loader, no device, or not enough memory.
+std::unique_ptr<Solver> make_gpu_solver(const PhyxelSet& set, const Vec3& gravity,
+                                        const gpu::ContextOptions& options,
+                                        const gpu::GpuSolverOptions& solver_options = {});
+
+}  // namespace phyxel

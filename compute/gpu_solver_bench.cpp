@@ -1,0 +1,76 @@
+#include "compute/gpu_solver_bench.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+
+namespace phyxel::gpu {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& gravity, double dt,
+                                double copy_gb_per_s, const GpuBenchOptions& options) {
+  GpuBenchResult r;
+  r.phyxels = set.size();
+  r.copy_gb_per_s = copy_gb_per_s;
+  const bool stored = options.pair_weights == GpuSolverOptions::PairWeights::Stored;
+  r.pair_weights = stored ? "stored" : "auto";
+  GpuSolverOptions solver_options;
+  solver_options.pair_weights = options.pair_weights;
+  {
+    GpuSolver solver(ctx, set, gravity, solver_options);
+    r.device = solver.device();
+    r.neighbours_per_phyxel = double(solver.pair_count()) / double(set.size());
+    r.gpu_bytes_per_phyxel = double(ctx.allocated_bytes()) / double(set.size());
+    r.bytes_per_phyxel_step = solver.bytes_per_phyxel_step();
+
+    // Warm-up (pipelines, clocks, caches) and the probe that sizes a repeat.
+    solver.advance(20, dt);
+    auto t0 = std::chrono::steady_clock::now();
+    solver.advance(50, dt);
+    const double probe = seconds_since(t0) / 50;
+    r.steps_per_repeat =
+        options.steps > 0 ? options.steps : std::clamp<int64_t>(int64_t(0.5 / probe), 50, 200000);
+    r.repeats = options.repeats;
+    std::vector<double> per_step;
+    for (int64_t k = 0; k < options.repeats; ++k) {
+      t0 = std::chrono::steady_clock::now();
+      solver.advance(r.steps_per_repeat, dt);
+      per_step.push_back(seconds_since(t0) / double(r.steps_per_repeat));
+    }
+    std::sort(per_step.begin(), per_step.end());
+    r.median_seconds_per_step = per_step[per_step.size() / 2];
+    r.phyxel_steps_per_second = double(set.size()) / r.median_seconds_per_step;
+    const double bandwidth = copy_gb_per_s * 1e9;
+    r.roofline_phyxel_steps_per_second = bandwidth / r.bytes_per_phyxel_step;
+    r.roofline_fraction = r.phyxel_steps_per_second / r.roofline_phyxel_steps_per_second;
+    r.passes = solver.profile(10, dt);
+    r.finite = solver.first_non_finite() < 0;
+  }
+
+  // Accuracy: fresh solvers, the same steps on the GPU and on the CPU reference (double).
+  r.check_steps = options.check_steps > 0 ? options.check_steps : (set.size() > 200000 ? 20 : 100);
+  GpuSolver gpu(ctx, set, gravity, solver_options);
+  gpu.advance(r.check_steps, dt);
+  const PointState g = gpu.read_state(false);
+  CpuSolver<double> cpu(set, gravity);
+  cpu.set_threads(options.cpu_threads);
+  for (int64_t s = 0; s < r.check_steps; ++s) cpu.step(dt);
+  double err = 0;
+  for (size_t i = 0; i < set.size(); ++i) {
+    err = std::max(err, (g.displacement[i] - cpu.displacement()[i]).norm());
+    r.max_displacement = std::max(r.max_displacement, cpu.displacement()[i].norm());
+  }
+  Eigen::AlignedBox3d box;
+  for (const Vec3& x : set.rest) box.extend(x);
+  r.error_over_extent = err / box.sizes().maxCoeff();
+  r.error_over_max_displacement = r.max_displacement > 0 ? err / r.max_displacement : 0.0;
+  return r;
+}
+
+}  // namespace phyxel::gpu

@@ -1,0 +1,90 @@
+#include "compute/gpu_solver_kernels.h"
+
+#include <cstdint>
+
+#include "phyxel_spv/nbr_cells.spv.h"
+#include "phyxel_spv/nbr_pairs.spv.h"
+#include "phyxel_spv/nbr_pairs_f64.spv.h"
+#include "phyxel_spv/nbr_scatter.spv.h"
+#include "phyxel_spv/scan_add.spv.h"
+#include "phyxel_spv/scan_block.spv.h"
+#include "phyxel_spv/solver_check.spv.h"
+#include "phyxel_spv/solver_energy.spv.h"
+#include "phyxel_spv/solver_force.spv.h"
+#include "phyxel_spv/solver_kick_drift.spv.h"
+#include "phyxel_spv/solver_precompute.spv.h"
+#include "phyxel_spv/solver_reduce.spv.h"
+#include "phyxel_spv/solver_stress.spv.h"
+#include "phyxel_spv/solver_von_mises.spv.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+SolverKernels::SolverKernels(Context& ctx)
+    : nbr_cells(ctx, PHYXEL_SHADER(nbr_cells), 6, sizeof(NbrPush)),
+      nbr_scatter(ctx, PHYXEL_SHADER(nbr_scatter), 4, sizeof(NbrPush)),
+      nbr_pairs(ctx, PHYXEL_SHADER(nbr_pairs), 11, sizeof(NbrPush)),
+      scan_block(ctx, PHYXEL_SHADER(scan_block), 3, sizeof(ScanPush)),
+      scan_add(ctx, PHYXEL_SHADER(scan_add), 2, sizeof(ScanPush)),
+      precompute(ctx, PHYXEL_SHADER(solver_precompute), 10, sizeof(PrecomputePush)),
+      kick_drift(ctx, PHYXEL_SHADER(solver_kick_drift), 7, sizeof(StepPush)),
+      stress(ctx, PHYXEL_SHADER(solver_stress), 10, sizeof(StepPush)),
+      force(ctx, PHYXEL_SHADER(solver_force), 12, sizeof(StepPush)),
+      energy(ctx, PHYXEL_SHADER(solver_energy), 11, sizeof(StepPush)),
+      reduce(ctx, PHYXEL_SHADER(solver_reduce), 2, sizeof(ReducePush)),
+      check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
+      von_mises(ctx, PHYXEL_SHADER(solver_von_mises), 11, sizeof(StepPush)) {
+  if (ctx.float64())
+    nbr_pairs_f64 = Pipeline(ctx, PHYXEL_SHADER(nbr_pairs_f64), 11, sizeof(NbrPush));
+}
+
+namespace {
+
+uint32_t blocks_of(uint32_t count) {
+  return (count + kScanBlock - 1) / kScanBlock;
+}
+
+}  // namespace
+
+PrefixScan::PrefixScan(Context& ctx, const SolverKernels& kernels, uint32_t count)
+    : kernels_(&kernels) {
+  uint32_t n = count;
+  while (true) {
+    Level level;
+    level.count = n;
+    level.blocks = blocks_of(n);
+    level.sums = Buffer(ctx, uint64_t{level.blocks} * sizeof(uint32_t), MemoryIntent::Device,
+                        "scan block sums");
+    if (level.blocks > 1) {
+      level.scanned = Buffer(ctx, uint64_t{level.blocks} * sizeof(uint32_t), MemoryIntent::Device,
+                             "scan block prefixes");
+    }
+    const uint32_t next = level.blocks;
+    levels_.push_back(std::move(level));
+    if (next <= 1) break;
+    n = next;
+  }
+}
+
+void PrefixScan::record(Recorder& rec, const Buffer& src, uint32_t input_count,
+                        const Buffer& dst) const {
+  record_level(rec, 0, src, input_count, dst);
+}
+
+void PrefixScan::record_level(Recorder& rec, size_t index, const Buffer& src, uint32_t input_count,
+                              const Buffer& dst) const {
+  const Level& level = levels_[index];
+  if (level.count == 0) return;
+  const uint32_t threads = kernels_->scan_block.workgroup_size()[0];
+  dispatch(rec, kernels_->scan_block, ScanPush{level.count, input_count}, {src, dst, level.sums},
+           level.blocks * threads);
+  if (level.blocks <= 1) return;
+  rec.barrier();
+  record_level(rec, index + 1, level.sums, level.blocks, level.scanned);
+  rec.barrier();
+  dispatch(rec, kernels_->scan_add, ScanPush{level.count, level.count}, {dst, level.scanned},
+           level.count);
+}
+
+}  // namespace phyxel::gpu

@@ -1,0 +1,58 @@
+// The GPU solver's pipelines (one per shader of compute/shaders/{nbr,scan,solver}_*.comp) and
+// the exclusive prefix sum built from two of them. Private to compute/gpu_solver*.cpp.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "compute/pipeline.h"
+#include "compute/shaders/layout.h"
+
+namespace phyxel::gpu {
+
+class SolverKernels {
+ public:
+  explicit SolverKernels(Context& ctx);
+
+  Pipeline nbr_cells;      // layout::NbrPush; kNbrCells* bindings
+  Pipeline nbr_scatter;    // layout::NbrPush; kNbrScatter* bindings
+  Pipeline nbr_pairs;      // layout::NbrPush; kNbrPairs* bindings; support test in float
+  Pipeline nbr_pairs_f64;  // the same in double; empty where the device has no shaderFloat64
+  Pipeline scan_block;     // layout::ScanPush; kScan* bindings
+  Pipeline scan_add;       // layout::ScanPush; kScanAdd* bindings
+  Pipeline precompute;     // layout::PrecomputePush; kPrecompute* bindings
+  Pipeline kick_drift;     // layout::StepPush; kKickDrift* bindings
+  Pipeline stress;         // layout::StepPush; kStress* bindings
+  Pipeline force;          // layout::StepPush; kForce* bindings
+  Pipeline energy;         // layout::StepPush; kEnergy* bindings
+  Pipeline reduce;         // layout::ReducePush; kReduce* bindings
+  Pipeline check;          // layout::CheckPush; kCheck* bindings
+  Pipeline von_mises;      // layout::StepPush; kEnergy* bindings
+};
+
+// Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for
+// i < count, where src has input_count <= count elements (dst[input_count] is then the total
+// when count = input_count + 1). Holds the block-sum buffers of every level for one count.
+class PrefixScan {
+ public:
+  PrefixScan(Context& ctx, const SolverKernels& kernels, uint32_t count);
+
+  // Records the scan (several dispatches separated by barriers). Put a barrier between the
+  // pass that writes src and this, and between this and the pass that reads dst.
+  void record(Recorder& rec, const Buffer& src, uint32_t input_count, const Buffer& dst) const;
+
+ private:
+  struct Level {
+    uint32_t count = 0;   // elements scanned at this level
+    uint32_t blocks = 0;  // its block sums
+    Buffer sums;          // block totals
+    Buffer scanned;       // their exclusive scan (when blocks > 1)
+  };
+  void record_level(Recorder& rec, size_t level, const Buffer& src, uint32_t input_count,
+                    const Buffer& dst) const;
+
+  const SolverKernels* kernels_;
+  std::vector<Level> levels_;
+};
+
+}  // namespace phyxel::gpu

@@ -1,0 +1,107 @@
+// GpuSolver: the rest-state neighbour search on the GPU and the precompute pass.
+//
+//   1 nbr_cells    cell of every phyxel (hash grid per object, cell just above h), its slot in
+//                  its bucket (integer atomic count)
+//   2 scan         bucket counts -> bucket starts (exclusive prefix sum)
+//   3 nbr_scatter  phyxel indices grouped by bucket (counting sort)
+//   4 nbr_pairs    count the pairs of every phyxel (27 cells, same object, CPU's distance rule)
+//   5 scan         counts -> CSR offsets (N + 1); the total is read back to size the arrays
+//   6 nbr_pairs    fill every row, sort it by index, store its poly6 weights
+//   7 precompute   A_i, regularised A_i^-1, residual, kappa_i, regularised flag
+// The CSR is then downloaded once for neighbours().
+#include <cstdint>
+#include <string>
+
+#include "compute/gpu_solver.h"
+#include "compute/gpu_solver_kernels.h"
+#include "compute/gpu_solver_setup.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+void GpuSolver::build_neighbours(const std::vector<vec4>& rest_lo_host) {
+  Context& ctx = *ctx_;
+  const uint64_t n = count_;
+  const uint32_t buckets = hash_buckets(count_);
+  auto device = [&](uint64_t bytes, const char* name) {
+    return Buffer(ctx, bytes, MemoryIntent::Device, name);
+  };
+  Buffer rest_lo = device(n * sizeof(vec4), "search: rest lo");
+  Buffer cell_of = device(n * sizeof(ivec4), "search: cell of phyxel");
+  Buffer slot = device(n * sizeof(uint32_t), "search: slot in bucket");
+  Buffer sorted = device(n * sizeof(uint32_t), "search: phyxels by bucket");
+  Buffer pair_count = device(n * sizeof(uint32_t), "search: pairs per phyxel");
+  Buffer bucket_count = device(uint64_t{buckets} * sizeof(uint32_t), "search: bucket count");
+  Buffer bucket_start = device((uint64_t{buckets} + 1) * sizeof(uint32_t), "search: bucket start");
+  upload(ctx, rest_lo, rest_lo_host);
+  const PrefixScan bucket_scan(ctx, *kernels_, buckets + 1);
+  const PrefixScan row_scan(ctx, *kernels_, count_ + 1);
+
+  using SupportTest = GpuSolverOptions::SupportTest;
+  if (options_.support_test == SupportTest::Float64 && !ctx.float64())
+    throw VulkanError(ctx.info().name + " has no shaderFloat64 for the double support test",
+                      VK_ERROR_FEATURE_NOT_PRESENT);
+  const Pipeline& pairs = options_.support_test != SupportTest::Float32 && ctx.float64()
+                              ? kernels_->nbr_pairs_f64
+                              : kernels_->nbr_pairs;
+  const NbrPush count_push{count_, buckets - 1, kNbrCount, 0};
+  const NbrPush fill_push{count_, buckets - 1, kNbrFill, 0};
+  {
+    Recorder rec(ctx, "neighbour search: count");
+    rec.fill(bucket_count, 0);
+    rec.barrier();
+    dispatch(rec, kernels_->nbr_cells, count_push,
+             {local_, flags_, classes_, cell_of, slot, bucket_count}, count_);
+    rec.barrier();
+    bucket_scan.record(rec, bucket_count, buckets, bucket_start);
+    rec.barrier();
+    dispatch(rec, kernels_->nbr_scatter, count_push, {cell_of, slot, bucket_start, sorted}, count_);
+    rec.barrier();
+    // Index and weight are not touched when counting; the offsets stand in for them.
+    dispatch(rec, pairs, count_push,
+             {local_, rest_lo, flags_, classes_, cell_of, bucket_start, sorted, pair_count,
+              nbr_offset_, nbr_offset_, nbr_offset_},
+             count_);
+    rec.barrier();
+    row_scan.record(rec, pair_count, count_, nbr_offset_);
+    rec.submit_and_wait();
+  }
+  pairs_ = download<uint32_t>(ctx, nbr_offset_, 1, n * sizeof(uint32_t))[0];
+  if (uint64_t{pairs_} * 4 > ctx.info().max_storage_buffer_range)
+    throw VulkanError("the scene has " + std::to_string(pairs_) + " neighbour pairs, more than " +
+                          ctx.info().name +
+                          " can bind in one buffer; use a smaller scene or "
+                          "support radius, or --device cpu",
+                      VK_ERROR_OUT_OF_DEVICE_MEMORY);
+  nbr_index_ = device(pairs_ * sizeof(uint32_t), "neighbour index");
+  weight_ = device(pairs_ * sizeof(float), "pair weight");
+  {
+    Recorder rec(ctx, "neighbour search: fill, precompute");
+    dispatch(rec, pairs, fill_push,
+             {local_, rest_lo, flags_, classes_, cell_of, bucket_start, sorted, pair_count,
+              nbr_offset_, nbr_index_, weight_},
+             count_);
+    rec.barrier();
+    dispatch(
+        rec, kernels_->precompute, PrecomputePush{count_, 0},
+        {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
+        count_);
+    rec.submit_and_wait();
+  }
+  neighbours_.offset = download<uint32_t>(ctx, nbr_offset_, n + 1);
+  neighbours_.index = download<uint32_t>(ctx, nbr_index_, pairs_);
+  count_flags();
+}
+
+void GpuSolver::count_flags() {
+  const std::vector<uint32_t> flags = download<uint32_t>(*ctx_, flags_, count_);
+  regularised_ = 0;
+  edited_ = 0;
+  for (uint32_t f : flags) {
+    if (f & kFlagRegularised) ++regularised_;
+    if (f & kFlagPairsEdited) ++edited_;
+  }
+}
+
+}  // namespace phyxel::gpu

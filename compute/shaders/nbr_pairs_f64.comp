@@ -1,0 +1,7 @@
+// Neighbour search, pair count and fill (nbr_pairs.glsl), with the support test in double
+// (devices with shaderFloat64).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+#define PHYXEL_NBR_FLOAT64 1
+#include "nbr_pairs.glsl"

@@ -1,0 +1,64 @@
+// Step pass 2, per phyxel k (a gather, no atomics):
+//   f_k = ext_k + sum_j w_kj [ (D_k + D_j) x_kj + (kappa_k + kappa_j) (u_j - u_k) ]
+// then, by mode: nothing more (kForceOnly); the closing half kick of this step (kForceKick);
+// or that kick, the next step's opening half kick and its drift into disp_out
+// (kForceKickDrift; disp_in is read by neighbours in this pass, so u goes to the other buffer).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+#include "solver_mls.glsl"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { StepPush p; };
+layout(std430, binding = kForceBindingOffset) readonly buffer Offset { uint offset[]; };
+layout(std430, binding = kForceBindingIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kForceBindingWeight) readonly buffer Weight { float weight[]; };
+layout(std430, binding = kForceBindingLocal) readonly buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kForceBindingDispIn) readonly buffer DispIn { vec4 disp_in[]; };
+layout(std430, binding = kForceBindingDispOut) writeonly buffer DispOut { vec4 disp_out[]; };
+layout(std430, binding = kForceBindingStress) readonly buffer Stress { vec4 stress[]; };
+layout(std430, binding = kForceBindingVel) buffer Vel { vec4 vel[]; };
+layout(std430, binding = kForceBindingForce) writeonly buffer Force { vec4 force[]; };
+layout(std430, binding = kForceBindingExt) readonly buffer Ext { vec4 ext[]; };
+layout(std430, binding = kForceBindingFlags) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = kForceBindingClasses) readonly buffer Classes { SolverClass classes[]; };
+
+mat3 stress_of(uint i) {
+  return mat3(stress[3u * i].xyz, stress[3u * i + 1u].xyz, stress[3u * i + 2u].xyz);
+}
+
+void main() {
+  const uint k = PHYXEL_GLOBAL_INDEX;
+  if (k >= p.count) return;
+  const uint fl = flags[k];
+  const SolverClass cls = classes[fl >> kFlagClassShift];
+  const vec4 lk = local_pos[k];
+  const vec3 uk = disp_in[k].xyz;
+  const mat3 dk = stress_of(k);
+  const vec4 e = ext[k];
+  const bool stored = stored_weights(p.weights, fl);
+  vec3 f = e.xyz;
+  const uint end = offset[k + 1u];
+  for (uint s = offset[k]; s < end; ++s) {
+    const uint j = nbr_index[s];
+    const vec4 lj = local_pos[j];
+    const vec3 x = lj.xyz - lk.xyz;
+    const float w = stored ? weight[s] : poly6_weight(dot(x, x), cls.kernel);
+    f += w * ((dk + stress_of(j)) * x + (lk.w + lj.w) * (disp_in[j].xyz - uk));
+  }
+  force[k] = vec4(f, 0.0);
+  if (p.mode == kForceOnly) return;
+  if (!moves(fl)) {
+    if (p.mode == kForceKickDrift) disp_out[k] = vec4(uk, 0.0);
+    return;
+  }
+  const float half_dt = 0.5 * p.dt;
+  const float damping = cls.elastic.w;
+  vec3 v = half_kick(vel[k].xyz, f, e.w, damping, half_dt);
+  if (p.mode == kForceKickDrift) {
+    v = half_kick(v, f, e.w, damping, half_dt);
+    disp_out[k] = vec4(drift(uk, v, p.dt), 0.0);
+  }
+  vel[k] = vec4(v, 0.0);
+}

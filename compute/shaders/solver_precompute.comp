@@ -1,0 +1,94 @@
+// Per phyxel, from the stored pair weights: the moment matrix A_i = sum_j w_ij x_ij x_ij^T, its
+// inverse through a symmetric eigen-decomposition (cyclic Jacobi), regularised when the
+// condition number exceeds kMaxCondition (small eigenvalues raised to lambda_max / 100), the
+// residual R_i = A^-1 A A^-1 - A^-1 of a regularised inverse, and the hourglass stiffness
+// kappa_i = gamma mu v_i / (tr A_i / 3). The GLSL twin of regularised_inverse() in
+// engine/mls_model.h. Idempotent, so cutting can rerun it for the phyxels it touched.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { PrecomputePush p; };
+layout(std430, binding = kPrecomputeBindingOffset) readonly buffer Offset { uint offset[]; };
+layout(std430, binding = kPrecomputeBindingIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kPrecomputeBindingWeight) readonly buffer Weight { float weight[]; };
+layout(std430, binding = kPrecomputeBindingLocal) buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kPrecomputeBindingFlags) buffer Flags { uint flags[]; };
+layout(std430, binding = kPrecomputeBindingClasses) readonly buffer Classes {
+  SolverClass classes[];
+};
+layout(std430, binding = kPrecomputeBindingRest) readonly buffer Rest { vec4 rest[]; };
+layout(std430, binding = kPrecomputeBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 resid[]; };
+layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
+
+const float kMaxCondition = 100.0;  // engine/mls_model.h kMaxMomentCondition
+
+// One Jacobi rotation in the (a, b) plane that zeroes m[a][b]; q accumulates the eigenvectors.
+void rotate(inout mat3 m, inout mat3 q, int a, int b) {
+  const float mab = m[b][a];
+  if (mab == 0.0) return;
+  const float theta = (m[b][b] - m[a][a]) / (2.0 * mab);
+  const float t =
+      theta == 0.0 ? 1.0 : sign(theta) / (abs(theta) + sqrt(theta * theta + 1.0));
+  const float c = inversesqrt(t * t + 1.0);
+  const float s = t * c;
+  mat3 r = mat3(1.0);
+  r[a][a] = c;
+  r[b][b] = c;
+  r[b][a] = s;   // row a, column b
+  r[a][b] = -s;  // row b, column a
+  m = transpose(r) * m * r;
+  m[b][a] = 0.0;
+  m[a][b] = 0.0;
+  q = q * r;
+}
+
+void main() {
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  if (invocation >= p.count) return;
+  const uint i = p.indexed != 0u ? list[invocation] : invocation;
+  const vec3 xi = local_pos[i].xyz;
+  mat3 a = mat3(0.0);
+  for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
+    const vec3 x = local_pos[nbr_index[k]].xyz - xi;
+    a += outerProduct(weight[k] * x, x);
+  }
+  const uint fl = flags[i];
+  const SolverClass cls = classes[fl >> kFlagClassShift];
+  const float volume = rest[i].w;
+  const float trace = a[0][0] + a[1][1] + a[2][2];
+  local_pos[i].w = trace > 0.0 ? cls.kernel.z * cls.elastic.y * volume / (trace / 3.0) : 0.0;
+
+  // Cyclic Jacobi: a few sweeps bring a 3x3 matrix to float round-off.
+  mat3 d = a;
+  mat3 q = mat3(1.0);
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    const float off = d[1][0] * d[1][0] + d[2][0] * d[2][0] + d[2][1] * d[2][1];
+    const float diag = d[0][0] * d[0][0] + d[1][1] * d[1][1] + d[2][2] * d[2][2];
+    if (off <= 1e-14 * diag) break;
+    rotate(d, q, 0, 1);
+    rotate(d, q, 0, 2);
+    rotate(d, q, 1, 2);
+  }
+  vec3 lambda = vec3(d[0][0], d[1][1], d[2][2]);
+  const float lmax = max(lambda.x, max(lambda.y, lambda.z));
+  const float lmin = min(lambda.x, min(lambda.y, lambda.z));
+  mat3 inv = mat3(0.0);
+  mat3 residual = mat3(0.0);
+  bool regularised = true;  // no neighbour (or none with weight): no gradient information
+  if (lmax > 0.0) {
+    regularised = !(lmin > 0.0) || lmax / lmin > kMaxCondition;
+    if (regularised) lambda = max(lambda, vec3(lmax / kMaxCondition));
+    inv = q * mat3(1.0 / lambda.x, 0, 0, 0, 1.0 / lambda.y, 0, 0, 0, 1.0 / lambda.z) *
+          transpose(q);
+    if (regularised) residual = inv * a * inv - inv;
+  }
+  ainv[2u * i] = vec4(inv[0][0], inv[1][0], inv[2][0], inv[1][1]);
+  ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, 0.0);
+  resid[2u * i] = vec4(residual[0][0], residual[1][0], residual[2][0], residual[1][1]);
+  resid[2u * i + 1u] = vec4(residual[2][1], residual[2][2], 0.0, 0.0);
+  flags[i] = regularised ? (fl | kFlagRegularised) : (fl & ~kFlagRegularised);
+}

@@ -1,0 +1,52 @@
+// Step pass 1, per phyxel i (a gather over its neighbours):
+//   M = sum_j w_ij (u_j - u_i) x_ij^T, G = M A^-1, F = I + G,
+//   D_i = v_i P(F) A^-1 - kappa_i G (+ kappa_i M R_i where A_i was regularised),
+// stored as three vec4 columns. See engine/cpu_solver.cpp, compute_forces(), first loop.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+#include "solver_mls.glsl"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { StepPush p; };
+layout(std430, binding = kStressBindingOffset) readonly buffer Offset { uint offset[]; };
+layout(std430, binding = kStressBindingIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kStressBindingWeight) readonly buffer Weight { float weight[]; };
+layout(std430, binding = kStressBindingLocal) readonly buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kStressBindingDisp) readonly buffer Disp { vec4 disp[]; };
+layout(std430, binding = kStressBindingAinv) readonly buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kStressBindingResid) readonly buffer Resid { vec4 resid[]; };
+layout(std430, binding = kStressBindingFlags) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = kStressBindingClasses) readonly buffer Classes { SolverClass classes[]; };
+layout(std430, binding = kStressBindingStress) writeonly buffer Stress { vec4 stress[]; };
+
+void main() {
+  const uint i = PHYXEL_GLOBAL_INDEX;
+  if (i >= p.count) return;
+  const uint fl = flags[i];
+  const SolverClass cls = classes[fl >> kFlagClassShift];
+  const vec4 li = local_pos[i];
+  const vec3 ui = disp[i].xyz;
+  const bool stored = stored_weights(p.weights, fl);
+  mat3 m = mat3(0.0);
+  const uint end = offset[i + 1u];
+  for (uint k = offset[i]; k < end; ++k) {
+    const uint j = nbr_index[k];
+    const vec3 x = local_pos[j].xyz - li.xyz;
+    const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
+    m += outerProduct(w * (disp[j].xyz - ui), x);
+  }
+  const vec4 a0 = ainv[2u * i];
+  const vec4 a1 = ainv[2u * i + 1u];
+  const mat3 a_inv = unpack_sym(a0, a1);
+  const mat3 g = m * a_inv;
+  const mat3 piola = first_piola(strain_of(g), cls.elastic.xyz);
+  const float kappa = li.w;
+  mat3 d = (a1.z * piola) * a_inv - kappa * g;
+  if ((fl & kFlagRegularised) != 0u)
+    d += kappa * (m * unpack_sym(resid[2u * i], resid[2u * i + 1u]));
+  stress[3u * i] = vec4(d[0], 0.0);
+  stress[3u * i + 1u] = vec4(d[1], 0.0);
+  stress[3u * i + 2u] = vec4(d[2], 0.0);
+}

@@ -1,0 +1,81 @@
+// Shared pieces of the GPU solver tests: the Vulkan fixture (lavapipe + validation, zero
+// validation messages per test), small scenes, and comparisons with the CPU reference.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "compute/gpu_solver.h"
+#include "engine/cpu_solver.h"
+#include "engine/simulation.h"
+#include "tests/physics/physics_fixtures.h"
+#include "tests/vulkan/vulkan_test.h"
+
+namespace phyxel::gpu::test {
+
+using phyxel::test::box_scene;
+using phyxel::test::box_shape;
+using phyxel::test::tissue;
+
+constexpr double kSpacing = 0.0025;
+
+// nx x ny x nz phyxels (a line when ny = nz = 1, one phyxel when all are 1).
+inline Scene lattice_scene(int nx, int ny, int nz, const Material& m = tissue(),
+                           double h_factor = 2.0) {
+  const Vec3 hi = kSpacing * Vec3(nx - 1, ny - 1, nz - 1);
+  return box_scene(Vec3(0.01, -0.02, 0.003), Vec3(0.01, -0.02, 0.003) + hi, kSpacing, m, h_factor);
+}
+
+inline PhyxelSet lattice(int nx, int ny, int nz, const Material& m = tissue(),
+                         double h_factor = 2.0) {
+  return sample_scene(lattice_scene(nx, ny, nz, m, h_factor));
+}
+
+inline double max_norm(const std::vector<Vec3>& x) {
+  double m = 0;
+  for (const Vec3& v : x) m = std::max(m, v.norm());
+  return m;
+}
+
+template <class V>
+double max_difference(const std::vector<Vec3>& a, const std::vector<V>& b) {
+  double m = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    m = std::max(m, (a[i] - b[i].template cast<double>()).norm());
+  return m;
+}
+
+inline double extent(const PhyxelSet& set) {
+  Eigen::AlignedBox3d box;
+  for (const Vec3& x : set.rest) box.extend(x);
+  return box.sizes().maxCoeff();
+}
+
+// A smooth large deformation (stretch, shear, a rotation) plus per-phyxel noise, and a
+// velocity field, reproducible from `seed`.
+inline void deformed_state(const PhyxelSet& set, unsigned seed, double noise, std::vector<Vec3>& u,
+                           std::vector<Vec3>& v) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(-1, 1);
+  const Eigen::Matrix3d g =
+      phyxel::test::random_matrix(rng, 0.05) +
+      Eigen::AngleAxisd(0.3, Vec3(1, 2, 0.5).normalized()).toRotationMatrix() -
+      Eigen::Matrix3d::Identity();
+  const Vec3 c = set.rest[0];
+  u.resize(set.size());
+  v.resize(set.size());
+  for (size_t i = 0; i < set.size(); ++i) {
+    const Vec3 x = set.rest[i] - c;
+    u[i] = g * x + Vec3(0.2 * x.y() * x.y() / kSpacing * 0.05, 0, 0) +
+           noise * Vec3(d(rng), d(rng), d(rng));
+    v[i] = 0.01 * Vec3(d(rng), d(rng), d(rng));
+  }
+}
+
+class GpuSolverTest : public VulkanTest {};
+
+}  // namespace phyxel::gpu::test
