@@ -26,7 +26,7 @@ constexpr const char* kHelp =
     "  --cases LIST        cantilever_small,cantilever_large,uniaxial_bar,wave_bar (default all)\n"
     "  --spacings LIST     spacing scales relative to the scene's (default 2,1.333333,1)\n"
     "  --dt LIST           fractions of the stable step (default 1,0.5)\n"
-    "  --device LIST       cpu and/or gpu (default cpu)\n"
+    "  --device LIST       cpu and/or gpu, gpu:N or a GPU name (default cpu)\n"
     "  --threads N         CPU threads (default all cores)\n"
     "  --source DIR        repository root holding scenes/validation (default .)\n"
     "  --out DIR           writes accuracy.csv, accuracy.json, accuracy.png (default bench-out)";

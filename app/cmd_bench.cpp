@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/bench_accuracy.h"
+#include "app/bench_extras.h"
 #include "app/commands.h"
 #include "app/options.h"
 #include "compute/gpu_solver_bench.h"
@@ -39,7 +40,14 @@ constexpr const char* kBenchHelp =
     "                        was cut), stored (always read), or both\n"
     "  --steps N             steps per timed repeat (default: about 0.5 s of work)\n"
     "  --repeats N           timed repeats, the median is reported (default 5)\n"
-    "  --json FILE           also write the rows as JSON";
+    "  --json FILE           also write the rows as JSON\n"
+    "\n"
+    "other benchmarks:\n"
+    "  --accuracy            run time against error on scenes/validation (--accuracy --help)\n"
+    "  --skips               what pass selection saves: fixed-only regions and sleeping objects\n"
+    "                        (--scenes LIST, --steps N, --threads N, --json FILE)\n"
+    "  --stability           long soaks in double and float: energy drift, largest speed, first\n"
+    "                        non-finite value (--steps N, default 100000; --json FILE)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -162,12 +170,22 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
 }  // namespace
 
 int bench_command(const Args& args) {
+  auto has = [&](const char* flag) {
+    return std::find(args.begin(), args.end(), flag) != args.end();
+  };
+  if (has("--skips")) return bench_skips(args);
+  if (has("--stability")) return bench_stability(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
-      if (device != "cpu")
-        throw UsageError("phyxel bench --accuracy: --device " + device + ": allowed cpu");
-      return [threads](const PhyxelSet& set, const Vec3& g) {
-        return make_cpu_solver(set, g, threads);
+      if (device == "cpu")
+        return [threads](const PhyxelSet& set, const Vec3& g) {
+          return make_cpu_solver(set, g, threads);
+        };
+      // Any GPU spec (gpu, gpu:N, a name): the float32 GPU solver, one context per run.
+      return [device](const PhyxelSet& set, const Vec3& g) {
+        gpu::ContextOptions context;
+        context.device = device;
+        return make_gpu_solver(set, g, context);
       };
     });
   }

@@ -34,6 +34,10 @@ constexpr const char* kRunHelp =
     "  --out DIR           output folder (default: out)\n"
     "  --threads N         CPU threads (default: all cores)\n"
     "  --precision P       double (default) or float, for the CPU solver; float on the GPU\n"
+    "  --explain           print the pass plan (what runs per substep, what is skipped and\n"
+    "                      why) and exit\n"
+    "  --no-skip           run every pass over every phyxel: no skipping of fixed-only\n"
+    "                      regions, no sleeping (to check that skipping is exact)\n"
     "  --quiet             no progress bar\n"
     "  --help              this text\n"
     "\n"
@@ -83,6 +87,8 @@ int run_command(const Args& args) {
   const bool validate = opts.flag("--validate");
   const std::string precision = opts.value("--precision", gpu ? "float" : "double");
   const bool quiet = opts.flag("--quiet");
+  const bool explain = opts.flag("--explain");
+  const bool no_skip = opts.flag("--no-skip");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {
@@ -129,6 +135,11 @@ int run_command(const Args& args) {
     RunOptions options;
     options.steps = steps_override >= 0 ? steps_override : scene.simulation.steps;
     options.out_dir = out_dir;
+    options.pass_selection = !no_skip;
+    if (explain) {
+      std::fputs(explain_passes(scene, set, *solver, options).c_str(), stdout);
+      return 0;
+    }
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
     const RunResult result = run_simulation(scene, set, *solver, options);
@@ -148,6 +159,17 @@ int run_command(const Args& args) {
                    "stopped. Lower simulation.dt or simulation.courant, or check the material\n",
                    scene.file.c_str(), static_cast<long long>(result.non_finite_step),
                    result.non_finite_phyxel);
+      return 3;
+    }
+    if (result.unstable) {
+      std::fprintf(stderr,
+                   "phyxel run: %s: the simulation is unstable: at step %lld phyxel %ld moves at "
+                   "%.3g m/s, faster than sound in its material (%.3g m/s), which no elastic "
+                   "tissue does; stopped before it turned non-finite. The time step is too large "
+                   "for the material or a load is far too strong: lower simulation.courant or "
+                   "simulation.dt, or the load\n",
+                   scene.file.c_str(), static_cast<long long>(result.unstable_step),
+                   result.unstable_phyxel, result.unstable_speed, result.unstable_wave_speed);
       return 3;
     }
     if (!quiet)
