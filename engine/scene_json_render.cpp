@@ -50,13 +50,14 @@ CameraSettings read_camera(const Node& node) {
   if (c.position && c.target) {
     const Vec3 view = *c.target - *c.position;
     if (view.norm() == 0) {
-      node.at("target", "").fail("the target is the camera position",
-                                 "allowed a target away from the position");
+      node.at("target", "")
+          .fail("the target is the camera position", "allowed a target away from the position");
     }
     if (view.normalized().cross(c.up.normalized()).norm() < 1e-6) {
       const auto up = node.find("up");
-      (up ? *up : node.at("target", "")).fail("the up vector is parallel to the viewing direction",
-                             "allowed an up direction not parallel to target - position");
+      (up ? *up : node.at("target", ""))
+          .fail("the up vector is parallel to the viewing direction",
+                "allowed an up direction not parallel to target - position");
     }
   }
   return c;
@@ -69,7 +70,8 @@ StereoSettings read_stereo(const Node& node) {
       {"ipd", "focal_distance", "layout", "swap_eyes"});
   StereoSettings s;
   s.ipd = node.number_or("ipd", s.ipd, Limits::at_least(0), "m");
-  if (const auto f = node.find("focal_distance")) s.focal_distance = f->number(Limits::above(0), "m");
+  if (const auto f = node.find("focal_distance"))
+    s.focal_distance = f->number(Limits::above(0), "m");
   if (const auto layout = node.find("layout")) {
     s.layout = layout->choice({"side-by-side", "anaglyph"}) == "anaglyph"
                    ? StereoSettings::Layout::Anaglyph

@@ -1,0 +1,104 @@
+#include "render/frame_output.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace phyxel::render {
+namespace {
+
+std::string scene_name(const Scene& scene) {
+  return scene.file.empty() ? std::string("<scene>") : scene.file.string();
+}
+
+}  // namespace
+
+std::string FrameWriter::frame_name(int64_t step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "frame_%06lld.png", static_cast<long long>(step));
+  return name;
+}
+
+FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
+                         const FrameWriterOptions& options, gpu::Context* ctx)
+    : ctx_(ctx), set_(&set), options_(options) {
+  const std::string file = scene_name(scene);
+  const RenderSettings& r = scene.render;
+  const RgbaImage texture = r.texture.empty() ? procedural_tissue_texture()
+                                              : load_image(r.texture, file + ": render.texture");
+  if (ctx_ == nullptr) {
+    gpu::ContextOptions o;
+    o.device = options.device;
+    o.validation = options.validation;
+    own_ctx_ = std::make_unique<gpu::Context>(o);
+    ctx_ = own_ctx_.get();
+  }
+  const SurfelTable table = build_surfel_table(set);
+  renderer_ = std::make_unique<SplatRenderer>(*ctx_, table, texture);
+  camera_ = resolve_camera(scene.camera, table.bounds, double(r.width) / double(r.height), file);
+  setup_ = make_frame_setup(camera_, r, options.mode);
+  const uint32_t limit = renderer_->max_frame_side();
+  const uint32_t wide = setup_.eye_count() * setup_.eye_width;
+  if (wide > limit || setup_.height > limit) {
+    const bool tall = setup_.height > limit;
+    throw SceneError(file + ": render." + (tall ? "height" : "width") + ": a frame of " +
+                     std::to_string(wide) + " x " + std::to_string(setup_.height) + " pixels" +
+                     (setup_.eye_count() == 2 ? " (two eyes side by side)" : "") +
+                     " is larger than " + ctx_->info().name + " renders; allowed at most " +
+                     std::to_string(limit) + " pixels per side" +
+                     (setup_.eye_count() == 2 ? " for both eyes together" : ""));
+  }
+}
+
+FrameWriter::~FrameWriter() = default;
+
+RgbaImage FrameWriter::render(const RenderInputs& inputs) {
+  return renderer_->render(inputs, setup_);
+}
+
+std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
+  const RgbaImage image = render(inputs);
+  const std::string name = frame_name(step);
+  write_png(options_.out_dir / name, image);
+  written_.push_back(name);
+  return name;
+}
+
+std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displacement,
+                               const NeighbourLists& neighbours) {
+  if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, neighbours);
+  host_->set_displacement(displacement);
+  return write(step, host_->inputs());
+}
+
+FramingSolver::FramingSolver(Solver& inner, FrameWriter& writer, int64_t every, int64_t substeps)
+    : inner_(inner),
+      writer_(writer),
+      every_substeps_(std::max<int64_t>(1, every) * std::max<int64_t>(1, substeps)),
+      substeps_per_step_(std::max<int64_t>(1, substeps)) {
+  write_frame(0);
+  next_frame_ = every_substeps_;
+}
+
+void FramingSolver::write_frame(int64_t step) {
+  writer_.write(step, inner_.read_state(false).displacement, inner_.neighbours());
+  last_written_ = step;
+}
+
+void FramingSolver::advance(int64_t substeps, double dt) {
+  while (substeps > 0) {
+    const int64_t chunk = std::min(substeps, next_frame_ - done_);
+    inner_.advance(chunk, dt);
+    done_ += chunk;
+    substeps -= chunk;
+    if (done_ == next_frame_) {
+      write_frame(done_ / substeps_per_step_);
+      next_frame_ += every_substeps_;
+    }
+  }
+}
+
+void FramingSolver::finish(int64_t step) {
+  if (step != last_written_) write_frame(step);
+}
+
+}  // namespace phyxel::render

@@ -1,0 +1,97 @@
+// Deformed splats from the solver's buffers (rest, displacement, rest-neighbour CSR lists):
+// centre x0 + u, normal n' ~ (I + grad u)^-T n, texture gradients (ds/dx0) F^-1 and a radius
+// grown with the tangential stretch, one invocation per surface phyxel.
+//
+// grad u_i = M_i A_i^-1 (the paper's eq 10) with A_i = sum_j w x_ij x_ij^T and
+// M_i = sum_j w (u_j - u_i) x_ij^T over the rest neighbours, w the poly6 kernel of the
+// object's support radius h. Lengths are divided by h and w by its constant factor
+// 315 / (64 pi h^9): both cancel in M A^-1 and the sums stay of order one in fp32 at any scale.
+// When A is ill-conditioned (few or coplanar neighbours, e.g. after a cut) or F is singular,
+// the splat keeps its rest normal and texture gradients (normal.w = 0 says so).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "render_layout.h"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { DeformPush p; };
+layout(std430, binding = kDeformBindingRest) readonly buffer Rest { vec4 rest[]; };
+layout(std430, binding = kDeformBindingDisplacement) readonly buffer Disp { vec4 disp[]; };
+layout(std430, binding = kDeformBindingNbrOffset) readonly buffer Offset { uint nbr_offset[]; };
+layout(std430, binding = kDeformBindingNbrIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kDeformBindingSurfels) readonly buffer Surfels { SurfelStatic surfels[]; };
+layout(std430, binding = kDeformBindingSplats) writeonly buffer Splats { Splat splats[]; };
+
+// A unit vector perpendicular to the unit vector n.
+vec3 any_tangent(vec3 n) {
+  const vec3 a = abs(n.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0);
+  return normalize(cross(n, a));
+}
+
+void main() {
+  const uint k = PHYXEL_GLOBAL_INDEX;
+  if (k >= p.count) return;
+  const SurfelStatic s = surfels[k];
+  const uint i = s.index;
+  Splat outp;
+  if (i >= p.phyxels) {  // a stale table entry: draw nothing
+    outp.centre = vec4(0);
+    outp.normal = vec4(0, 0, 1, 0);
+    outp.ds_dx = vec4(0);
+    outp.dt_dx = vec4(0);
+    splats[k] = outp;
+    return;
+  }
+  const vec3 xi = rest[i].xyz;
+  const vec3 ui = disp[i].xyz;
+  const float inv_h = 1.0 / s.support;
+  mat3 A = mat3(0.0);
+  mat3 M = mat3(0.0);
+  const uint end = nbr_offset[i + 1];
+  for (uint e = nbr_offset[i]; e < end; ++e) {
+    const uint j = nbr_index[e];
+    if (j >= p.phyxels) continue;
+    const vec3 x = (rest[j].xyz - xi) * inv_h;
+    const float q = 1.0 - dot(x, x);
+    if (q <= 0.0) continue;
+    const float w = q * q * q;
+    A += w * outerProduct(x, x);
+    M += w * outerProduct((disp[j].xyz - ui) * inv_h, x);
+  }
+  // det(A) / (tr(A)/3)^3 is 1 for an isotropic neighbourhood and about 3 lambda_min /
+  // lambda_max when one direction is missing.
+  const float tr = A[0][0] + A[1][1] + A[2][2];
+  const float det_a = determinant(A);
+  bool usable = tr > 0.0 && det_a > p.min_inverse_condition * pow(tr / 3.0, 3.0);
+  mat3 f_inv_t = mat3(1.0);
+  mat3 f = mat3(1.0);
+  if (usable) {
+    f = mat3(1.0) + M * inverse(A);
+    const float det_f = determinant(f);
+    usable = abs(det_f) > 1e-6;
+    if (usable) f_inv_t = transpose(inverse(f));
+  }
+  if (!usable) f = mat3(1.0);
+
+  const vec3 n0 = s.normal.xyz;
+  vec3 n = f_inv_t * n0;
+  const float len = length(n);
+  n = usable && len > 0.0 ? n / len : n0;
+
+  // Radius: grown by the largest tangential stretch (the square root of the larger eigenvalue
+  // of the tangent-plane metric of F), so stretched surfaces stay closed; never shrunk.
+  const vec3 t1 = any_tangent(n0);
+  const vec3 t2 = cross(n0, t1);
+  const vec3 a1 = f * t1;
+  const vec3 a2 = f * t2;
+  const float c11 = dot(a1, a1), c22 = dot(a2, a2), c12 = dot(a1, a2);
+  const float half_diff = 0.5 * (c11 - c22);
+  const float lambda = 0.5 * (c11 + c22) + sqrt(half_diff * half_diff + c12 * c12);
+  const float stretch = clamp(sqrt(lambda), 1.0, p.max_stretch);
+
+  outp.centre = vec4(xi + ui, s.radius * stretch);
+  outp.normal = vec4(n, usable ? 1.0 : 0.0);
+  outp.ds_dx = vec4(f_inv_t * s.ds_dx.xyz, s.ds_dx.w);
+  outp.dt_dx = vec4(f_inv_t * s.dt_dx.xyz, s.dt_dx.w);
+  splats[k] = outp;
+}

@@ -1,0 +1,90 @@
+#include "render/surfels.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "render/texture_map.h"
+
+namespace phyxel::render {
+namespace {
+
+layout::vec4 vec4_of(const Vec3& v, double w) {
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()),
+          static_cast<float>(w)};
+}
+
+bool is_surfel(const PhyxelSet& set, size_t i) {
+  return (set.flags[i] & kSurface) != 0 && (set.flags[i] & kRemoved) == 0 &&
+         set.splat_radius[i] > 0;
+}
+
+}  // namespace
+
+SurfelTable build_surfel_table(const PhyxelSet& set) {
+  SurfelTable table;
+  table.phyxels = static_cast<uint32_t>(set.size());
+  for (size_t o = 0; o < set.objects.size(); ++o) {
+    const ObjectRange& range = set.objects[o];
+    std::vector<Vec3> points;
+    for (uint32_t i = range.first; i < range.first + range.count; ++i)
+      if ((set.flags[i] & kRemoved) == 0) points.push_back(set.rest[i]);
+    const Dome dome = fit_dome(points);
+    for (uint32_t i = range.first; i < range.first + range.count; ++i) {
+      if (!is_surfel(set, i)) continue;
+      const Vec3& x = set.rest[i];
+      const Vec3 n = set.normal[i].squaredNorm() > 0 ? set.normal[i].normalized() : Vec3::UnitZ();
+      const Eigen::Vector2d st = dome_texcoord(dome, x);
+      const Eigen::Matrix<double, 2, 3> grad = dome_texcoord_gradient(dome, x, n);
+      layout::SurfelStatic s{};
+      s.index = i;
+      s.radius = static_cast<float>(set.splat_radius[i]);
+      s.support = static_cast<float>(range.support_radius);
+      s.flags = set.flags[i];
+      s.normal = vec4_of(n, 0);
+      s.ds_dx = vec4_of(grad.row(0).transpose(), st.x());
+      s.dt_dx = vec4_of(grad.row(1).transpose(), st.y());
+      table.surfels.push_back(s);
+      table.bounds.extend(x);
+    }
+  }
+  return table;
+}
+
+HostInputs::HostInputs(gpu::Context& ctx, const PhyxelSet& set, const NeighbourLists& nbr)
+    : count_(static_cast<uint32_t>(set.size())) {
+  if (nbr.offset.size() != set.size() + 1) {
+    throw std::invalid_argument("HostInputs: neighbour lists of " +
+                                std::to_string(nbr.offset.size()) + " rows for " +
+                                std::to_string(set.size()) + " phyxels");
+  }
+  std::vector<layout::vec4> rest(set.size());
+  for (size_t i = 0; i < set.size(); ++i) rest[i] = vec4_of(set.rest[i], set.volume[i]);
+  using gpu::MemoryIntent;
+  rest_ = gpu::Buffer(ctx, rest.size() * sizeof(layout::vec4), MemoryIntent::Device, "render rest");
+  nbr_offset_ = gpu::Buffer(ctx, nbr.offset.size() * sizeof(uint32_t), MemoryIntent::Device,
+                            "render nbr_offset");
+  nbr_index_ = gpu::Buffer(ctx, nbr.index.size() * sizeof(uint32_t), MemoryIntent::Device,
+                           "render nbr_index");
+  // Host-visible: written every frame through the mapping, read once by the deform pass.
+  displacement_ = gpu::Buffer(ctx, set.size() * sizeof(layout::vec4), MemoryIntent::Upload,
+                              "render displacement");
+  gpu::upload(ctx, rest_, rest);
+  gpu::upload(ctx, nbr_offset_, nbr.offset);
+  if (!nbr.index.empty()) gpu::upload(ctx, nbr_index_, nbr.index);
+  set_displacement(std::vector<Vec3>(set.size(), Vec3::Zero()));
+}
+
+void HostInputs::set_displacement(const std::vector<Vec3>& u) {
+  if (u.size() != count_) {
+    throw std::invalid_argument("HostInputs::set_displacement: " + std::to_string(u.size()) +
+                                " displacements for " + std::to_string(count_) + " phyxels");
+  }
+  auto* out = static_cast<layout::vec4*>(displacement_.mapped());
+  for (size_t i = 0; i < u.size(); ++i) out[i] = vec4_of(u[i], 0);
+}
+
+RenderInputs HostInputs::inputs() const {
+  return {&rest_, &displacement_, &nbr_offset_, &nbr_index_, count_};
+}
+
+}  // namespace phyxel::render

@@ -1,0 +1,81 @@
+// What the renderer reads and what it builds once per scene.
+//
+// RenderInputs: the four solver buffers the splat passes read each frame, exactly what the
+// GPU solver exposes (gpu::SolverBuffers in compute/gpu_solver.h converts implicitly):
+//   rest          vec4 per phyxel: x0.xyz (m), volume
+//   displacement  vec4 per phyxel: u.xyz (m), 0
+//   nbr_offset    uint[count + 1]: CSR row starts of the rest neighbour lists
+//   nbr_index     uint[pairs]:     CSR neighbour indices (same object, sorted)
+// Nothing else of a solver is used.
+//
+// SurfelTable: the static per-surface-phyxel data (index, splat radius, support radius, rest
+// normal, texture coordinates of the dome mapping and their tangential gradients), uploaded
+// once. HostInputs: the same four buffers built from a PhyxelSet for the CPU solver (rest and
+// CSR uploaded once, the displacement once per frame).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <concepts>
+#include <cstdint>
+#include <vector>
+
+#include "compute/buffer.h"
+#include "engine/neighbours.h"
+#include "engine/phyxel_set.h"
+#include "render/shaders/render_layout.h"
+
+namespace phyxel::render {
+
+struct RenderInputs {
+  const gpu::Buffer* rest = nullptr;
+  const gpu::Buffer* displacement = nullptr;
+  const gpu::Buffer* nbr_offset = nullptr;
+  const gpu::Buffer* nbr_index = nullptr;
+  uint32_t count = 0;  // phyxels
+
+  RenderInputs() = default;
+  RenderInputs(const gpu::Buffer* rest_, const gpu::Buffer* displacement_,
+               const gpu::Buffer* nbr_offset_, const gpu::Buffer* nbr_index_, uint32_t count_)
+      : rest(rest_),
+        displacement(displacement_),
+        nbr_offset(nbr_offset_),
+        nbr_index(nbr_index_),
+        count(count_) {}
+  // From any struct with the same five members (gpu::SolverBuffers).
+  template <class B>
+  requires requires(const B& b) {
+    { b.rest } -> std::convertible_to<const gpu::Buffer*>;
+    { b.displacement } -> std::convertible_to<const gpu::Buffer*>;
+    { b.nbr_offset } -> std::convertible_to<const gpu::Buffer*>;
+    { b.nbr_index } -> std::convertible_to<const gpu::Buffer*>;
+    { b.count } -> std::convertible_to<uint32_t>;
+  }
+  RenderInputs(const B& b)  // NOLINT(google-explicit-constructor): the point is conversion
+      : RenderInputs(b.rest, b.displacement, b.nbr_offset, b.nbr_index, b.count) {}
+};
+
+struct SurfelTable {
+  std::vector<layout::SurfelStatic> surfels;
+  Eigen::AlignedBox3d bounds;  // of the surface phyxels at rest
+  uint32_t phyxels = 0;        // size of the PhyxelSet it was built from
+};
+
+// Every surface phyxel (kSurface, not kRemoved, splat radius > 0) of `set`, with texture
+// coordinates from one dome per object (render/texture_map.h; axis +z).
+SurfelTable build_surfel_table(const PhyxelSet& set);
+
+// The four input buffers for a solver whose state lives on the host (the CPU reference).
+class HostInputs {
+ public:
+  HostInputs(gpu::Context& ctx, const PhyxelSet& set, const NeighbourLists& neighbours);
+  // Writes u (one vec4 per phyxel) into the mapped displacement buffer. Call between frames
+  // (after the last frame's submit_and_wait).
+  void set_displacement(const std::vector<Vec3>& displacement);
+  RenderInputs inputs() const;
+
+ private:
+  gpu::Buffer rest_, displacement_, nbr_offset_, nbr_index_;
+  uint32_t count_ = 0;
+};
+
+}  // namespace phyxel::render

@@ -1,0 +1,35 @@
+// `phyxel view`: a scene simulated live in a window (GLFW + a Vulkan swapchain), with the
+// same splat passes, mono or stereo (side by side or anaglyph) as the scene's `render` says.
+//
+//   mouse left drag    orbit the camera around its target
+//   mouse wheel        move towards / away from the target
+//   space              pause / resume
+//   n                  one simulation step (while paused)
+//   s                  toggle mono / stereo
+//   escape, q          quit
+//
+// Built only with PHYXEL_WITH_WINDOW; otherwise run_viewer says so in one line.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "engine/scene.h"
+
+namespace phyxel::render {
+
+struct ViewerOptions {
+  std::string render_device = "gpu";         // Vulkan device spec for the renderer (device_info.h)
+  int threads = 0;                           // CPU solver threads, 0: all cores
+  std::optional<RenderSettings::Mode> mode;  // overrides the scene's render.mode
+  bool validation = false;
+};
+
+// Whether this build has the window viewer.
+bool viewer_available();
+
+// Opens the window and runs until it is closed. Throws std::runtime_error with one line when
+// there is no display or no window support, SceneError for bad scene input.
+void run_viewer(const Scene& scene, const ViewerOptions& options);
+
+}  // namespace phyxel::render

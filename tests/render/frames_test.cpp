@@ -1,0 +1,175 @@
+// Frames of a run (FrameWriter, FramingSolver) with the CPU reference solver and from the GPU
+// solver's own buffers, the render bench entry point, and the viewer's one-line refusals.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+
+#include "compute/gpu_solver.h"
+#include "engine/simulation.h"
+#include "render/frame_output.h"
+#include "render/render_bench.h"
+#include "render/sample_shapes.h"
+#include "render/viewer.h"
+#include "tests/render/render_test_util.h"
+
+namespace phyxel::render {
+namespace {
+
+class RenderFrames : public gpu::VulkanTest {};
+
+// A soft block clamped at its base, sagging under gravity.
+Scene block_scene(const std::string& render_json) {
+  return parse_scene(R"({"simulation": {"dt": 2e-4, "steps": 25, "gravity": [0, 0, -9.81]},
+    "objects": [{"name": "b", "shape": {"type": "box", "min": [-0.02, -0.01, 0],
+                 "max": [0.02, 0.01, 0.01]}, "spacing": 0.0025,
+                 "material": {"young": 3000, "poisson": 0.3, "density": 1000, "damping": 1},
+                 "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [-0.0195, 1, 1]}]}],
+    "render": )" + render_json + "}",
+                     test::test_out_dir() / "block.json");
+}
+
+std::filesystem::path fresh_dir(const std::string& name) {
+  const std::filesystem::path dir = test::test_out_dir() / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+TEST_F(RenderFrames, RunWritesAFrameEveryRenderEveryStepsAndAtTheEnd) {
+  const Scene scene = block_scene(R"({"mode": "mono", "width": 64, "height": 48, "every": 10})");
+  const PhyxelSet set = sample_scene(scene);
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  const std::filesystem::path dir = fresh_dir("frames_mono");
+  FrameWriter writer(scene, set, {scene.render.mode, dir}, &ctx());
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  FramingSolver framing(*solver, writer, scene.render.every, plan.substeps);
+  RunOptions options;
+  options.steps = 25;
+  const RunResult result = run_simulation(scene, set, framing, options);
+  framing.finish(result.steps_done);
+  const std::vector<std::string> expected = {"frame_000000.png", "frame_000010.png",
+                                             "frame_000020.png", "frame_000025.png"};
+  EXPECT_EQ(writer.written(), expected);
+  RgbaImage first, last;
+  for (const std::string& name : expected) {
+    const RgbaImage image = load_image(dir / name, name);
+    EXPECT_EQ(image.width, 64u);
+    EXPECT_EQ(image.height, 48u);
+    if (name == expected.front()) first = image;
+    last = image;
+  }
+  // The block is in the picture, and it moved (sagged) between the first and last frame.
+  auto covered = [](const uint8_t* p) { return !test::is_background(p); };
+  EXPECT_GT(test::centroid(first, covered).z(), 300);
+  EXPECT_NE(first.pixels, last.pixels);
+}
+
+TEST_F(RenderFrames, StereoLayoutsHaveTheirFrameSizes) {
+  const Scene sbs = block_scene(R"({"mode": "stereo", "width": 40, "height": 30})");
+  const PhyxelSet set = sample_scene(sbs);
+  const std::filesystem::path dir = fresh_dir("frames_stereo");
+  const NeighbourLists nbr = find_rest_neighbours(set);
+  const std::vector<Vec3> rest(set.size(), Vec3::Zero());
+  FrameWriter pair(sbs, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
+  EXPECT_EQ(load_image(dir / pair.write(3, rest, nbr), "sbs").width, 80u);
+  const Scene ana =
+      block_scene(R"({"width": 40, "height": 30, "stereo": {"layout": "anaglyph"}})");
+  FrameWriter anaglyph(ana, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
+  const RgbaImage a = load_image(dir / anaglyph.write(4, rest, nbr), "anaglyph");
+  EXPECT_EQ(a.width, 40u);
+  EXPECT_EQ(a.height, 30u);
+}
+
+TEST_F(RenderFrames, BadTextureAndOversizedFramesNameTheKey) {
+  const std::filesystem::path dir = fresh_dir("frames_errors");
+  std::ofstream(dir / "broken.png") << "not a png";
+  Scene scene = block_scene(R"({"mode": "mono", "width": 32, "height": 32})");
+  const PhyxelSet set = sample_scene(scene);
+  scene.render.texture = dir / "broken.png";
+  try {
+    FrameWriter writer(scene, set, {RenderSettings::Mode::Mono, dir}, &ctx());
+    ADD_FAILURE() << "a broken texture was accepted";
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("block.json: render.texture: cannot decode"), std::string::npos) << m;
+    EXPECT_NE(m.find("broken.png"), std::string::npos) << m;
+  }
+  scene.render.texture.clear();
+  scene.render.width = 1 << 20;  // past any device's maxImageDimension2D
+  try {
+    FrameWriter writer(scene, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
+    ADD_FAILURE() << "an oversized frame was accepted";
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("block.json: render.width: a frame of 2097152 x 32 pixels (two eyes"),
+              std::string::npos)
+        << m;
+  }
+}
+
+TEST_F(RenderFrames, GpuSolverBuffersRenderLikeTheHostCopyOfTheirState) {
+  const Scene scene = block_scene(R"({"mode": "mono", "width": 96, "height": 64})");
+  const PhyxelSet set = sample_scene(scene);
+  gpu::GpuSolver solver(ctx(), set, scene.simulation.gravity);
+  solver.advance(40, plan_time_step(scene, set).dt_used);
+  FrameWriter writer(scene, set, {RenderSettings::Mode::Mono, fresh_dir("frames_gpu")}, &ctx());
+  // Straight from the solver's four buffers (gpu::SolverBuffers converts to RenderInputs)...
+  const RgbaImage from_gpu = writer.render(solver.buffers());
+  // ... and from its state read back, through the CPU path's own buffers.
+  HostInputs host(ctx(), set, solver.neighbours());
+  host.set_displacement(solver.read_state(false).displacement);
+  const RgbaImage from_host = writer.render(host.inputs());
+  ASSERT_EQ(from_gpu.pixels.size(), from_host.pixels.size());
+  int worst = 0;
+  for (size_t i = 0; i < from_gpu.pixels.size(); ++i)
+    worst = std::max(worst, std::abs(from_gpu.pixels[i] - from_host.pixels[i]));
+  EXPECT_LE(worst, 1);
+  // The solver's CSR lists are the engine's.
+  EXPECT_EQ(solver.neighbours().index, find_rest_neighbours(set).index);
+}
+
+TEST_F(RenderFrames, BenchEntryPointMeasuresAStereoFrame) {
+  RenderBenchOptions options;
+  options.surfels = 1500;
+  options.eye_width = 64;
+  options.height = 48;
+  options.frames = 2;
+  const RenderBenchResult r = bench_render(ctx(), options);
+  EXPECT_GT(r.surfels, 1000u);
+  EXPECT_LT(r.surfels, 3000u);
+  EXPECT_GT(r.phyxels, r.surfels);
+  EXPECT_EQ(r.frame_width, 128u);
+  EXPECT_EQ(r.frame_height, 48u);
+  EXPECT_EQ(r.eyes, 2u);
+  EXPECT_EQ(r.frames, 2);
+  EXPECT_GT(r.median_frame_s, 0.0);
+  if (ctx().timestamps()) {
+    ASSERT_EQ(r.median_passes.size(), 4u);
+    EXPECT_EQ(r.median_passes[0].name, "render deform");
+    EXPECT_EQ(r.median_passes[3].name, "render readback");
+  }
+}
+
+TEST(RenderViewer, WithoutADisplayOrWindowSupportSaysSoInOneLine) {
+  unsetenv("DISPLAY");
+  unsetenv("WAYLAND_DISPLAY");
+  Scene scene;
+  scene.file = "scenes/x.json";
+  try {
+    run_viewer(scene, {});
+    ADD_FAILURE() << "the viewer ran without a display";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_NE(m.find("phyxel run SCENE --render"), std::string::npos) << m;
+    if (viewer_available()) {
+      EXPECT_NE(m.find("no display"), std::string::npos) << m;
+    } else {
+      EXPECT_NE(m.find("without the window viewer"), std::string::npos) << m;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace phyxel::render
