@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,7 @@
 #include "app/run_report.h"
 #include "compute/gpu_solver.h"
 #include "engine/simulation.h"
+#include "render/frame_output.h"
 
 namespace phyxel::app {
 namespace {
@@ -38,6 +40,11 @@ constexpr const char* kRunHelp =
     "                      why) and exit\n"
     "  --no-skip           run every pass over every phyxel: no skipping of fixed-only\n"
     "                      regions, no sleeping (to check that skipping is exact)\n"
+    "  --render MODE       none, mono or stereo: also write DIR/frame_NNNNNN.png at step 0,\n"
+    "                      every render.every steps and at the end (default: the scene's\n"
+    "                      render.mode); offscreen, never needs a display\n"
+    "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu);\n"
+    "                      with a GPU solver the renderer reads its buffers on its device\n"
     "  --quiet             no progress bar\n"
     "  --help              this text\n"
     "\n"
@@ -89,6 +96,8 @@ int run_command(const Args& args) {
   const bool quiet = opts.flag("--quiet");
   const bool explain = opts.flag("--explain");
   const bool no_skip = opts.flag("--no-skip");
+  const std::string render_mode = opts.value("--render", "");
+  const std::string render_device = opts.value("--render-device", "gpu");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {
@@ -111,8 +120,18 @@ int run_command(const Args& args) {
                  precision.c_str());
     return 1;
   }
+  if (!render_mode.empty() && render_mode != "none" && render_mode != "mono" &&
+      render_mode != "stereo") {
+    std::fprintf(stderr, "phyxel run: --render %s: allowed none, mono or stereo\n",
+                 render_mode.c_str());
+    return 1;
+  }
   try {
-    const Scene scene = load_scene(positional[0]);
+    Scene scene = load_scene(positional[0]);
+    if (!render_mode.empty())
+      scene.render.mode = render_mode == "mono"     ? RenderSettings::Mode::Mono
+                          : render_mode == "stereo" ? RenderSettings::Mode::Stereo
+                                                    : RenderSettings::Mode::None;
     const PhyxelSet set = sample_scene(scene);
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -142,7 +161,24 @@ int run_command(const Args& args) {
     }
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
-    const RunResult result = run_simulation(scene, set, *solver, options);
+    // Frames: from the GPU solver's buffers on its context, or from the CPU solver's state.
+    std::unique_ptr<render::FrameWriter> frames;
+    std::unique_ptr<render::FramingSolver> framing;
+    if (scene.render.mode != RenderSettings::Mode::None) {
+      auto* gpu_solver = dynamic_cast<gpu::GpuSolver*>(solver.get());
+      frames = std::make_unique<render::FrameWriter>(
+          scene, set, render::FrameWriterOptions{scene.render.mode, out_dir, render_device},
+          gpu_solver ? &gpu_solver->context() : nullptr);
+      std::function<render::RenderInputs()> buffers;
+      if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
+      framing = std::make_unique<render::FramingSolver>(
+          *solver, *frames, scene.render.every, plan_time_step(scene, set).substeps, buffers);
+    }
+    const RunResult result = run_simulation(scene, set, framing ? *framing : *solver, options);
+    if (framing && !result.non_finite) framing->finish(result.steps_done);
+    const size_t frame_count = frames ? frames->written().size() : 0;
+    framing.reset();
+    frames.reset();  // before the solver: it may own the context
     if (result.steps_done < options.steps) bar.finish();
     write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result);
     if (!result.plan.reason.empty())
@@ -177,6 +213,8 @@ int run_command(const Args& args) {
                   set.size(), static_cast<long long>(result.steps_done),
                   result.stopped_at_rest ? " (stopped at rest)" : "", result.wall_seconds,
                   device_name.c_str(), (out_dir / "summary.json").c_str());
+    if (!quiet && frame_count > 0)
+      std::printf("wrote %zu frames frame_NNNNNN.png to %s\n", frame_count, out_dir.c_str());
     return 0;
   } catch (const SceneError& e) {
     std::fprintf(stderr, "%s\n", e.what());

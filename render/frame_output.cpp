@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 namespace phyxel::render {
 namespace {
@@ -70,9 +71,11 @@ std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displaceme
   return write(step, host_->inputs());
 }
 
-FramingSolver::FramingSolver(Solver& inner, FrameWriter& writer, int64_t every, int64_t substeps)
+FramingSolver::FramingSolver(Solver& inner, FrameWriter& writer, int64_t every, int64_t substeps,
+                             std::function<RenderInputs()> gpu_inputs)
     : inner_(inner),
       writer_(writer),
+      gpu_inputs_(std::move(gpu_inputs)),
       every_substeps_(std::max<int64_t>(1, every) * std::max<int64_t>(1, substeps)),
       substeps_per_step_(std::max<int64_t>(1, substeps)) {
   write_frame(0);
@@ -80,7 +83,11 @@ FramingSolver::FramingSolver(Solver& inner, FrameWriter& writer, int64_t every, 
 }
 
 void FramingSolver::write_frame(int64_t step) {
-  writer_.write(step, inner_.read_state(false).displacement, inner_.neighbours());
+  if (gpu_inputs_) {
+    writer_.write(step, gpu_inputs_());
+  } else {
+    writer_.write(step, inner_.read_state(false).displacement, inner_.neighbours());
+  }
   last_written_ = step;
 }
 
