@@ -1,5 +1,6 @@
 // phyxel bench --skips: what pass selection saves on real scenes (fixed-only regions skipped,
-// sleeping objects skipped), as median seconds per step with and without it.
+// sleeping objects skipped), as median seconds per step with and without it, on the CPU
+// reference or (--device gpu, gpu:N, a name) the GPU solver.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -9,6 +10,7 @@
 
 #include "app/bench_extras.h"
 #include "app/options.h"
+#include "compute/gpu_solver.h"
 #include "engine/simulation.h"
 
 namespace phyxel::app {
@@ -26,6 +28,15 @@ double median_step_seconds(Solver& solver, double dt, int64_t steps, int repeats
   return t[t.size() / 2];
 }
 
+std::unique_ptr<Solver> make_solver(const std::string& device, const PhyxelSet& set,
+                                    const Vec3& gravity, int threads) {
+  if (device == "cpu") return make_cpu_solver(set, gravity, threads);
+  gpu::ContextOptions context;
+  context.device = device;
+  context.validation = false;
+  return make_gpu_solver(set, gravity, context);
+}
+
 }  // namespace
 
 int bench_skips(const Args& args) {
@@ -35,6 +46,7 @@ int bench_skips(const Args& args) {
       opts.value("--scenes", "scenes/brain_tumour.json,scenes/breast_tumour.json,scenes/beam.json");
   const int64_t steps = opts.integer("--steps", 200, 1, 1 << 30);
   const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
+  const std::string device = opts.value("--device", "cpu");  // cpu, gpu, gpu:N or a name
   const std::string json_file = opts.value("--json", "");
   opts.finish();
   std::vector<std::string> scenes;
@@ -42,15 +54,19 @@ int bench_skips(const Args& args) {
   for (std::string item; std::getline(ss, item, ',');) scenes.push_back(item);
 
   nlohmann::json rows = nlohmann::json::array();
-  std::printf("%-28s %8s %8s %12s %12s %12s %8s %12s\n", "scene", "phyxels", "fixed", "all s/step",
-              "skip s/step", "saved", "stress", "asleep s/step");
   for (const std::string& file : scenes) {
     const Scene scene = load_scene(file);
     const PhyxelSet set = sample_scene(scene);
     const double dt = plan_time_step(scene, set).dt_stable;
     size_t fixed = 0;
     for (uint32_t f : set.flags) fixed += (f & kFixed) ? 1 : 0;
-    auto solver = make_cpu_solver(set, scene.simulation.gravity, threads);
+    auto solver = make_solver(device, set, scene.simulation.gravity, threads);
+    if (rows.empty()) {
+      std::printf("%s\n", solver->device().c_str());
+      std::printf("%-28s %8s %8s %12s %12s %12s %8s %12s\n", "scene", "phyxels", "fixed",
+                  "all s/step", "skip s/step", "saved", "stress", "asleep s/step");
+    }
+    solver->advance(5, dt);  // warm-up (GPU clocks, first submits)
     solver->set_pass_selection(false);
     const double all = median_step_seconds(*solver, dt, steps, 5);
     solver->set_pass_selection(true);

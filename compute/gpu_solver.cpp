@@ -100,6 +100,14 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   von_mises_ = device(n * sizeof(float), "von Mises stress");
   check_ = device(sizeof(uint32_t), "non-finite check");
   list_ = device(sizeof(uint32_t), "precompute list");
+  stress_list_ = device(std::max<uint64_t>(n, 1) * sizeof(uint32_t), "stress pass list");
+  force_list_ = device(std::max<uint64_t>(n, 1) * sizeof(uint32_t), "force pass list");
+  gravity_ = gravity;
+  phyxel_flags_ = set.flags;
+  object_ = set.object;
+  mass_ = set.mass;
+  objects_ = set.objects;
+  awake_.assign(set.objects.size(), 1);
 
   upload(ctx, classes_, host.classes);
   upload(ctx, rest_, host.rest);
@@ -112,9 +120,11 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
     rec.fill(disp_[0], 0);
     rec.fill(disp_[1], 0);
     rec.fill(list_, 0);
+    rec.fill(force_, 0);  // as the CPU's: 0 until a phyxel is in the force pass
     rec.submit_and_wait();
   }
   build_neighbours(host.rest_lo);  // CSR, weights, A^-1, kappa; then the first forces
+  build_pass_lists();
   for (int k = 0; k < 2; ++k)
     rec_[k] = std::make_unique<Recorder>(ctx, k == 0 ? "solver steps A" : "solver steps B");
   compute_forces();
@@ -129,25 +139,27 @@ SolverBuffers GpuSolver::buffers() const {
   return {&rest_, &disp_[0], &nbr_offset_, &nbr_index_, count_};
 }
 
-StepPush GpuSolver::push(float dt, uint32_t mode) const {
-  return {count_, dt, mode,
+StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode) const {
+  return {count, dt, mode,
           options_.pair_weights == GpuSolverOptions::PairWeights::Stored ? kWeightsStored
                                                                          : kWeightsAuto};
 }
 
 void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
-  dispatch(
-      rec, kernels_->stress, push(0.0f),
-      {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, resid_, flags_, classes_, stress_},
-      count_);
+  const uint32_t n = static_cast<uint32_t>(stress_count_);
+  dispatch(rec, kernels_->stress, push(n, 0.0f),
+           {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, resid_, flags_, classes_,
+            stress_, stress_list_},
+           n);
 }
 
 void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
                              const Buffer& out) {
-  dispatch(rec, kernels_->force, push(dt, mode),
+  const uint32_t n = static_cast<uint32_t>(force_count_);
+  dispatch(rec, kernels_->force, push(n, dt, mode),
            {nbr_offset_, nbr_index_, weight_, local_, in, out, stress_, vel_, force_, ext_, flags_,
-            classes_},
-           count_);
+            classes_, force_list_},
+           n);
 }
 
 // Steps [from, to) of an advance of `total` steps. u lives in disp_[cur]. The first step opens
@@ -167,8 +179,9 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     if (step == 0) {
       const int target = (total - 1) % 2 == 0 ? 0 : 1;
       timed("kick_drift", [&] {
-        dispatch(rec, kernels_->kick_drift, push(dt),
-                 {disp_[0], disp_[target], vel_, force_, ext_, flags_, classes_}, count_);
+        const uint32_t n = static_cast<uint32_t>(force_count_);
+        dispatch(rec, kernels_->kick_drift, push(n, dt),
+                 {disp_[0], disp_[target], vel_, force_, ext_, flags_, classes_, force_list_}, n);
       });
       cur = target;
     }
@@ -183,7 +196,8 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 }
 
 void GpuSolver::advance(int64_t substeps, double dt) {
-  if (substeps <= 0) return;
+  // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
+  if (substeps <= 0 || force_count_ == 0) return;
   const float fdt = static_cast<float>(dt);
   int cur = 0;
   bool pending[2] = {false, false};
@@ -230,6 +244,9 @@ void GpuSolver::advance(int64_t substeps, double dt) {
 
 void GpuSolver::compute_forces() {
   Recorder& rec = *rec_[0];
+  // The step passes write u only for the force list; the others must match in both buffers.
+  rec.copy(disp_[0], disp_[1]);
+  rec.barrier();
   record_stress(rec, disp_[0]);
   rec.barrier();
   record_force(rec, kForceOnly, 0.0f, disp_[0], disp_[0]);
@@ -248,17 +265,21 @@ void GpuSolver::set_state(const std::vector<Vec3>& displacement,
 
 double GpuSolver::bytes_per_phyxel_step() const {
   const double n = count_ > 0 ? double(count_) : 1.0;
+  // Per phyxel of a pass (the averages of the whole set); scaled below by the share of the
+  // phyxels that each pass visits.
   const double pairs_per_phyxel = double(pairs_) / n;
   // index, and the weight where it is read
   const double stored =
       options_.pair_weights == GpuSolverOptions::PairWeights::Stored ? 1.0 : double(edited_) / n;
   const double per_pair = 4.0 + 4.0 * stored;
   const double regularised = double(regularised_) / n;
-  // stress: offset 4, local 16, u 16, flags 4, A^-1 32, (residual 32 if regularised), D 48
-  const double stress = 4 + 16 + 16 + 4 + 32 + 32 * regularised + 48 + per_pair * pairs_per_phyxel;
-  // force: offset 4, local 16, u in 16, D 48, ext 16, flags 4, v 16 + 16, f 16, u out 16
-  const double force = 4 + 16 + 16 + 48 + 16 + 4 + 32 + 16 + 16 + per_pair * pairs_per_phyxel;
-  return stress + force;
+  // stress: list 4, offset 4, local 16, u 16, flags 4, A^-1 32, (residual 32 if regularised),
+  // D 48
+  const double stress =
+      4 + 4 + 16 + 16 + 4 + 32 + 32 * regularised + 48 + per_pair * pairs_per_phyxel;
+  // force: list 4, offset 4, local 16, u in 16, D 48, ext 16, flags 4, v 16 + 16, f 16, u out 16
+  const double force = 4 + 4 + 16 + 16 + 48 + 16 + 4 + 32 + 16 + 16 + per_pair * pairs_per_phyxel;
+  return (stress * double(stress_count_) + force * double(force_count_)) / n;
 }
 
 }  // namespace phyxel::gpu

@@ -7,7 +7,8 @@
 //   advance(n)    n velocity-Verlet steps, recorded up to kStepsPerSubmit per command buffer
 //                 (two command buffers in flight: the next is recorded while the GPU runs
 //                 the last); per step a stress pass (D_i) and a force pass (gather, half
-//                 kick, and fused with the next step's half kick and drift)
+//                 kick, and fused with the next step's half kick and drift), each over its
+//                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp)
 //   queries       energies (GPU pass + fixed-order reduction), first non-finite phyxel (GPU
 //                 check), state download, von Mises stress (GPU pass)
 //
@@ -90,6 +91,25 @@ class GpuSolver final : public Solver {
   size_t regularised_count() const override { return regularised_; }
   const NeighbourLists& neighbours() const override { return neighbours_; }
 
+  // Pass selection (on by default), sleeping and load changes, with exactly CpuSolver's
+  // semantics (engine/cpu_solver.h): the force pass and the kicks visit the phyxels that move
+  // (not fixed, not removed, object awake), the stress pass those and their neighbours. Off:
+  // every phyxel of an awake object that is not removed (fixed ones get their reactions and
+  // never move). Each call rebuilds the pass lists on the host from the flags and the CSR,
+  // uploads them and recomputes the forces.
+  bool supports_pass_selection() const override { return true; }
+  void set_pass_selection(bool enabled) override;
+  bool pass_selection() const { return select_; }
+  // Sleep (velocities zeroed on the GPU, every pass skipped) or wake an object.
+  void set_object_awake(uint32_t object, bool awake) override;
+  bool object_awake(uint32_t object) const { return awake_.at(object) != 0; }
+  size_t stress_pass_size() const override { return stress_count_; }
+  size_t force_pass_size() const override { return force_count_; }
+  // Replaces the loads (per phyxel, N; gravity stays): ext = m g + load, uploaded, and the
+  // forces recomputed for the current u.
+  bool supports_load_changes() const override { return true; }
+  void set_external_forces(const std::vector<Vec3>& loads) override;
+
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
   size_t size() const { return count_; }
@@ -97,9 +117,11 @@ class GpuSolver final : public Solver {
 
   // Replaces u and v (uploads) and recomputes the forces for the new u.
   void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity);
-  // Recomputes the forces for the current u (as CpuSolver::compute_forces).
+  // Recomputes the forces for the current u (as CpuSolver::compute_forces: the stress and
+  // force passes over their lists).
   void compute_forces();
-  // Total force per phyxel for the current u (download).
+  // Total force per phyxel for the current u (download); as on the CPU, only the phyxels of
+  // the force pass have one (the others keep their last, 0 until they were in it).
   std::vector<Vec3> forces();
   // The per-phyxel moment inverses and the per-pair weights (downloads, for tests).
   std::vector<MomentInverseRow> moment_inverses();
@@ -130,11 +152,13 @@ class GpuSolver final : public Solver {
   void build(const PhyxelSet& set, const Vec3& gravity);
   void build_neighbours(const std::vector<layout::vec4>& rest_lo);
   void count_flags();
+  void build_pass_lists();  // host lists from flags, awake objects and CSR; uploads them
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
   void record_stress(Recorder& rec, const Buffer& disp);
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
-  layout::StepPush push(float dt, uint32_t mode = 0) const;
+  // count: the phyxels the pass visits (its list's length, or all of them).
+  layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0) const;
 
   std::unique_ptr<Context> owned_ctx_;
   Context* ctx_;
@@ -166,6 +190,19 @@ class GpuSolver final : public Solver {
   Buffer von_mises_;
   Buffer check_;
   Buffer list_;  // the precompute pass's phyxel list (remove_phyxels)
+
+  // Pass selection (gpu_solver_passes.cpp). Invariant between calls: every phyxel outside the
+  // force list has the same u in both displacement buffers (compute_forces copies [0] to [1]),
+  // so the step passes never need to write it.
+  Vec3 gravity_;
+  std::vector<uint32_t> phyxel_flags_;  // PhyxelFlags per phyxel (kRemoved kept up to date)
+  std::vector<uint32_t> object_;        // object per phyxel
+  std::vector<double> mass_;
+  std::vector<ObjectRange> objects_;
+  std::vector<uint8_t> awake_;  // per object
+  bool select_ = true;
+  size_t stress_count_ = 0, force_count_ = 0;
+  Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
 
   std::unique_ptr<Recorder> rec_[2];
 };

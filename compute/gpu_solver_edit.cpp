@@ -24,6 +24,7 @@ void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
   for (uint32_t i : ids) {
     if (i >= count_) throw std::out_of_range("remove_phyxels: no phyxel " + std::to_string(i));
     flags[i] |= kFlagRemoved | kFlagPairsEdited;
+    phyxel_flags_[i] |= kRemoved;
     touched.insert(i);
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
       const uint32_t j = nbr.index[k];
@@ -49,6 +50,7 @@ void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
       uint32_t(list.size()));
   rec.submit_and_wait();
   count_flags();
+  build_pass_lists();  // removed phyxels leave every pass
   compute_forces();
 }
 

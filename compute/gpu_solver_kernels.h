@@ -21,9 +21,9 @@ class SolverKernels {
   Pipeline scan_block;     // layout::ScanPush; kScan* bindings
   Pipeline scan_add;       // layout::ScanPush; kScanAdd* bindings
   Pipeline precompute;     // layout::PrecomputePush; kPrecompute* bindings
-  Pipeline kick_drift;     // layout::StepPush; kKickDrift* bindings
-  Pipeline stress;         // layout::StepPush; kStress* bindings
-  Pipeline force;          // layout::StepPush; kForce* bindings
+  Pipeline kick_drift;     // layout::StepPush; kKickDrift* bindings (over the force list)
+  Pipeline stress;         // layout::StepPush; kStress* bindings (over the stress list)
+  Pipeline force;          // layout::StepPush; kForce* bindings (over the force list)
   Pipeline energy;         // layout::StepPush; kEnergy* bindings
   Pipeline reduce;         // layout::ReducePush; kReduce* bindings
   Pipeline check;          // layout::CheckPush; kCheck* bindings

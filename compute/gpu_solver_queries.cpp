@@ -28,7 +28,7 @@ std::vector<Vec3> to_vec3(const std::vector<vec4>& x) {
 
 Energies GpuSolver::energies() {
   Recorder& rec = *rec_[0];
-  dispatch(rec, kernels_->energy, push(0.0f),
+  dispatch(rec, kernels_->energy, push(count_, 0.0f),
            {nbr_offset_, nbr_index_, weight_, local_, disp_[0], vel_, ainv_, ext_, flags_, classes_,
             energy_},
            count_);
@@ -73,7 +73,7 @@ PointState GpuSolver::read_state(bool with_stress) {
   s.velocity = to_vec3(download<vec4>(*ctx_, vel_, count_));
   if (with_stress) {
     Recorder& rec = *rec_[0];
-    dispatch(rec, kernels_->von_mises, push(0.0f),
+    dispatch(rec, kernels_->von_mises, push(count_, 0.0f),
              {nbr_offset_, nbr_index_, weight_, local_, disp_[0], vel_, ainv_, ext_, flags_,
               classes_, von_mises_},
              count_);

@@ -160,7 +160,10 @@ PHYXEL_CONST uint kPrecomputeBindingAinv = 7;
 PHYXEL_CONST uint kPrecomputeBindingResid = 8;
 PHYXEL_CONST uint kPrecomputeBindingList = 9;
 
-// The step passes. dt in seconds; `weights` selects where w_ij comes from.
+// The step passes. dt in seconds; `weights` selects where w_ij comes from. solver_kick_drift,
+// solver_stress and solver_force visit the phyxels of a pass list (binding kKickDriftBindingList
+// etc.: uint phyxel indices, ascending, built on the host by GpuSolver::build_pass_lists) and
+// `count` is its length; solver_energy and solver_von_mises visit every phyxel (count = N).
 struct StepPush {
   uint count;
   float dt;
@@ -179,7 +182,7 @@ PHYXEL_CONST uint kForceKickDrift = 2u;  // ... then the next step's half kick a
 PHYXEL_CONST uint kWeightsStored = 0u;
 PHYXEL_CONST uint kWeightsAuto = 1u;
 
-// solver_kick_drift: {disp_in, disp_out, vel, force, ext, flags, classes}
+// solver_kick_drift: {disp_in, disp_out, vel, force, ext, flags, classes, list}
 PHYXEL_CONST uint kKickDriftBindingDispIn = 0;
 PHYXEL_CONST uint kKickDriftBindingDispOut = 1;
 PHYXEL_CONST uint kKickDriftBindingVel = 2;
@@ -187,7 +190,8 @@ PHYXEL_CONST uint kKickDriftBindingForce = 3;
 PHYXEL_CONST uint kKickDriftBindingExt = 4;
 PHYXEL_CONST uint kKickDriftBindingFlags = 5;
 PHYXEL_CONST uint kKickDriftBindingClasses = 6;
-// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress}
+PHYXEL_CONST uint kKickDriftBindingList = 7;  // the force pass list
+// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress, list}
 // stress = D_i as 3 vec4 columns (xyz; w unused).
 PHYXEL_CONST uint kStressBindingOffset = 0;
 PHYXEL_CONST uint kStressBindingIndex = 1;
@@ -199,8 +203,9 @@ PHYXEL_CONST uint kStressBindingResid = 6;
 PHYXEL_CONST uint kStressBindingFlags = 7;
 PHYXEL_CONST uint kStressBindingClasses = 8;
 PHYXEL_CONST uint kStressBindingStress = 9;
+PHYXEL_CONST uint kStressBindingList = 10;  // the stress pass list
 // solver_force: {offset, index, weight, local, disp_in, disp_out, stress, vel, force, ext, flags,
-// classes}
+// classes, list}
 PHYXEL_CONST uint kForceBindingOffset = 0;
 PHYXEL_CONST uint kForceBindingIndex = 1;
 PHYXEL_CONST uint kForceBindingWeight = 2;
@@ -213,6 +218,7 @@ PHYXEL_CONST uint kForceBindingForce = 8;
 PHYXEL_CONST uint kForceBindingExt = 9;
 PHYXEL_CONST uint kForceBindingFlags = 10;
 PHYXEL_CONST uint kForceBindingClasses = 11;
+PHYXEL_CONST uint kForceBindingList = 12;  // the force pass list
 
 // solver_energy: {offset, index, weight, local, disp, vel, ainv, ext, flags, classes, out}
 // out[i] = (strain, kinetic, potential, 0) of phyxel i; solver_von_mises: the same inputs but

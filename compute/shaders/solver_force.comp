@@ -1,4 +1,4 @@
-// Step pass 2, per phyxel k (a gather, no atomics):
+// Step pass 2, per phyxel k of the force pass list (a gather, no atomics):
 //   f_k = ext_k + sum_j w_kj [ (D_k + D_j) x_kj + (kappa_k + kappa_j) (u_j - u_k) ]
 // then, by mode: nothing more (kForceOnly); the closing half kick of this step (kForceKick);
 // or that kick, the next step's opening half kick and its drift into disp_out
@@ -23,14 +23,16 @@ layout(std430, binding = kForceBindingForce) writeonly buffer Force { vec4 force
 layout(std430, binding = kForceBindingExt) readonly buffer Ext { vec4 ext[]; };
 layout(std430, binding = kForceBindingFlags) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = kForceBindingClasses) readonly buffer Classes { SolverClass classes[]; };
+layout(std430, binding = kForceBindingList) readonly buffer List { uint pass_list[]; };
 
 mat3 stress_of(uint i) {
   return mat3(stress[3u * i].xyz, stress[3u * i + 1u].xyz, stress[3u * i + 2u].xyz);
 }
 
 void main() {
-  const uint k = PHYXEL_GLOBAL_INDEX;
-  if (k >= p.count) return;
+  const uint slot = PHYXEL_GLOBAL_INDEX;
+  if (slot >= p.count) return;
+  const uint k = pass_list[slot];
   const uint fl = flags[k];
   const SolverClass cls = classes[fl >> kFlagClassShift];
   const vec4 lk = local_pos[k];

@@ -1,7 +1,7 @@
-// The opening of an advance(): first half kick and drift of the first step, for moving
-// phyxels, with f for u at entry: v <- (v + dt/2 f/m) / (1 + c dt/2); u_out = u_in + dt v.
-// Fixed and removed phyxels copy u. disp_in and disp_out may be the same buffer (each
-// invocation reads and writes only its own phyxel).
+// The opening of an advance(): first half kick and drift of the first step, for the phyxels of
+// the force pass list, with f for u at entry: v <- (v + dt/2 f/m) / (1 + c dt/2);
+// u_out = u_in + dt v. Fixed phyxels in the list (pass selection off) copy u. disp_in and
+// disp_out may be the same buffer (each invocation reads and writes only its own phyxel).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -19,10 +19,12 @@ layout(std430, binding = kKickDriftBindingFlags) readonly buffer Flags { uint fl
 layout(std430, binding = kKickDriftBindingClasses) readonly buffer Classes {
   SolverClass classes[];
 };
+layout(std430, binding = kKickDriftBindingList) readonly buffer List { uint pass_list[]; };
 
 void main() {
-  const uint i = PHYXEL_GLOBAL_INDEX;
-  if (i >= p.count) return;
+  const uint slot = PHYXEL_GLOBAL_INDEX;
+  if (slot >= p.count) return;
+  const uint i = pass_list[slot];
   const uint fl = flags[i];
   const vec3 u = disp_in[i].xyz;
   if (!moves(fl)) {

@@ -1,4 +1,4 @@
-// Step pass 1, per phyxel i (a gather over its neighbours):
+// Step pass 1, per phyxel i of the stress pass list (a gather over its neighbours):
 //   M = sum_j w_ij (u_j - u_i) x_ij^T, G = M A^-1, F = I + G,
 //   D_i = v_i P(F) A^-1 - kappa_i G (+ kappa_i M R_i where A_i was regularised),
 // stored as three vec4 columns. See engine/cpu_solver.cpp, compute_forces(), first loop.
@@ -20,10 +20,12 @@ layout(std430, binding = kStressBindingResid) readonly buffer Resid { vec4 resid
 layout(std430, binding = kStressBindingFlags) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = kStressBindingClasses) readonly buffer Classes { SolverClass classes[]; };
 layout(std430, binding = kStressBindingStress) writeonly buffer Stress { vec4 stress[]; };
+layout(std430, binding = kStressBindingList) readonly buffer List { uint pass_list[]; };
 
 void main() {
-  const uint i = PHYXEL_GLOBAL_INDEX;
-  if (i >= p.count) return;
+  const uint slot = PHYXEL_GLOBAL_INDEX;
+  if (slot >= p.count) return;
+  const uint i = pass_list[slot];
   const uint fl = flags[i];
   const SolverClass cls = classes[fl >> kFlagClassShift];
   const vec4 li = local_pos[i];

@@ -1,0 +1,81 @@
+// GpuSolver: pass selection, sleeping and load changes, with CpuSolver's semantics
+// (engine/cpu_solver.cpp, build_pass_lists, set_object_awake, set_external_forces).
+//
+// The lists are built on the host (from the engine flags, the awake objects and the CSR, all
+// kept on the host) whenever they change, which is rare (a sleep, a wake, --no-skip, a cut),
+// and uploaded; the step passes read their phyxel index from them (solver_kick_drift and
+// solver_force from the force list, solver_stress from the stress list) and are dispatched
+// over the list's length. The queries (energies, check, von Mises) still visit every phyxel.
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "compute/gpu_solver.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+void GpuSolver::build_pass_lists() {
+  const size_t n = count_;
+  const NeighbourLists& nbr = neighbours_;
+  std::vector<uint32_t> stress_list, force_list;
+  std::vector<uint8_t> stress(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    if (!awake_[object_[i]] || (phyxel_flags_[i] & kRemoved)) continue;
+    // Without selection, fixed phyxels get forces too (reactions; they do not move).
+    if (!select_ || !(phyxel_flags_[i] & kFixed)) {
+      force_list.push_back(static_cast<uint32_t>(i));
+      stress[i] = 1;
+      if (!select_) continue;
+      // Pairs to removed phyxels stay in the CSR with weight 0 (remove_phyxels); the CPU's
+      // lists of a cut set have no such pairs, so they add nothing here either.
+      for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
+        if (!(phyxel_flags_[nbr.index[k]] & kRemoved)) stress[nbr.index[k]] = 1;
+    }
+  }
+  for (size_t i = 0; i < n; ++i)
+    if (stress[i]) stress_list.push_back(static_cast<uint32_t>(i));
+  if (!stress_list.empty()) upload(*ctx_, stress_list_, stress_list);
+  if (!force_list.empty()) upload(*ctx_, force_list_, force_list);
+  stress_count_ = stress_list.size();
+  force_count_ = force_list.size();
+}
+
+void GpuSolver::set_pass_selection(bool enabled) {
+  select_ = enabled;
+  build_pass_lists();
+  compute_forces();
+}
+
+void GpuSolver::set_object_awake(uint32_t object, bool awake) {
+  if (object >= awake_.size())
+    throw std::out_of_range("GpuSolver::set_object_awake: no object " + std::to_string(object));
+  if (bool(awake_[object]) == awake) return;
+  awake_[object] = awake;
+  build_pass_lists();
+  if (!awake && objects_[object].count > 0) {
+    // An object's phyxels are one range of the per-phyxel buffers.
+    Recorder& rec = *rec_[0];
+    rec.fill(vel_, 0, uint64_t{objects_[object].first} * sizeof(vec4),
+             uint64_t{objects_[object].count} * sizeof(vec4));
+    rec.barrier();  // compute_forces() records into the same command buffer
+  }
+  compute_forces();
+}
+
+void GpuSolver::set_external_forces(const std::vector<Vec3>& loads) {
+  if (loads.size() != count_)
+    throw std::invalid_argument("GpuSolver::set_external_forces: expected " +
+                                std::to_string(count_) + " loads, got " +
+                                std::to_string(loads.size()));
+  std::vector<vec4> ext(count_);
+  for (size_t i = 0; i < count_; ++i) {
+    const Vec3 f = mass_[i] * gravity_ + loads[i];  // in double, then rounded, as the CPU's
+    ext[i] = {float(f.x()), float(f.y()), float(f.z()), float(mass_[i])};
+  }
+  upload(*ctx_, ext_, ext);
+  compute_forces();
+}
+
+}  // namespace phyxel::gpu
