@@ -45,9 +45,10 @@ constexpr const char* kBenchHelp =
     "other benchmarks:\n"
     "  --accuracy            run time against error on scenes/validation (--accuracy --help)\n"
     "  --skips               what pass selection saves: fixed-only regions and sleeping objects\n"
-    "                        (--scenes LIST, --steps N, --threads N, --json FILE)\n"
+    "                        (--device D, --scenes LIST, --steps N, --threads N, --json FILE)\n"
     "  --stability           long soaks in double and float: energy drift, largest speed, first\n"
-    "                        non-finite value (--steps N, default 100000; --json FILE)";
+    "                        non-finite value (--device D, --steps N, default 100000;\n"
+    "                        --json FILE)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
