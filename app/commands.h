@@ -11,5 +11,6 @@ using Args = std::vector<std::string>;
 int run_command(const Args& args);    // phyxel run SCENE ...      (cmd_run.cpp)
 int bench_command(const Args& args);  // phyxel bench ...          (cmd_bench.cpp)
 int info_command(const Args& args);   // phyxel info               (cmd_info.cpp)
+int view_command(const Args& args);   // phyxel view SCENE ...     (cmd_view.cpp)
 
 }  // namespace phyxel::app

@@ -16,6 +16,7 @@ void print_usage() {
       "  run SCENE   simulate a scene file, write summary.json and .vtp points (run --help)\n"
       "  bench       measure solver speed and accuracy (bench --help)\n"
       "  info        list Vulkan devices and their limits\n"
+      "  view SCENE  simulate a scene live in a window, mono or stereo (view --help)\n"
       "  help        this text");
 }
 
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
     if (command == "run") return phyxel::app::run_command(args);
     if (command == "bench") return phyxel::app::bench_command(args);
     if (command == "info") return phyxel::app::info_command(args);
+    if (command == "view") return phyxel::app::view_command(args);
     if (command == "help" || command == "--help" || command == "-h") {
       print_usage();
       return 0;

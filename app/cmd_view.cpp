@@ -1,0 +1,69 @@
+// phyxel view SCENE: the scene simulated live in a window (render/viewer.h).
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "app/commands.h"
+#include "app/options.h"
+#include "compute/vk_check.h"
+#include "render/viewer.h"
+
+namespace phyxel::app {
+namespace {
+
+constexpr const char* kViewHelp =
+    "usage: phyxel view SCENE [options]\n"
+    "\n"
+    "Simulates SCENE with the CPU reference solver and shows it live in a window, drawn by the\n"
+    "splat renderer as the scene's render settings say (render.every steps per frame).\n"
+    "Needs a display; without one use phyxel run SCENE --render mono|stereo --out DIR.\n"
+    "\n"
+    "  mouse drag: orbit   wheel: zoom   space: pause   n: one step   s: mono/stereo   q: quit\n"
+    "\n"
+    "options:\n"
+    "  --render MODE       mono or stereo (default: the scene's render.mode, mono when none)\n"
+    "  --render-device D   Vulkan device of the renderer (default gpu: the best one)\n"
+    "  --threads N         CPU solver threads (default: all cores)\n"
+    "  --validate          Vulkan validation layers on for the renderer\n"
+    "  --help              this text";
+
+}  // namespace
+
+int view_command(const Args& args) {
+  OptionParser opts("view", args);
+  if (opts.flag("--help")) {
+    std::puts(kViewHelp);
+    return 0;
+  }
+  render::ViewerOptions options;
+  const std::string mode = opts.value("--render", "");
+  options.render_device = opts.value("--render-device", "gpu");
+  options.threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
+  options.validation = opts.flag("--validate");
+  const std::vector<std::string> positional = opts.finish();
+  if (positional.size() != 1) {
+    std::fprintf(stderr, "phyxel view: expected one SCENE file (see phyxel view --help)\n");
+    return 1;
+  }
+  if (mode == "mono") {
+    options.mode = RenderSettings::Mode::Mono;
+  } else if (mode == "stereo") {
+    options.mode = RenderSettings::Mode::Stereo;
+  } else if (!mode.empty()) {
+    std::fprintf(stderr, "phyxel view: --render %s: allowed mono or stereo\n", mode.c_str());
+    return 1;
+  }
+  try {
+    render::run_viewer(load_scene(positional[0]), options);
+    return 0;
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+  } catch (const VulkanError& e) {
+    std::fprintf(stderr, "phyxel view: %s\n", e.what());
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+  }
+  return 1;
+}
+
+}  // namespace phyxel::app
