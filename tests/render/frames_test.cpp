@@ -25,7 +25,8 @@ Scene block_scene(const std::string& render_json) {
                  "max": [0.02, 0.01, 0.01]}, "spacing": 0.0025,
                  "material": {"young": 3000, "poisson": 0.3, "density": 1000, "damping": 1},
                  "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [-0.0195, 1, 1]}]}],
-    "render": )" + render_json + "}",
+    "render": )" + render_json +
+                         "}",
                      test::test_out_dir() / "block.json");
 }
 
@@ -73,8 +74,7 @@ TEST_F(RenderFrames, StereoLayoutsHaveTheirFrameSizes) {
   const std::vector<Vec3> rest(set.size(), Vec3::Zero());
   FrameWriter pair(sbs, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
   EXPECT_EQ(load_image(dir / pair.write(3, rest, nbr), "sbs").width, 80u);
-  const Scene ana =
-      block_scene(R"({"width": 40, "height": 30, "stereo": {"layout": "anaglyph"}})");
+  const Scene ana = block_scene(R"({"width": 40, "height": 30, "stereo": {"layout": "anaglyph"}})");
   FrameWriter anaglyph(ana, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
   const RgbaImage a = load_image(dir / anaglyph.write(4, rest, nbr), "anaglyph");
   EXPECT_EQ(a.width, 40u);
