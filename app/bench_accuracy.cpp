@@ -116,6 +116,31 @@ int bench_accuracy(const Args& args, const DeviceSolverFactory& device_factory) 
   std::filesystem::create_directories(out);
 
   std::vector<ValidationRun> rows;
+  // Rewritten after every row, so a run cut short still leaves its data.
+  auto write_tables = [&] {
+    nlohmann::json json = nlohmann::json::array();
+    std::ofstream csv(out / "accuracy.csv");
+    csv << "case,device,spacing,dt_fraction,dt,phyxels,steps,wall_seconds,value,reference,"
+           "rel_error,finite\n";
+    for (const ValidationRun& r : rows) {
+      csv << r.case_name << ",\"" << r.device << "\"," << r.spacing << "," << r.dt_fraction << ","
+          << r.dt << "," << r.phyxels << "," << r.steps << "," << r.wall_seconds << "," << r.value
+          << "," << r.reference << "," << r.error << "," << (r.finite ? 1 : 0) << "\n";
+      json.push_back({{"case", r.case_name},
+                      {"device", r.device},
+                      {"spacing", r.spacing},
+                      {"dt_fraction", r.dt_fraction},
+                      {"dt", r.dt},
+                      {"phyxels", r.phyxels},
+                      {"steps", r.steps},
+                      {"wall_seconds", r.wall_seconds},
+                      {"value", r.value},
+                      {"reference", r.reference},
+                      {"rel_error", r.error},
+                      {"finite", r.finite}});
+    }
+    std::ofstream(out / "accuracy.json") << json.dump(2) << "\n";
+  };
   std::printf("%-17s %-30s %9s %7s %8s %7s %9s %13s %13s %10s\n", "case", "device", "spacing",
               "dt/dts", "phyxels", "steps", "wall s", "value", "reference", "rel error");
   for (const ValidationCase& c : validation_cases(source)) {
@@ -131,32 +156,12 @@ int bench_accuracy(const Args& args, const DeviceSolverFactory& device_factory) 
                       r.error, r.finite ? "" : "  NON-FINITE");
           std::fflush(stdout);
           rows.push_back(r);
+          write_tables();
         }
       }
     }
   }
 
-  nlohmann::json json = nlohmann::json::array();
-  std::ofstream csv(out / "accuracy.csv");
-  csv << "case,device,spacing,dt_fraction,dt,phyxels,steps,wall_seconds,value,reference,"
-         "rel_error,finite\n";
-  for (const ValidationRun& r : rows) {
-    csv << r.case_name << ",\"" << r.device << "\"," << r.spacing << "," << r.dt_fraction << ","
-        << r.dt << "," << r.phyxels << "," << r.steps << "," << r.wall_seconds << "," << r.value
-        << "," << r.reference << "," << r.error << "," << (r.finite ? 1 : 0) << "\n";
-    json.push_back({{"case", r.case_name},
-                    {"device", r.device},
-                    {"spacing", r.spacing},
-                    {"dt_fraction", r.dt_fraction},
-                    {"dt", r.dt},
-                    {"phyxels", r.phyxels},
-                    {"steps", r.steps},
-                    {"wall_seconds", r.wall_seconds},
-                    {"value", r.value},
-                    {"reference", r.reference},
-                    {"rel_error", r.error},
-                    {"finite", r.finite}});
-  }
   // Observed convergence order per case and device, at the smallest time step.
   std::map<std::string, std::vector<ValidationRun>> by_series;
   const double smallest = *std::min_element(fractions.begin(), fractions.end());
@@ -165,7 +170,6 @@ int bench_accuracy(const Args& args, const DeviceSolverFactory& device_factory) 
   for (const auto& [name, runs] : by_series)
     std::printf("convergence order (error ~ spacing^p) %-45s p = %.2f\n", name.c_str(),
                 convergence_order(runs));
-  std::ofstream(out / "accuracy.json") << json.dump(2) << "\n";
   write_plot(out, rows);
   std::printf("wrote %s, %s, %s\n", (out / "accuracy.csv").c_str(), (out / "accuracy.json").c_str(),
               (out / "accuracy.png").c_str());

@@ -45,7 +45,8 @@ constexpr const char* kBenchHelp =
     "other benchmarks:\n"
     "  --accuracy            run time against error on scenes/validation (--accuracy --help)\n"
     "  --skips               what pass selection saves: fixed-only regions and sleeping objects\n"
-    "                        (--device D, --scenes LIST, --steps N, --threads N, --json FILE)\n"
+    "                        (--device D, --scenes LIST, --refine K, --steps N, --threads N,\n"
+    "                        --json FILE; --refine divides the spacing by K)\n"
     "  --stability           long soaks in double and float: energy drift, largest speed, first\n"
     "                        non-finite value (--device D, --steps N, default 100000;\n"
     "                        --json FILE)";
