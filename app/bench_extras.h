@@ -1,4 +1,5 @@
-// `phyxel bench --skips` and `phyxel bench --stability` (bench_skips.cpp, bench_stability.cpp).
+// `phyxel bench --skips`, `--stability` and `--render` (bench_skips.cpp, bench_stability.cpp,
+// bench_render.cpp).
 #pragma once
 
 #include "app/commands.h"
@@ -7,5 +8,6 @@ namespace phyxel::app {
 
 int bench_skips(const Args& args);
 int bench_stability(const Args& args);
+int bench_render_command(const Args& args);  // bench_render.cpp
 
 }  // namespace phyxel::app

@@ -49,7 +49,9 @@ constexpr const char* kBenchHelp =
     "                        --json FILE; --refine divides the spacing by K)\n"
     "  --stability           long soaks in double and float: energy drift, largest speed, first\n"
     "                        non-finite value (--device D, --steps N, default 100000;\n"
-    "                        --json FILE)";
+    "                        --json FILE)\n"
+    "  --render              splat rendering time per frame (--device D, --surfels LIST,\n"
+    "                        --width W, --height H per eye, --mono, --frames N, --json FILE)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -177,6 +179,7 @@ int bench_command(const Args& args) {
   };
   if (has("--skips")) return bench_skips(args);
   if (has("--stability")) return bench_stability(args);
+  if (has("--render")) return bench_render_command(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")

@@ -161,9 +161,9 @@ int run_command(const Args& args) {
     }
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
-    // Frames: from the GPU solver's buffers on its context, or from the CPU solver's state.
+    // Frames: from the GPU solver's buffers on its context, or from the CPU solver's state;
+    // at step 0, then scheduled by the run loop every render.every steps and at the end.
     std::unique_ptr<render::FrameWriter> frames;
-    std::unique_ptr<render::FramingSolver> framing;
     if (scene.render.mode != RenderSettings::Mode::None) {
       auto* gpu_solver = dynamic_cast<gpu::GpuSolver*>(solver.get());
       frames = std::make_unique<render::FrameWriter>(
@@ -171,13 +171,15 @@ int run_command(const Args& args) {
           gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
-      framing = std::make_unique<render::FramingSolver>(
-          *solver, *frames, scene.render.every, plan_time_step(scene, set).substeps, buffers);
+      render::write_solver_frame(*frames, *solver, 0, buffers);
+      options.frame_every = scene.render.every;
+      options.on_frame = [&frames, buffers](int64_t step, Solver& s) {
+        render::write_solver_frame(*frames, s, step, buffers);
+      };
     }
-    const RunResult result = run_simulation(scene, set, framing ? *framing : *solver, options);
-    if (framing && !result.non_finite) framing->finish(result.steps_done);
+    const RunResult result = run_simulation(scene, set, *solver, options);
     const size_t frame_count = frames ? frames->written().size() : 0;
-    framing.reset();
+    options.on_frame = nullptr;
     frames.reset();  // before the solver: it may own the context
     if (result.steps_done < options.steps) bar.finish();
     write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result);

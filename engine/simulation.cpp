@@ -265,10 +265,13 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
         static_cast<long long>(scene.output.every));
   else
     add("  outputs: points_*.vtp at the end only; no readback otherwise");
-  add("  not recorded: %s",
-      options.frame_every > 0 ? "cutting/collision passes (no tool), stress eigen pass (no tearing)"
-                              : "render passes (no rendering), cutting/collision passes (no "
-                                "tool), stress eigen pass (no tearing)");
+  const bool rendering = scene.render.mode != RenderSettings::Mode::None;
+  if (rendering)
+    add("  render: %s frames at step 0, every %lld steps and at the end (offscreen, PNG)",
+        scene.render.mode == RenderSettings::Mode::Stereo ? "stereo" : "mono",
+        static_cast<long long>(scene.render.every));
+  add("  not recorded: %scutting/collision passes (no tool), stress eigen pass (no tearing)",
+      rendering ? "" : "render passes (render.mode none), ");
   return out.str();
 }
 

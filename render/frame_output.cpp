@@ -71,41 +71,10 @@ std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displaceme
   return write(step, host_->inputs());
 }
 
-FramingSolver::FramingSolver(Solver& inner, FrameWriter& writer, int64_t every, int64_t substeps,
-                             std::function<RenderInputs()> gpu_inputs)
-    : inner_(inner),
-      writer_(writer),
-      gpu_inputs_(std::move(gpu_inputs)),
-      every_substeps_(std::max<int64_t>(1, every) * std::max<int64_t>(1, substeps)),
-      substeps_per_step_(std::max<int64_t>(1, substeps)) {
-  write_frame(0);
-  next_frame_ = every_substeps_;
-}
-
-void FramingSolver::write_frame(int64_t step) {
-  if (gpu_inputs_) {
-    writer_.write(step, gpu_inputs_());
-  } else {
-    writer_.write(step, inner_.read_state(false).displacement, inner_.neighbours());
-  }
-  last_written_ = step;
-}
-
-void FramingSolver::advance(int64_t substeps, double dt) {
-  while (substeps > 0) {
-    const int64_t chunk = std::min(substeps, next_frame_ - done_);
-    inner_.advance(chunk, dt);
-    done_ += chunk;
-    substeps -= chunk;
-    if (done_ == next_frame_) {
-      write_frame(done_ / substeps_per_step_);
-      next_frame_ += every_substeps_;
-    }
-  }
-}
-
-void FramingSolver::finish(int64_t step) {
-  if (step != last_written_) write_frame(step);
+std::string write_solver_frame(FrameWriter& writer, Solver& solver, int64_t step,
+                               const std::function<RenderInputs()>& gpu_inputs) {
+  if (gpu_inputs) return writer.write(step, gpu_inputs());
+  return writer.write(step, solver.read_state(false).displacement, solver.neighbours());
 }
 
 }  // namespace phyxel::render

@@ -3,9 +3,9 @@
 //
 //   FrameWriter     the renderer of one scene: surfel table, texture (the scene's
 //                   render.texture or the procedural tissue texture), camera, frame setup
-//   FramingSolver   a Solver that wraps another and renders a frame at step 0 and every
-//                   render.every steps while run_simulation advances it: from the GPU
-//                   solver's buffers, or (CPU solver) from read_state through HostInputs
+//   write_solver_frame  one frame of a solver's current state: from the GPU solver's buffers,
+//                   or (CPU solver) from read_state through HostInputs. The run loop calls
+//                   it at step 0, every render.every steps and at the end (RunOptions::on_frame).
 #pragma once
 
 #include <cstdint>
@@ -66,42 +66,9 @@ class FrameWriter {
   std::vector<std::string> written_;
 };
 
-class FramingSolver final : public Solver {
- public:
-  // `every` steps between frames, `substeps` solver substeps per step (the run's time-step
-  // plan). Writes the frame of step 0 at once. With `gpu_inputs` (a GPU solver's buffers,
-  // on the writer's context) frames are rendered from them; else from read_state().
-  FramingSolver(Solver& inner, FrameWriter& writer, int64_t every, int64_t substeps,
-                std::function<RenderInputs()> gpu_inputs = {});
-
-  std::string device() const override { return inner_.device(); }
-  void advance(int64_t substeps, double dt) override;
-  Energies energies() override { return inner_.energies(); }
-  long first_non_finite() override { return inner_.first_non_finite(); }
-  PointState read_state(bool with_stress) override { return inner_.read_state(with_stress); }
-  size_t regularised_count() const override { return inner_.regularised_count(); }
-  const NeighbourLists& neighbours() const override { return inner_.neighbours(); }
-  bool supports_pass_selection() const override { return inner_.supports_pass_selection(); }
-  void set_pass_selection(bool on) override { inner_.set_pass_selection(on); }
-  void set_object_awake(uint32_t object, bool awake) override {
-    inner_.set_object_awake(object, awake);
-  }
-  size_t stress_pass_size() const override { return inner_.stress_pass_size(); }
-  size_t force_pass_size() const override { return inner_.force_pass_size(); }
-  bool supports_load_changes() const override { return inner_.supports_load_changes(); }
-  void set_external_forces(const std::vector<Vec3>& f) override { inner_.set_external_forces(f); }
-
-  // Writes the frame of `step` unless it was written already (the run's last step).
-  void finish(int64_t step);
-
- private:
-  void write_frame(int64_t step);
-
-  Solver& inner_;
-  FrameWriter& writer_;
-  std::function<RenderInputs()> gpu_inputs_;
-  int64_t every_substeps_, substeps_per_step_;
-  int64_t done_ = 0, next_frame_ = 0, last_written_ = -1;
-};
+// Renders the frame of `step` from `solver`: from `gpu_inputs` (a GPU solver's buffers on the
+// writer's context) when given, else from the solver's displacement. Returns the file name.
+std::string write_solver_frame(FrameWriter& writer, Solver& solver, int64_t step,
+                               const std::function<RenderInputs()>& gpu_inputs = {});
 
 }  // namespace phyxel::render

@@ -1,5 +1,6 @@
-// Frames of a run (FrameWriter, FramingSolver) with the CPU reference solver and from the GPU
-// solver's own buffers, the render bench entry point, and the viewer's one-line refusals.
+// Frames of a run (FrameWriter, write_solver_frame through RunOptions::on_frame) with the CPU
+// reference solver and from the GPU solver's own buffers, the render bench entry point, and the
+// viewer's one-line refusals.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -43,12 +44,12 @@ TEST_F(RenderFrames, RunWritesAFrameEveryRenderEveryStepsAndAtTheEnd) {
   auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
   const std::filesystem::path dir = fresh_dir("frames_mono");
   FrameWriter writer(scene, set, {scene.render.mode, dir}, &ctx());
-  const TimeStepPlan plan = plan_time_step(scene, set);
-  FramingSolver framing(*solver, writer, scene.render.every, plan.substeps);
+  write_solver_frame(writer, *solver, 0);
   RunOptions options;
   options.steps = 25;
-  const RunResult result = run_simulation(scene, set, framing, options);
-  framing.finish(result.steps_done);
+  options.frame_every = scene.render.every;
+  options.on_frame = [&](int64_t step, Solver& s) { write_solver_frame(writer, s, step); };
+  run_simulation(scene, set, *solver, options);
   const std::vector<std::string> expected = {"frame_000000.png", "frame_000010.png",
                                              "frame_000020.png", "frame_000025.png"};
   EXPECT_EQ(writer.written(), expected);
