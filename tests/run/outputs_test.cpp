@@ -83,9 +83,13 @@ TEST(VtpWriter, UnwritableFolderNamesTheFile) {
   }
 }
 
-// Runs the phyxel binary; returns the exit status and what it printed on stderr.
+// Runs the phyxel binary; returns the exit status and what it printed on stderr (kept in a
+// folder of the calling test's own: ctest runs tests in parallel).
 std::pair<int, std::string> phyxel(const std::string& args) {
-  const std::filesystem::path err = test::test_output_dir("cli_stderr") / "stderr.txt";
+  const std::filesystem::path err =
+      test::test_output_dir(std::string("stderr_") +
+                            ::testing::UnitTest::GetInstance()->current_test_info()->name()) /
+      "stderr.txt";
   const std::string cmd = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel " + args + " --quiet 2>" +
                           err.string() + " >/dev/null";
   const int status = std::system(cmd.c_str());
