@@ -11,6 +11,7 @@
 #include <string>
 
 #include "engine/scene.h"
+#include "tests/scene/scene_error_helpers.h"
 
 namespace phyxel {
 namespace {
@@ -18,45 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr const char* kFile = "scenes/fake_scene.json";
-
-json demo() {
-  return json::parse(std::ifstream(fs::path(PHYXEL_SOURCE_DIR) / "scenes/beam_tumour.json"));
-}
-
-std::string error_text(const std::string& text) {
-  try {
-    parse_scene(text, kFile);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no SceneError for: " << text;
-  return {};
-}
-
-std::string error_with(const std::function<void(json&)>& edit) {
-  json j = demo();
-  edit(j);
-  return error_text(j.dump());
-}
-
-// One line, starting "FILE: PATH: ", with a "; what is allowed" part, containing every part.
-void expect_error(const std::string& msg, const std::string& path,
-                  std::initializer_list<std::string> parts) {
-  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-  EXPECT_EQ(msg.rfind(std::string(kFile) + ": " + path + ": ", 0), 0u) << msg;
-  EXPECT_NE(msg.find("; "), std::string::npos) << msg;
-  for (const std::string& part : parts) {
-    EXPECT_NE(msg.find(part), std::string::npos) << "no \"" << part << "\" in: " << msg;
-  }
-}
-
-json& object0(json& j) {
-  return j["objects"][0];
-}
-json& material0(json& j) {
-  return j["objects"][0]["material"];
-}
+using namespace scene_test;
 
 // --- files and syntax ---
 
