@@ -160,6 +160,28 @@ int32_t MeshQuery::build(uint32_t first, uint32_t count) {
   return index;
 }
 
+// Calls visit(t) for every triangle in a BVH leaf whose box lies within r of p, until it
+// returns true; returns whether it did.
+template <class Visit>
+bool MeshQuery::for_each_triangle_near(const Vec3& p, double r, Visit&& visit) const {
+  if (nodes_.empty()) return false;
+  int32_t stack[128];  // the tree is built balanced (median splits): depth ~log2(triangles)
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (node.box.exteriorDistance(p) > r) continue;
+    if (node.left >= 0) {
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+      continue;
+    }
+    for (uint32_t i = node.first; i < node.first + node.count; ++i)
+      if (visit(order_[i])) return true;
+  }
+  return false;
+}
+
 double MeshQuery::winding(const Vec3& p, double eps, bool* near) const {
   double sum = 0;
   if (nodes_.empty()) return 0;
@@ -241,27 +263,10 @@ double MeshQuery::surface_distance(const Vec3& p) const {
 }
 
 bool MeshQuery::surface_within(const Vec3& p, double r) const {
-  if (nodes_.empty()) return false;
-  const double r2 = r * r;
-  int32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (node.box.squaredExteriorDistance(p) > r2) continue;
-    if (node.left >= 0) {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
-      continue;
-    }
-    for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-      const uint32_t t = order_[i];
-      if (closest_point_on_triangle(p, vertex(t, 0), vertex(t, 1), vertex(t, 2)).distance_squared <=
-          r2)
-        return true;
-    }
-  }
-  return false;
+  return for_each_triangle_near(p, r, [&](uint32_t t) {
+    return closest_point_on_triangle(p, vertex(t, 0), vertex(t, 1), vertex(t, 2))
+               .distance_squared <= r * r;
+  });
 }
 
 bool MeshQuery::inside_by_normal(const Vec3& p, uint32_t t, const ClosestPoint& cp,
@@ -291,31 +296,17 @@ uint64_t MeshQuery::inside_subcells(const Vec3& center, double side, bool center
   };
   std::vector<Candidate> near;
   double center_d2 = std::numeric_limits<double>::infinity();
-  if (!nodes_.empty()) {
-    int32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
-      if (node.box.exteriorDistance(center) > reach) continue;
-      if (node.left >= 0) {
-        stack[top++] = node.left;
-        stack[top++] = node.right;
-        continue;
-      }
-      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-        const uint32_t t = order_[i];
-        const Vec3 a = vertex(t, 0), b = vertex(t, 1), c = vertex(t, 2);
-        const double d2 = closest_point_on_triangle(center, a, b, c).distance_squared;
-        if (d2 > reach * reach) continue;
-        center_d2 = std::min(center_d2, d2);
-        const Vec3 mid = (a + b + c) / 3;
-        near.push_back({t, mid,
-                        std::sqrt(std::max({(a - mid).squaredNorm(), (b - mid).squaredNorm(),
-                                            (c - mid).squaredNorm()}))});
-      }
-    }
-  }
+  for_each_triangle_near(center, reach, [&](uint32_t t) {
+    const Vec3 a = vertex(t, 0), b = vertex(t, 1), c = vertex(t, 2);
+    const double d2 = closest_point_on_triangle(center, a, b, c).distance_squared;
+    if (d2 > reach * reach) return false;
+    center_d2 = std::min(center_d2, d2);
+    const Vec3 mid = (a + b + c) / 3;
+    near.push_back({t, mid,
+                    std::sqrt(std::max({(a - mid).squaredNorm(), (b - mid).squaredNorm(),
+                                        (c - mid).squaredNorm()}))});
+    return false;
+  });
   constexpr uint64_t kAll = ~uint64_t(0);
   // No surface within rho of the centre: the whole cell is on the centre's side.
   if (center_d2 > (rho + eps) * (rho + eps)) return center_inside ? kAll : 0;
@@ -403,48 +394,35 @@ Vec3 MeshQuery::surface_normal(const Vec3& p, double tie) const {
   // reported by both of the edge's triangles and must count once.
   std::vector<std::pair<int, uint64_t>> seen;
   Vec3 sum = Vec3::Zero();
-  int32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (node.box.exteriorDistance(p) > limit) continue;
-    if (node.left >= 0) {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
-      continue;
-    }
-    for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-      const uint32_t t = order_[i];
-      const Eigen::Vector3i& tri = mesh_->triangles[t];
-      const ClosestPoint cp =
-          closest_point_on_triangle(p, vertex(t, 0), vertex(t, 1), vertex(t, 2));
-      if (cp.distance_squared > limit * limit) continue;
-      // Classify the closest point geometrically, within `tie`: the region tests of
-      // closest_point_on_triangle can call a point on an edge "face" in one triangle and
-      // "edge" in the other, and then the edge would count twice.
-      std::pair<int, uint64_t> id{0, t};
-      TriangleFeature feature = TriangleFeature::Face;
-      for (int k = 0; k < 3 && id.first == 0; ++k) {
-        if ((cp.point - vertex(t, k)).norm() <= tie) {
-          id = {1, static_cast<uint64_t>(tri[k])};
-          feature = static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k);
-        }
+  for_each_triangle_near(p, limit, [&](uint32_t t) {
+    const Eigen::Vector3i& tri = mesh_->triangles[t];
+    const ClosestPoint cp = closest_point_on_triangle(p, vertex(t, 0), vertex(t, 1), vertex(t, 2));
+    if (cp.distance_squared > limit * limit) return false;
+    // Classify the closest point geometrically, within `tie`: the region tests of
+    // closest_point_on_triangle can call a point on an edge "face" in one triangle and
+    // "edge" in the other, and then the edge would count twice.
+    std::pair<int, uint64_t> id{0, t};
+    TriangleFeature feature = TriangleFeature::Face;
+    for (int k = 0; k < 3 && id.first == 0; ++k) {
+      if ((cp.point - vertex(t, k)).norm() <= tie) {
+        id = {1, static_cast<uint64_t>(tri[k])};
+        feature = static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k);
       }
-      for (int k = 0; k < 3 && id.first == 0; ++k) {
-        const Vec3 a = vertex(t, k), b = vertex(t, (k + 1) % 3);
-        const ClosestPoint on_edge = closest_on_segment(
-            cp.point, a, b, TriangleFeature::Face, TriangleFeature::Face, TriangleFeature::Face);
-        if (on_edge.distance_squared <= tie * tie) {
-          id = {2, edge_key(tri[k], tri[(k + 1) % 3])};
-          feature = static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge01) + k);
-        }
-      }
-      if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
-      seen.push_back(id);
-      sum += feature_normal(t, feature);
     }
-  }
+    for (int k = 0; k < 3 && id.first == 0; ++k) {
+      const Vec3 a = vertex(t, k), b = vertex(t, (k + 1) % 3);
+      const ClosestPoint on_edge = closest_on_segment(cp.point, a, b, TriangleFeature::Face,
+                                                      TriangleFeature::Face, TriangleFeature::Face);
+      if (on_edge.distance_squared <= tie * tie) {
+        id = {2, edge_key(tri[k], tri[(k + 1) % 3])};
+        feature = static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge01) + k);
+      }
+    }
+    if (std::find(seen.begin(), seen.end(), id) != seen.end()) return false;
+    seen.push_back(id);
+    sum += feature_normal(t, feature);
+    return false;
+  });
   const double norm = sum.norm();
   return norm > 0 ? Vec3(sum / norm) : Vec3::Zero();
 }

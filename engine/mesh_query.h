@@ -82,6 +82,8 @@ class MeshQuery {
     uint32_t first = 0, count = 0;    // leaf: triangles order_[first, first + count)
   };
   int32_t build(uint32_t first, uint32_t count);
+  template <class Visit>
+  bool for_each_triangle_near(const Vec3& p, double r, Visit&& visit) const;
   Vec3 vertex(uint32_t t, int k) const { return mesh_->vertices[mesh_->triangles[t][k]]; }
   // Traverses for the winding number; sets `near` when a triangle lies within eps of p.
   double winding(const Vec3& p, double eps, bool* near) const;
