@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
+#include "tests/scoped_env.h"
 
 namespace phyxel::gpu::test {
 namespace {
@@ -25,25 +26,7 @@ nlohmann::json read_json(const std::filesystem::path& file) {
   return nlohmann::json::parse(in);
 }
 
-// Sets an environment variable for the scope of a test and restores the old value after.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      setenv(name_, old_->c_str(), 1);
-    } else {
-      unsetenv(name_);
-    }
-  }
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using phyxel::test::ScopedEnv;
 
 constexpr const char* kScene = R"({
   "simulation": {"dt": 1e-4, "steps": 40, "gravity": [0, 0, -9.81]},

@@ -8,30 +8,13 @@
 
 #include "app/commands.h"
 #include "compute/instance.h"
+#include "tests/scoped_env.h"
 #include "vulkan_test.h"
 
 namespace phyxel::gpu {
 namespace {
 
-// Sets an environment variable for the scope of a test and restores the old value after.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      setenv(name_, old_->c_str(), 1);
-    } else {
-      unsetenv(name_);
-    }
-  }
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using phyxel::test::ScopedEnv;
 
 template <class F>
 std::string error_of(F&& f) {
