@@ -54,7 +54,7 @@ std::array<uint32_t, 3> group_counts(uint32_t elements, uint32_t workgroup_size,
 }
 
 Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
-                   uint32_t push_constant_size)
+                   uint32_t push_constant_size, VkDescriptorSetLayout set1)
     : ctx_(&ctx), bindings_(bindings), push_size_(push_constant_size), name_(code.name) {
   const DeviceInfo& info = ctx.info();
   workgroup_ = spirv_workgroup_size(code);
@@ -93,8 +93,9 @@ Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
     const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_size};
     auto layout =
         vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-    layout.setLayoutCount = 1;
-    layout.pSetLayouts = &set_layout_;
+    const std::array<VkDescriptorSetLayout, 2> sets = {set_layout_, set1};
+    layout.setLayoutCount = set1 != VK_NULL_HANDLE ? 2 : 1;
+    layout.pSetLayouts = sets.data();
     layout.pushConstantRangeCount = push_constant_size > 0 ? 1 : 0;
     layout.pPushConstantRanges = &range;
     VK_CHECK(fn.vkCreatePipelineLayout(ctx.device(), &layout, nullptr, &layout_));

@@ -44,8 +44,11 @@ class Pipeline {
   Pipeline() = default;
   // `bindings` storage buffers at set 0, bindings 0..bindings-1; `push_constant_size` bytes of
   // push constants (0 for none; use sizeof of the shared layout.h struct). The workgroup size
-  // is read from the SPIR-V.
-  Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings, uint32_t push_constant_size);
+  // is read from the SPIR-V. `set1`, when given, is the layout of a descriptor set 1 that the
+  // caller owns and binds itself (vkCmdBindDescriptorSets with layout()) before dispatch(),
+  // for what is not a storage buffer (a sampled texture).
+  Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings, uint32_t push_constant_size,
+           VkDescriptorSetLayout set1 = VK_NULL_HANDLE);
   ~Pipeline();
   Pipeline(Pipeline&& other) noexcept;
   Pipeline& operator=(Pipeline&& other) noexcept;
