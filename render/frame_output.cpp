@@ -48,6 +48,9 @@ FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
                      std::to_string(limit) + " pixels per side" +
                      (setup_.eye_count() == 2 ? " for both eyes together" : ""));
   }
+  if (const std::string why = renderer_->frame_error(setup_); !why.empty()) {
+    throw SceneError(file + ": render.width and render.height: " + why);
+  }
 }
 
 FrameWriter::~FrameWriter() = default;

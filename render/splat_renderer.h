@@ -1,13 +1,17 @@
 // The splat renderer: surfels of the surface phyxels drawn as perspective-correct textured
 // discs in three passes after Botsch et al. 2005 ("High-quality surface splatting on today's
-// GPUs"), from the four solver buffers of RenderInputs:
+// GPUs"), from the four solver buffers of RenderInputs. Every pass is a compute dispatch (a
+// splat rasteriser in the manner of Schuetz et al. 2021), so it runs on any queue that the
+// solver's does and uses every shader core (on the H100 only a few can rasterise):
 //
-//   deform (compute)   centre x0 + u, normal (I + grad u)^-T n, texture gradients, radius
-//   per eye, one render pass of three subpasses:
-//     1 visibility     depth of the nearest disc + epsilon (ray-disc intersection per pixel)
-//     2 accumulation   additive colour x w, w, normal x w of the discs within epsilon
-//     3 shading        normalisation and deferred Phong shading
-//   then the frame is copied to a host-visible buffer (anaglyph: combined first).
+//   clear              depth to far, accumulators to 0
+//   deform             centre x0 + u, normal (I + grad u)^-T n, texture gradients, radius
+//   per eye, one invocation per splat over the pixels its disc may cover:
+//     1 visibility     atomicMin of the nearest disc's depth + epsilon (ray-disc per pixel)
+//     2 accumulation   fixed-point atomicAdd of colour x w, w, normal x w of the discs within
+//                      epsilon (exact integer sums: the image does not depend on their order)
+//   3 shading          per frame pixel: normalisation, deferred Phong, the frame layout
+//   then the frame is copied to a host-visible buffer.
 //
 // Mono: one eye, width x height. Side by side: the two eyes next to each other in one image
 // twice as wide (the left eye on the left unless swap_eyes). Anaglyph: width x height, red
@@ -17,6 +21,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include "compute/pipeline.h"
 #include "compute/timing.h"
@@ -62,8 +67,7 @@ struct RendererOptions {
 class SplatRenderer {
  public:
   // Uploads the surfel table and the texture (with mipmaps). Throws VulkanError when the
-  // device cannot render (no graphics queue, missing formats) and SceneError-free
-  // std::invalid_argument on an empty texture.
+  // device lacks what the passes need, std::invalid_argument on an empty texture.
   SplatRenderer(gpu::Context& ctx, const SurfelTable& surfels, const RgbaImage& texture,
                 const RendererOptions& options = {});
   ~SplatRenderer();
@@ -80,8 +84,13 @@ class SplatRenderer {
               gpu::PassTimer* timer = nullptr);
   RgbaImage read_frame() const;
 
+  // Why a frame of `setup` cannot be rendered on this device (an empty frame, a side over
+  // max_frame_side(), buffers over maxStorageBufferRange), or "" when it can.
+  std::string frame_error(const FrameSetup& setup) const;
+
   uint32_t surfel_count() const;
-  // The largest frame side the device renders (maxImageDimension2D and framebuffer limits).
+  // The largest frame side the renderer accepts (maxImageDimension2D and viewport limits, as
+  // a window could show it).
   uint32_t max_frame_side() const;
 
  private:

@@ -1,5 +1,6 @@
 #include "render/surfels.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -65,9 +66,13 @@ HostInputs::HostInputs(gpu::Context& ctx, const PhyxelSet& set, const NeighbourL
                             "render nbr_offset");
   nbr_index_ = gpu::Buffer(ctx, nbr.index.size() * sizeof(uint32_t), MemoryIntent::Device,
                            "render nbr_index");
-  // Host-visible: written every frame through the mapping, read once by the deform pass.
-  displacement_ = gpu::Buffer(ctx, set.size() * sizeof(layout::vec4), MemoryIntent::Upload,
-                              "render displacement");
+  // Written every frame into the mapped staging buffer and copied in one transfer: the deform
+  // pass gathers each displacement once per neighbour, which from host memory would cross the
+  // bus every time.
+  const size_t bytes = std::max<size_t>(set.size(), 1) * sizeof(layout::vec4);
+  displacement_ = gpu::Buffer(ctx, bytes, MemoryIntent::Device, "render displacement");
+  staging_ = gpu::Buffer(ctx, bytes, MemoryIntent::Upload, "render displacement staging");
+  recorder_ = std::make_unique<gpu::Recorder>(ctx, "render displacement upload");
   gpu::upload(ctx, rest_, rest);
   gpu::upload(ctx, nbr_offset_, nbr.offset);
   if (!nbr.index.empty()) gpu::upload(ctx, nbr_index_, nbr.index);
@@ -79,8 +84,11 @@ void HostInputs::set_displacement(const std::vector<Vec3>& u) {
     throw std::invalid_argument("HostInputs::set_displacement: " + std::to_string(u.size()) +
                                 " displacements for " + std::to_string(count_) + " phyxels");
   }
-  auto* out = static_cast<layout::vec4*>(displacement_.mapped());
+  auto* out = static_cast<layout::vec4*>(staging_.mapped());
   for (size_t i = 0; i < u.size(); ++i) out[i] = vec4_of(u[i], 0);
+  recorder_->barrier();  // earlier frames' reads of the displacement
+  recorder_->copy(staging_, displacement_);
+  recorder_->submit_and_wait();
 }
 
 RenderInputs HostInputs::inputs() const {

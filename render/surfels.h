@@ -17,9 +17,11 @@
 #include <Eigen/Geometry>
 #include <concepts>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "compute/buffer.h"
+#include "compute/recorder.h"
 #include "engine/neighbours.h"
 #include "engine/phyxel_set.h"
 #include "render/shaders/render_layout.h"
@@ -68,13 +70,14 @@ SurfelTable build_surfel_table(const PhyxelSet& set);
 class HostInputs {
  public:
   HostInputs(gpu::Context& ctx, const PhyxelSet& set, const NeighbourLists& neighbours);
-  // Writes u (one vec4 per phyxel) into the mapped displacement buffer. Call between frames
-  // (after the last frame's submit_and_wait).
+  // Copies u (one vec4 per phyxel) to the device-local displacement buffer (through a mapped
+  // staging buffer; waits for the copy). Call between frames, not while one is in flight.
   void set_displacement(const std::vector<Vec3>& displacement);
   RenderInputs inputs() const;
 
  private:
-  gpu::Buffer rest_, displacement_, nbr_offset_, nbr_index_;
+  gpu::Buffer rest_, displacement_, nbr_offset_, nbr_index_, staging_;
+  std::unique_ptr<gpu::Recorder> recorder_;
   uint32_t count_ = 0;
 };
 

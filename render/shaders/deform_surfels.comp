@@ -6,6 +6,10 @@
 // M_i = sum_j w (u_j - u_i) x_ij^T over the rest neighbours, w the poly6 kernel of the
 // object's support radius h. Lengths are divided by h and w by its constant factor
 // 315 / (64 pi h^9): both cancel in M A^-1 and the sums stay of order one in fp32 at any scale.
+// kDeformLanes invocations share one surfel: each sums every kDeformLanes-th neighbour of its
+// CSR row (so the lanes read the row's indices side by side and keep several gathers in
+// flight), the partial sums meet in shared memory, and lane 0 finishes the splat.
+//
 // When A is ill-conditioned (few or coplanar neighbours, e.g. after a cut) or F is singular,
 // the splat keeps its rest normal and texture gradients (normal.w = 0 says so).
 #version 450
@@ -28,13 +32,50 @@ vec3 any_tangent(vec3 n) {
   return normalize(cross(n, a));
 }
 
+// Partial sums of A (xx xy xz yy yz zz) and M (column-major) of every lane.
+shared float partial_a[PHYXEL_WORKGROUP_SIZE][6];
+shared vec3 partial_m[PHYXEL_WORKGROUP_SIZE][3];
+
 void main() {
-  const uint k = PHYXEL_GLOBAL_INDEX;
-  if (k >= p.count) return;
+  const uint lid = gl_LocalInvocationIndex;
+  const uint lane = lid % kDeformLanes;
+  const uint k = PHYXEL_GLOBAL_INDEX / kDeformLanes;
+  const bool live = k < p.count && surfels[min(k, p.count - 1)].index < p.phyxels;
+  const uint i = live ? surfels[k].index : 0;
+  const float inv_h = live ? 1.0 / surfels[k].support : 0.0;
+  float a[6] = float[6](0, 0, 0, 0, 0, 0);
+  mat3 M = mat3(0.0);
+  if (live) {
+    const vec3 xi = rest[i].xyz;
+    const vec3 ui = disp[i].xyz;
+    const uint end = nbr_offset[i + 1];
+    for (uint e = nbr_offset[i] + lane; e < end; e += kDeformLanes) {
+      const uint j = nbr_index[e];
+      if (j >= p.phyxels) continue;
+      const vec3 x = (rest[j].xyz - xi) * inv_h;
+      const float q = 1.0 - dot(x, x);
+      if (q <= 0.0) continue;
+      const float w = q * q * q;
+      a[0] += w * x.x * x.x;
+      a[1] += w * x.x * x.y;
+      a[2] += w * x.x * x.z;
+      a[3] += w * x.y * x.y;
+      a[4] += w * x.y * x.z;
+      a[5] += w * x.z * x.z;
+      M += w * outerProduct((disp[j].xyz - ui) * inv_h, x);
+    }
+  }
+  for (int c = 0; c < 6; ++c) partial_a[lid][c] = a[c];
+  for (int c = 0; c < 3; ++c) partial_m[lid][c] = M[c];
+  barrier();
+  if (lane != 0 || k >= p.count) return;
+  for (uint l = 1; l < kDeformLanes; ++l) {
+    for (int c = 0; c < 6; ++c) a[c] += partial_a[lid + l][c];
+    for (int c = 0; c < 3; ++c) M[c] += partial_m[lid + l][c];
+  }
   const SurfelStatic s = surfels[k];
-  const uint i = s.index;
   Splat outp;
-  if (i >= p.phyxels) {  // a stale table entry: draw nothing
+  if (!live) {  // a stale table entry: draw nothing
     outp.centre = vec4(0);
     outp.normal = vec4(0, 0, 1, 0);
     outp.ds_dx = vec4(0);
@@ -44,20 +85,7 @@ void main() {
   }
   const vec3 xi = rest[i].xyz;
   const vec3 ui = disp[i].xyz;
-  const float inv_h = 1.0 / s.support;
-  mat3 A = mat3(0.0);
-  mat3 M = mat3(0.0);
-  const uint end = nbr_offset[i + 1];
-  for (uint e = nbr_offset[i]; e < end; ++e) {
-    const uint j = nbr_index[e];
-    if (j >= p.phyxels) continue;
-    const vec3 x = (rest[j].xyz - xi) * inv_h;
-    const float q = 1.0 - dot(x, x);
-    if (q <= 0.0) continue;
-    const float w = q * q * q;
-    A += w * outerProduct(x, x);
-    M += w * outerProduct((disp[j].xyz - ui) * inv_h, x);
-  }
+  const mat3 A = mat3(a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5]);
   // det(A) / (tr(A)/3)^3 is 1 for an isotropic neighbourhood and about 3 lambda_min /
   // lambda_max when one direction is missing.
   const float tr = A[0][0] + A[1][1] + A[2][2];

@@ -52,6 +52,8 @@ PHYXEL_CONST uint kDeformBindingNbrOffset = 2;
 PHYXEL_CONST uint kDeformBindingNbrIndex = 3;
 PHYXEL_CONST uint kDeformBindingSurfels = 4;
 PHYXEL_CONST uint kDeformBindingSplats = 5;
+// Invocations per surfel (a divisor of PHYXEL_WORKGROUP_SIZE): dispatch count x kDeformLanes.
+PHYXEL_CONST uint kDeformLanes = 8;
 struct DeformPush {
   uint count;                   // surfels
   uint phyxels;                 // entries of rest / displacement (indices are checked against it)
@@ -60,32 +62,44 @@ struct DeformPush {
 };
 PHYXEL_ASSERT_SIZE(DeformPush, 16);
 
-// The raster passes (splat_quad.vert, splat_depth.frag, splat_accumulate.frag,
-// splat_shade.frag). Set 0 of the splat passes:
-PHYXEL_CONST uint kSplatBindingSplats = 0;   // storage buffer of Splat
-PHYXEL_CONST uint kSplatBindingTexture = 1;  // combined image sampler
-// Set 0 of the shading pass (input attachments):
-PHYXEL_CONST uint kShadeBindingColour = 0;
-PHYXEL_CONST uint kShadeBindingNormal = 1;
-struct EyePush {
-  mat4 view;      // world -> eye space (camera looks down -z, y up)
-  vec4 frustum;   // left, right, bottom, top of the view frustum at the near plane, m
-  vec4 depth;     // near, far, visibility offset epsilon in splat radii, 0
-  vec4 viewport;  // x0, y0, width, height of this eye's viewport in framebuffer pixels
+// The splat passes, one eye at a time, one invocation per splat (splat_visibility.comp,
+// splat_accumulate.comp, both built on splat_raster.glsl). Per-pixel buffers of an eye have
+// `width x height` entries, rows top to bottom; the renderer binds each eye's range.
+PHYXEL_CONST uint kRasterBindingSplats = 0;  // Splat[]
+PHYXEL_CONST uint kRasterBindingDepth = 1;   // uint per pixel: bits of the visible depth + epsilon
+PHYXEL_CONST uint kRasterBindingAccum = 2;   // accumulation only: kAccumChannels ints per pixel
+PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, binding 0, the texture
+// Accumulated per pixel, in fixed point (kAccumScale = 1.0), so that sums are exact and the
+// same in any order: colour x w (3), w, normal x w (3), unused. 2^16 leaves room for sums of
+// 32768 full-weight discs before a 32-bit int overflows.
+PHYXEL_CONST uint kAccumChannels = 8;
+PHYXEL_CONST float kAccumScale = 65536.0;
+// The depth buffer's clear value: the bits of 1.0f (the far plane in linear depth).
+PHYXEL_CONST uint kDepthClear = 0x3f800000u;
+// A splat whose pixel bounds hold more pixels than this is drawn by its whole workgroup.
+PHYXEL_CONST uint kOwnPixels = 64;
+struct RasterPush {
+  mat4 view;     // world -> eye space (camera looks down -z, y up)
+  vec4 frustum;  // left, right, bottom, top of the view frustum at the near plane, m
+  vec4 depth;    // near, far, visibility offset epsilon in splat radii, 0
+  uvec4 target;  // width, height of the eye in pixels, splat count, 0
 };
-PHYXEL_ASSERT_SIZE(EyePush, 112);
+PHYXEL_ASSERT_SIZE(RasterPush, 112);
 
-// anaglyph.comp: a side-by-side frame (2 width x height pixels, RGBA8 in uints) to one
-// red/cyan frame (width x height): red from the left half, green and blue from the right.
-PHYXEL_CONST uint kAnaglyphBindingStereo = 0;
-PHYXEL_CONST uint kAnaglyphBindingOut = 1;
-struct AnaglyphPush {
-  uint width;  // of one eye
-  uint height;
-  uint pad0;
-  uint pad1;
+// splat_shade.comp: normalisation and Phong shading of the accumulated attributes of both
+// eyes (the accumulation buffer holds eye 1 at `eye_stride` pixels after eye 0) into the frame.
+PHYXEL_CONST uint kShadeBindingAccum = 0;  // kAccumChannels ints per pixel
+PHYXEL_CONST uint kShadeBindingFrame = 1;  // RGBA8 per pixel of the frame, one uint
+PHYXEL_CONST uint kShadeLayoutMono = 0;
+PHYXEL_CONST uint kShadeLayoutSideBySide = 1;  // eye 0 left, eye 1 right: 2 width x height
+PHYXEL_CONST uint kShadeLayoutAnaglyph = 2;    // red from eye 0, green and blue from eye 1
+struct ShadePush {
+  vec4 frustum0;  // eye 0: left, right, bottom, top at the near plane
+  vec4 frustum1;  // eye 1
+  vec4 near;      // x: eye 0, y: eye 1
+  uvec4 frame;    // eye width, height, layout (kShadeLayout*), eye_stride
 };
-PHYXEL_ASSERT_SIZE(AnaglyphPush, 16);
+PHYXEL_ASSERT_SIZE(ShadePush, 64);
 
 #ifdef __cplusplus
 }  // namespace phyxel::render::layout

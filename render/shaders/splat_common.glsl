@@ -1,45 +1,33 @@
-// Shared by the raster shaders: the eye's projection (the off-axis frustum of glFrustum, y
-// flipped for Vulkan's framebuffer), the viewing ray of a pixel, linear depth, and the
-// perspective-correct ray-disc intersection.
+// Shared by the splat passes: the viewing ray of a pixel, linear depth, and the
+// perspective-correct ray-disc intersection (all in eye space: the camera at the origin
+// looking down -z, y up, pixel rows top to bottom).
 #ifndef PHYXEL_SPLAT_COMMON_GLSL
 #define PHYXEL_SPLAT_COMMON_GLSL
 
 // Background of pixels no splat covers (the C++ side has the same, render/splat_renderer.h).
 const vec3 kBackground = vec3(20.0, 23.0, 28.0) / 255.0;
 
-// Clip coordinates of an eye-space point: glFrustum(l, r, b, t, n, f) with y negated (Vulkan
-// framebuffers run top to bottom) and depth in [0, 1].
-vec4 project_eye(EyePush e, vec3 p) {
-  const float l = e.frustum.x, r = e.frustum.y, b = e.frustum.z, t = e.frustum.w;
-  const float n = e.depth.x, f = e.depth.y;
-  vec4 c;
-  c.x = (2.0 * n * p.x + (r + l) * p.z) / (r - l);
-  c.y = -(2.0 * n * p.y + (t + b) * p.z) / (t - b);
-  c.z = (f * p.z + n * f) / (n - f);
-  c.w = -p.z;
-  return c;
+// Direction (not normalised; z = -near) of the ray through the centre of `pixel` of an eye
+// of `size` pixels whose frustum at the near plane is (left, right, bottom, top).
+vec3 pixel_ray(vec4 frustum, float near, vec2 size, vec2 pixel) {
+  const vec2 a = (pixel + 0.5) / size;
+  return vec3(mix(frustum.x, frustum.y, a.x), mix(frustum.w, frustum.z, a.y), -near);
 }
 
-// Eye-space direction (not normalised; z = -near) of the ray through this fragment's centre.
-vec3 pixel_ray(EyePush e, vec2 frag_coord) {
-  const vec2 a = (frag_coord - e.viewport.xy) / e.viewport.zw;
-  return vec3(mix(e.frustum.x, e.frustum.y, a.x), mix(e.frustum.w, e.frustum.z, a.y), -e.depth.x);
-}
-
-// Depth written by the splat passes: linear in the eye-space distance along -z, 0 at near,
-// 1 at far (uniform precision; the quads' own depth is replaced).
-float linear_depth(EyePush e, vec3 p) {
-  return (-p.z - e.depth.x) / (e.depth.y - e.depth.x);
+// Linear depth: 0 at near, 1 at far (uniform precision for the epsilon comparison).
+float linear_depth(float near, float far, vec3 p) {
+  return (-p.z - near) / (far - near);
 }
 
 struct DiscHit {
-  vec3 point;  // where the ray meets the disc's plane, eye space
-  float q2;    // squared distance from the centre in radii
-  bool hit;    // in front of the eye, inside the disc, between near and far
+  vec3 point;   // where the ray meets the disc's plane
+  float q2;     // squared distance from the centre in radii
+  float depth;  // linear depth of point
+  bool hit;     // in front of the eye, inside the disc, between near and far
 };
 
-// The ray through the fragment against the disc (centre c, radius r, unit normal n; eye space).
-DiscHit intersect_disc(EyePush e, vec3 dir, vec3 c, float r, vec3 n) {
+// The ray along `dir` from the eye against the disc (centre c, radius r, unit normal n).
+DiscHit intersect_disc(vec3 dir, vec3 c, float r, vec3 n, float near, float far) {
   DiscHit h;
   const float dn = dot(dir, n);
   const bool facing = abs(dn) > 1e-12 * length(dir);
@@ -47,8 +35,8 @@ DiscHit intersect_disc(EyePush e, vec3 dir, vec3 c, float r, vec3 n) {
   h.point = t * dir;
   const vec3 d = h.point - c;
   h.q2 = r > 0.0 ? dot(d, d) / (r * r) : 2.0;
-  const float depth = linear_depth(e, h.point);
-  h.hit = facing && t > 0.0 && h.q2 <= 1.0 && depth >= 0.0 && depth <= 1.0;
+  h.depth = linear_depth(near, far, h.point);
+  h.hit = facing && t > 0.0 && h.q2 <= 1.0 && h.depth >= 0.0 && h.depth <= 1.0;
   return h;
 }
 

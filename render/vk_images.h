@@ -1,6 +1,7 @@
-// The graphics side of the Vulkan core for the renderer: the device entry points that
-// compute/ does not load (images, render passes, graphics pipelines, draws), loaded from the
-// same gpu::Context with vkGetDeviceProcAddr, and a device-local image with its view.
+// Images for the renderer: the device entry points that compute/ does not load (images,
+// views, samplers, buffer-to-image copies), loaded from the same gpu::Context with
+// vkGetDeviceProcAddr, and a device-local image with its view. The renderer is all compute
+// passes, so none of this needs a graphics queue.
 #pragma once
 
 #include <cstdint>
@@ -9,62 +10,49 @@
 #include "compute/context.h"
 #include "compute/loader.h"
 #include "compute/pipeline.h"
+#include "render/image.h"
 
-#define PHYXEL_VK_GRAPHICS_FUNCTIONS(X) \
-  X(vkCreateImage)                      \
-  X(vkDestroyImage)                     \
-  X(vkGetImageMemoryRequirements)       \
-  X(vkBindImageMemory)                  \
-  X(vkCreateImageView)                  \
-  X(vkDestroyImageView)                 \
-  X(vkCreateSampler)                    \
-  X(vkDestroySampler)                   \
-  X(vkCreateRenderPass)                 \
-  X(vkDestroyRenderPass)                \
-  X(vkCreateFramebuffer)                \
-  X(vkDestroyFramebuffer)               \
-  X(vkCreateGraphicsPipelines)          \
-  X(vkCmdBeginRenderPass)               \
-  X(vkCmdNextSubpass)                   \
-  X(vkCmdEndRenderPass)                 \
-  X(vkCmdDraw)                          \
-  X(vkCmdSetViewport)                   \
-  X(vkCmdSetScissor)                    \
-  X(vkCmdCopyImageToBuffer)             \
-  X(vkCmdCopyBufferToImage)             \
-  X(vkCmdBlitImage)
+#define PHYXEL_VK_IMAGE_FUNCTIONS(X) \
+  X(vkCreateImage)                   \
+  X(vkDestroyImage)                  \
+  X(vkGetImageMemoryRequirements)    \
+  X(vkBindImageMemory)               \
+  X(vkCreateImageView)               \
+  X(vkDestroyImageView)              \
+  X(vkCreateSampler)                 \
+  X(vkDestroySampler)                \
+  X(vkCmdCopyBufferToImage)
 
 namespace phyxel::render {
 
 #define PHYXEL_VK_DECLARE(name) PFN_##name name = nullptr;
-struct GraphicsFunctions {
-  PHYXEL_VK_GRAPHICS_FUNCTIONS(PHYXEL_VK_DECLARE)
+struct ImageFunctions {
+  PHYXEL_VK_IMAGE_FUNCTIONS(PHYXEL_VK_DECLARE)
   // Instance level, for the physical device of the context.
   PFN_vkGetPhysicalDeviceFormatProperties vkGetPhysicalDeviceFormatProperties = nullptr;
 };
 #undef PHYXEL_VK_DECLARE
 
-// The graphics entry points of `ctx`'s device. Throws VulkanError when one is missing or the
-// context's queue cannot do graphics (the renderer shares the solver's queue).
-class Graphics {
+// The image entry points of `ctx`'s device. Throws VulkanError when one is missing.
+class Images {
  public:
-  explicit Graphics(gpu::Context& ctx);
+  explicit Images(gpu::Context& ctx);
   gpu::Context& context() const { return *ctx_; }
-  const GraphicsFunctions& fn() const { return fn_; }
+  const ImageFunctions& fn() const { return fn_; }
   // Whether `format` with optimal tiling has all of `features`.
   bool supports(VkFormat format, VkFormatFeatureFlags features) const;
 
  private:
   gpu::Context* ctx_;
   gpu::VulkanLibrary library_;  // for vkGetInstanceProcAddr (the loader stays open)
-  GraphicsFunctions fn_;
+  ImageFunctions fn_;
 };
 
 // A 2D device-local image (one allocation), with a view of all its mip levels.
 class GpuImage {
  public:
   GpuImage() = default;
-  GpuImage(const Graphics& gfx, uint32_t width, uint32_t height, VkFormat format,
+  GpuImage(const Images& images, uint32_t width, uint32_t height, VkFormat format,
            VkImageUsageFlags usage, VkImageAspectFlags aspect, const std::string& name,
            uint32_t mip_levels = 1);
   ~GpuImage();
@@ -82,7 +70,7 @@ class GpuImage {
   uint32_t mip_levels() const { return mips_; }
 
  private:
-  const Graphics* gfx_ = nullptr;
+  const Images* images_ = nullptr;
   VkImage image_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkImageView view_ = VK_NULL_HANDLE;
@@ -91,14 +79,36 @@ class GpuImage {
   uint32_t width_ = 0, height_ = 0, mips_ = 1;
 };
 
+// A sampled RGBA8 texture with its full mip chain (2 x 2 box filter, built on the host, so no
+// blit and no graphics queue is needed), trilinear filtering, clamped at the edges. Images
+// larger than `max_side` are halved until they fit. Throws std::invalid_argument when `image`
+// is empty.
+class Texture {
+ public:
+  Texture() = default;
+  Texture(const Images& images, const RgbaImage& image, uint32_t max_side);
+  ~Texture();
+  Texture(Texture&& other) noexcept;
+  Texture& operator=(Texture&& other) noexcept;
+  Texture(const Texture&) = delete;
+  Texture& operator=(const Texture&) = delete;
+
+  VkImageView view() const { return image_.view(); }
+  VkSampler sampler() const { return sampler_; }
+  const GpuImage& image() const { return image_; }
+
+ private:
+  void reset();
+  const Images* images_ = nullptr;
+  GpuImage image_;
+  VkSampler sampler_ = VK_NULL_HANDLE;
+};
+
 // Records an image layout transition of all mip levels (and the memory dependency).
 void image_barrier(VkCommandBuffer cmd, const gpu::DeviceFunctions& fn, VkImage image,
                    VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                    VkPipelineStageFlags src_stages, VkAccessFlags src_access,
                    VkPipelineStageFlags dst_stages, VkAccessFlags dst_access, uint32_t base_mip = 0,
                    uint32_t mip_count = VK_REMAINING_MIP_LEVELS);
-
-// A shader module from embedded SPIR-V (destroyed by the caller).
-VkShaderModule create_shader_module(const gpu::Context& ctx, const gpu::ShaderCode& code);
 
 }  // namespace phyxel::render

@@ -1,0 +1,53 @@
+// Pass 2 of 3, attribute accumulation: every disc no farther than the visible depth (which
+// includes epsilon) adds colour x w, w and normal x w to its pixel, w a truncated Gaussian of
+// the distance from the disc's centre. The texture coordinate varies across the disc with the
+// splat's texture gradient; the texture's level of detail comes from its change to the next
+// pixel right and down (on the disc's plane), as a fragment shader's derivatives would.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "render_layout.h"
+#include "splat_common.glsl"
+#include "splat_raster.glsl"
+
+layout(std430, binding = kRasterBindingDepth) readonly buffer Depth { uint depth[]; };
+layout(std430, binding = kRasterBindingAccum) buffer Accum { int accum[]; };
+layout(set = kRasterSetTexture, binding = 0) uniform sampler2D tissue;
+
+// The texture coordinate where the ray along `dir` meets the splat's plane.
+vec2 plane_st(EyeSplat s, vec3 dir) {
+  const float dn = dot(dir, s.n);
+  const vec3 d = (abs(dn) > 0.0 ? dot(s.c, s.n) / dn : 0.0) * dir - s.c;
+  return vec2(s.ds.w + dot(s.ds.xyz, d), s.dt.w + dot(s.dt.xyz, d));
+}
+
+void add(uint at, float value) {
+  atomicAdd(accum[at], int(round(value * kAccumScale)));
+}
+
+void splat_pixel(EyeSplat s, uint x, uint y) {
+  const float near = p.depth.x, far = p.depth.y;
+  const vec3 dir = eye_ray(x, y);
+  const DiscHit h = intersect_disc(dir, s.c, s.r, s.n, near, far);
+  if (!h.hit) return;
+  const uint pixel = y * p.target.x + x;
+  if (h.depth > uintBitsToFloat(depth[pixel])) return;
+  const vec3 d = h.point - s.c;
+  const vec2 st = vec2(s.ds.w + dot(s.ds.xyz, d), s.dt.w + dot(s.dt.xyz, d));
+  const vec3 step_x = vec3((p.frustum.y - p.frustum.x) / float(p.target.x), 0.0, 0.0);
+  const vec3 step_y = vec3(0.0, (p.frustum.z - p.frustum.w) / float(p.target.y), 0.0);
+  const vec2 st_dx = plane_st(s, dir + step_x) - st;
+  const vec2 st_dy = plane_st(s, dir + step_y) - st;
+  // A truncated Gaussian: weight 1 at the centre, exp(-2) at the rim.
+  const float w = exp(-2.0 * h.q2);
+  const vec3 colour = textureGrad(tissue, st, st_dx, st_dy).rgb;
+  // Two-sided: the normal that faces the eye (cut or thin tissue shows its back).
+  const vec3 n = dot(s.n, dir) > 0.0 ? -s.n : s.n;
+  const uint at = pixel * kAccumChannels;
+  add(at + 0, colour.r * w);
+  add(at + 1, colour.g * w);
+  add(at + 2, colour.b * w);
+  add(at + 3, w);
+  add(at + 4, n.x * w);
+  add(at + 5, n.y * w);
+  add(at + 6, n.z * w);
+}

@@ -1,0 +1,58 @@
+// Pass 3 of 3, normalisation and deferred Phong shading, one invocation per frame pixel:
+// colour = sum(c w) / sum(w), normal = normalize(sum(n w)); a key light above left of the
+// camera and a head light, eye space. Writes the frame in its layout: one eye, both side by
+// side, or the red/cyan anaglyph of the two.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "render_layout.h"
+#include "splat_common.glsl"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { ShadePush p; };
+layout(std430, binding = kShadeBindingAccum) readonly buffer Accum { int accum[]; };
+layout(std430, binding = kShadeBindingFrame) writeonly buffer Frame { uint frame[]; };
+
+const vec3 kKeyLight = vec3(-0.3487, 0.4982, 0.7937);  // normalize(-0.35, 0.5, 0.8)
+const float kAmbient = 0.2;
+const float kKeyDiffuse = 0.5;
+const float kHeadDiffuse = 0.35;
+const float kSpecular = 0.25;
+const float kShininess = 32.0;
+
+vec3 shade(uint eye, uint x, uint y) {
+  const uint at = (eye * p.frame.w + y * p.frame.x + x) * kAccumChannels;
+  const float w = float(accum[at + 3]);
+  if (!(w > 0.0)) return kBackground;
+  const vec3 albedo = vec3(accum[at], accum[at + 1], accum[at + 2]) / w;
+  const vec4 frustum = eye == 0 ? p.frustum0 : p.frustum1;
+  const float near = eye == 0 ? p.near.x : p.near.y;
+  const vec3 view = -normalize(pixel_ray(frustum, near, vec2(p.frame.xy), vec2(x, y)));
+  const vec3 sum_n = vec3(accum[at + 4], accum[at + 5], accum[at + 6]);
+  const float len = length(sum_n);
+  const vec3 n = len > 0.0 ? sum_n / len : view;
+  const float key = max(dot(n, kKeyLight), 0.0);
+  const float head = max(dot(n, view), 0.0);
+  const float spec = pow(max(dot(reflect(-kKeyLight, n), view), 0.0), kShininess);
+  const vec3 colour = albedo * (kAmbient + kKeyDiffuse * key + kHeadDiffuse * head) + kSpecular * spec;
+  return min(colour, vec3(1.0));
+}
+
+void main() {
+  const uint i = PHYXEL_GLOBAL_INDEX;
+  const uint eye_width = p.frame.x, height = p.frame.y, layout_kind = p.frame.z;
+  const uint width = layout_kind == kShadeLayoutSideBySide ? 2 * eye_width : eye_width;
+  if (i >= width * height) return;
+  const uint y = i / width;
+  const uint x = i - y * width;
+  vec3 c;
+  if (layout_kind == kShadeLayoutSideBySide) {
+    const uint eye = x >= eye_width ? 1 : 0;
+    c = shade(eye, x - eye * eye_width, y);
+  } else if (layout_kind == kShadeLayoutAnaglyph) {
+    c = vec3(shade(0, x, y).r, shade(1, x, y).gb);
+  } else {
+    c = shade(0, x, y);
+  }
+  frame[i] = packUnorm4x8(vec4(c, 1.0));
+}
