@@ -1,5 +1,7 @@
 // phyxel bench --render: splat rendering speed (render/render_bench.h), mono or stereo, for a
-// list of surfel counts on one Vulkan device.
+// list of surfel counts on one Vulkan device, and what rendering at 60 frames/s costs the GPU
+// solver's step rate on the same shell (--no-solver skips that).
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -21,14 +23,15 @@ int bench_render_command(const Args& args) {
   const bool mono = opts.flag("--mono");
   const int64_t frames = opts.integer("--frames", 10, 1, 10000);
   const std::string json_file = opts.value("--json", "");
+  const bool with_solver = !opts.flag("--no-solver");
   opts.finish();
   gpu::ContextOptions context;
   context.device = device;
   gpu::Context ctx(context);
   nlohmann::json rows = nlohmann::json::array();
-  std::printf("%s: %s %lldx%lld per eye\n%10s %14s %16s  %s\n", ctx.info().name.c_str(),
+  std::printf("%s: %s %lldx%lld per eye\n%10s %9s %9s %9s %12s  %s\n", ctx.info().name.c_str(),
               mono ? "mono" : "stereo", static_cast<long long>(width),
-              static_cast<long long>(height), "surfels", "ms per frame", "splats/s",
+              static_cast<long long>(height), "surfels", "GPU ms", "copy ms", "host ms", "splats/s",
               "GPU passes (ms)");
   std::stringstream ss(sizes);
   for (std::string item; std::getline(ss, item, ',');) {
@@ -38,6 +41,7 @@ int bench_render_command(const Args& args) {
     o.height = static_cast<uint32_t>(height);
     o.stereo = !mono;
     o.frames = static_cast<int>(frames);
+    o.with_solver = with_solver;
     const render::RenderBenchResult r = render::bench_render(ctx, o);
     std::string passes;
     nlohmann::json pass_json = nlohmann::json::object();
@@ -48,14 +52,30 @@ int bench_render_command(const Args& args) {
       passes += text;
       pass_json[p.name] = p.ns * 1e-6;
     }
-    std::printf("%10u %14.3f %16.4g  %s\n", r.surfels, r.median_frame_s * 1e3, r.splats_per_s,
-                passes.c_str());
+    std::printf("%10u %9.3f %9.3f %9.3f %12.4g  %s\n", r.surfels, r.median_gpu_s * 1e3,
+                r.median_readback_s * 1e3, r.median_frame_s * 1e3, r.splats_per_s, passes.c_str());
+    if (with_solver) {
+      std::printf(
+          "%10s solver on the same %u phyxels: %.4g steps/s alone, %.4g steps/s (%.1f %%) "
+          "with a frame every %lld steps (%.1f frames/s)\n",
+          "", r.phyxels, r.solver_steps_per_s, r.solver_steps_per_s_rendering,
+          100 * r.solver_steps_per_s_rendering / std::max(r.solver_steps_per_s, 1e-30),
+          static_cast<long long>(r.steps_per_frame), r.frames_per_s_rendering);
+    }
+    std::fflush(stdout);
     rows.push_back({{"device", r.device},
                     {"surfels", r.surfels},
                     {"eyes", r.eyes},
                     {"frame_width", r.frame_width},
                     {"frame_height", r.frame_height},
                     {"median_frame_ms", r.median_frame_s * 1e3},
+                    {"median_gpu_ms", r.median_gpu_s * 1e3},
+                    {"median_readback_ms", r.median_readback_s * 1e3},
+                    {"phyxels", r.phyxels},
+                    {"solver_steps_per_s", r.solver_steps_per_s},
+                    {"solver_steps_per_s_rendering", r.solver_steps_per_s_rendering},
+                    {"steps_per_frame", r.steps_per_frame},
+                    {"frames_per_s_rendering", r.frames_per_s_rendering},
                     {"splats_per_s", r.splats_per_s},
                     {"gpu_pass_ms", pass_json},
                     {"frames", r.frames}});

@@ -50,8 +50,10 @@ constexpr const char* kBenchHelp =
     "  --stability           long soaks in double and float: energy drift, largest speed, first\n"
     "                        non-finite value (--device D, --steps N, default 100000;\n"
     "                        --json FILE)\n"
-    "  --render              splat rendering time per frame (--device D, --surfels LIST,\n"
-    "                        --width W, --height H per eye, --mono, --frames N, --json FILE)";
+    "  --render              splat rendering time per frame, and the GPU solver's step rate\n"
+    "                        alone and with a frame every 1/60 s (--device D, --surfels LIST,\n"
+    "                        --width W, --height H per eye, --mono, --frames N, --no-solver,\n"
+    "                        --json FILE)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "compute/gpu_solver.h"
 #include "engine/neighbours.h"
+#include "engine/simulation.h"
 #include "render/frame_output.h"
 #include "render/sample_shapes.h"
 
@@ -17,6 +19,47 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The GPU solver on `set`: steps/s alone, then with a frame rendered from its buffers every
+// 1/60 s worth of steps (each frame waited for and read back, as `phyxel run --render` does).
+void bench_with_solver(gpu::Context& ctx, const PhyxelSet& set, const SurfelTable& table,
+                       const FrameSetup& setup, int frames, RenderBenchResult& result) {
+  Scene scene;
+  const double dt = plan_time_step(scene, set).dt_stable;
+  gpu::GpuSolver solver(ctx, set, Vec3(0, 0, -9.81));
+  SplatRenderer renderer(ctx, table, procedural_tissue_texture());
+  solver.advance(gpu::GpuSolver::kStepsPerSubmit, dt);  // warm-up
+  int64_t steps = gpu::GpuSolver::kStepsPerSubmit;
+  double alone = 0;
+  while (true) {  // about 0.3 s of stepping
+    const auto start = std::chrono::steady_clock::now();
+    solver.advance(steps, dt);
+    alone = seconds_since(start);
+    if (alone > 0.3 || steps >= (int64_t{1} << 24)) break;
+    steps *= 2;
+  }
+  std::vector<double> rates;
+  for (int r = 0; r < 3; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    solver.advance(steps, dt);
+    rates.push_back(double(steps) / seconds_since(start));
+  }
+  result.solver_steps_per_s = median(rates);
+  result.steps_per_frame = std::max<int64_t>(1, std::llround(result.solver_steps_per_s / 60));
+  renderer.render(solver.buffers(), setup);  // warm-up
+  const auto start = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    solver.advance(result.steps_per_frame, dt);
+    if (renderer.render(solver.buffers(), setup).pixels.empty()) break;
+  }
+  const double s = seconds_since(start);
+  result.solver_steps_per_s_rendering = double(frames * result.steps_per_frame) / s;
+  result.frames_per_s_rendering = frames / s;
 }
 
 }  // namespace
@@ -51,7 +94,7 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
 
   gpu::Recorder rec(ctx, "render bench");
   gpu::PassTimer timer(ctx);
-  std::vector<double> frame_s;
+  std::vector<double> frame_s, gpu_s, readback_s;
   std::vector<std::vector<double>> pass_ns;
   std::vector<std::string> names;
   for (int f = -1; f < result.frames; ++f) {  // frame -1: warm-up
@@ -65,6 +108,11 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
     if (f < 0 || image.pixels.empty()) continue;
     frame_s.push_back(s);
     const std::vector<gpu::PassTime> passes = timer.results();
+    double gpu_ns = 0, readback_ns = 0;
+    for (const gpu::PassTime& p : passes)
+      (p.name == "render readback" ? readback_ns : gpu_ns) += p.ns;
+    gpu_s.push_back(gpu_ns * 1e-9);
+    readback_s.push_back(readback_ns * 1e-9);
     pass_ns.resize(passes.size());
     names.resize(passes.size());
     for (size_t p = 0; p < passes.size(); ++p) {
@@ -73,11 +121,14 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
     }
   }
   result.median_frame_s = median(frame_s);
-  result.splats_per_s =
-      result.median_frame_s > 0 ? double(result.surfels) * result.eyes / result.median_frame_s : 0;
+  result.median_gpu_s = median(gpu_s);
+  result.median_readback_s = median(readback_s);
+  const double per_frame = result.median_gpu_s > 0 ? result.median_gpu_s : result.median_frame_s;
+  result.splats_per_s = per_frame > 0 ? double(result.surfels) * result.eyes / per_frame : 0;
   for (size_t p = 0; p < names.size(); ++p) {
     result.median_passes.push_back({names[p], median(pass_ns[p])});
   }
+  if (options.with_solver) bench_with_solver(ctx, set, table, setup, result.frames, result);
   return result;
 }
 

@@ -1,6 +1,9 @@
 // Render timing for `phyxel bench` (not a test): a stereo (or mono) frame of a spherical
 // shell of about N surfels, eye size 1920 x 1080 by default, repeated; median host time per
-// frame (record, submit, wait, readback included) and median GPU time per pass.
+// frame (record, submit, wait, readback included), median GPU time of the frame and of each
+// pass. With `with_solver`, also the GPU solver on the same shell: its step rate alone, and
+// with a frame rendered from its buffers every 1/60 s of its own stepping (what a live view at
+// 60 frames/s costs the simulation).
 #pragma once
 
 #include <cstdint>
@@ -17,6 +20,7 @@ struct RenderBenchOptions {
   uint32_t eye_width = 1920, height = 1080;
   bool stereo = true;  // side by side (two eyes); false: mono
   int frames = 10;     // timed frames, after one warm-up frame
+  bool with_solver = false;
 };
 
 struct RenderBenchResult {
@@ -25,8 +29,13 @@ struct RenderBenchResult {
   uint32_t frame_width = 0, frame_height = 0, eyes = 0;
   int frames = 0;
   double median_frame_s = 0;                 // host wall time per frame
-  double splats_per_s = 0;                   // surfels x eyes / median_frame_s
-  std::vector<gpu::PassTime> median_passes;  // "render deform", "render eye 0", ... (GPU ns)
+  double median_gpu_s = 0;                   // GPU time per frame, readback excluded
+  double median_readback_s = 0;              // GPU time of the copy to host-visible memory
+  double splats_per_s = 0;                   // surfels x eyes / median_gpu_s
+  std::vector<gpu::PassTime> median_passes;  // "render clear", "render deform", ... (GPU ns)
+  // with_solver: steps/s alone and while rendering (steps_per_frame steps between frames).
+  double solver_steps_per_s = 0, solver_steps_per_s_rendering = 0, frames_per_s_rendering = 0;
+  int64_t steps_per_frame = 0;
 };
 
 RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& options = {});

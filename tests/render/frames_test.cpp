@@ -136,6 +136,7 @@ TEST_F(RenderFrames, BenchEntryPointMeasuresAStereoFrame) {
   options.eye_width = 64;
   options.height = 48;
   options.frames = 2;
+  options.with_solver = true;
   const RenderBenchResult r = bench_render(ctx(), options);
   EXPECT_GT(r.surfels, 1000u);
   EXPECT_LT(r.surfels, 3000u);
@@ -145,10 +146,20 @@ TEST_F(RenderFrames, BenchEntryPointMeasuresAStereoFrame) {
   EXPECT_EQ(r.eyes, 2u);
   EXPECT_EQ(r.frames, 2);
   EXPECT_GT(r.median_frame_s, 0.0);
+  EXPECT_GT(r.solver_steps_per_s, 0.0);
+  EXPECT_GT(r.solver_steps_per_s_rendering, 0.0);
+  EXPECT_GE(r.steps_per_frame, 1);
+  EXPECT_GT(r.frames_per_s_rendering, 0.0);
   if (ctx().timestamps()) {
-    ASSERT_EQ(r.median_passes.size(), 4u);
-    EXPECT_EQ(r.median_passes[0].name, "render deform");
-    EXPECT_EQ(r.median_passes[3].name, "render readback");
+    const std::vector<std::string> expected = {"render clear",      "render deform",
+                                               "render visibility", "render accumulate",
+                                               "render shade",      "render readback"};
+    ASSERT_EQ(r.median_passes.size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(r.median_passes[i].name, expected[i]);
+      EXPECT_GE(r.median_passes[i].ns, 0.0);
+    }
+    EXPECT_GT(r.median_gpu_s, 0.0);
   }
 }
 
