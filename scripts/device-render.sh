@@ -16,6 +16,11 @@ src="${PHYXEL_BUILT_IN:-/work/main}"
 if [ ! -e "$src" ]; then mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; fi
 nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,clocks.mem --format=csv
 build/app/phyxel info 2>&1 | head -12
-PHYXEL_TEST_DEVICE=gpu PHYXEL_TEST_OUT="$out" build/tests/test_render 2>&1 | tail -6
+PHYXEL_TEST_DEVICE=gpu PHYXEL_TEST_OUT=/tmp/phyxel-test-out build/tests/test_render 2>&1 | tail -4
 build/app/phyxel bench --render --device gpu --surfels "${SURFELS:-10000,100000,1000000}" \
   --frames "${FRAMES:-20}" --json "$out/render.json" 2>&1 | tee "$out/render.txt"
+# End to end: the brain scene simulated on the GPU, stereo frames from the solver's buffers.
+build/app/phyxel run scenes/brain_tumour.json --device gpu --render stereo --steps "${STEPS:-200}" \
+  --out /tmp/phyxel-brain 2>&1 | tail -3
+last="$(ls /tmp/phyxel-brain/frame_*.png | tail -1)"
+cp "$last" "$out/brain_last_frame.png"

@@ -36,7 +36,7 @@ struct SurfelStatic {
 };
 PHYXEL_ASSERT_SIZE(SurfelStatic, 64);
 
-// One deformed splat, written by deform_surfels.comp every frame, read by the raster passes.
+// One deformed splat, written by deform_surfels.comp every frame, read by the splat passes.
 struct Splat {
   vec4 centre;  // xyz: x0 + u; w: radius (0: not drawn)
   vec4 normal;  // xyz: unit n' ~ (I + grad u)^-T n; w: 1 when grad u was usable, 0 fallback
