@@ -1,14 +1,10 @@
 // `phyxel view`: a scene simulated live in a window (GLFW + a Vulkan swapchain), with the
 // same splat passes, mono or stereo (side by side or anaglyph) as the scene's `render` says.
+// Mouse and keys: render/viewer_controls.h (drag: orbit, wheel: zoom, space: pause, n: one
+// step while paused, s: mono/stereo, q or escape: quit). The title shows the step, the pause
+// state, the mode and the frame rate.
 //
-//   mouse left drag    orbit the camera around its target
-//   mouse wheel        move towards / away from the target
-//   space              pause / resume
-//   n                  one simulation step (while paused)
-//   s                  toggle mono / stereo
-//   escape, q          quit
-//
-// Built only with PHYXEL_WITH_WINDOW; otherwise run_viewer says so in one line.
+// Built with PHYXEL_WITH_WINDOW (on by default); otherwise run_viewer says so in one line.
 #pragma once
 
 #include <optional>

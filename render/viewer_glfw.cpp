@@ -13,6 +13,7 @@
 #include "render/frame_output.h"
 #include "render/present_glfw.h"
 #include "render/viewer.h"
+#include "render/viewer_controls.h"
 
 namespace phyxel::render {
 namespace {
@@ -20,63 +21,47 @@ namespace {
 constexpr const char* kHeadless =
     "for frames without a display use: phyxel run SCENE --render mono|stereo --out DIR";
 
-// Camera orbiting its target: yaw about `up`, pitch towards it, distance.
-struct Orbit {
-  Vec3 target, up, front, side;
-  double yaw = 0, pitch = 0, distance = 1;
+ViewerControls& controls_of(GLFWwindow* w) {
+  return *static_cast<ViewerControls*>(glfwGetWindowUserPointer(w));
+}
 
-  explicit Orbit(const Camera& c) : target(c.target), up(c.up.normalized()) {
-    const Vec3 back = c.position - c.target;
-    distance = back.norm();
-    const Vec3 flat = back - back.dot(up) * up;
-    front = flat.norm() > 1e-12 * distance ? Vec3(flat.normalized()) : Vec3(c.true_up().cross(up));
-    side = up.cross(front);
-    pitch = std::asin(std::clamp(back.normalized().dot(up), -1.0, 1.0));
+ViewerKey key_of(int key) {
+  switch (key) {
+    case GLFW_KEY_SPACE:
+      return ViewerKey::Space;
+    case GLFW_KEY_N:
+      return ViewerKey::N;
+    case GLFW_KEY_S:
+      return ViewerKey::S;
+    case GLFW_KEY_Q:
+      return ViewerKey::Q;
+    case GLFW_KEY_ESCAPE:
+      return ViewerKey::Escape;
+    default:
+      return ViewerKey::Other;
   }
-  Vec3 position() const {
-    const Vec3 dir =
-        std::cos(pitch) * (std::cos(yaw) * front + std::sin(yaw) * side) + std::sin(pitch) * up;
-    return target + distance * dir;
-  }
-};
-
-struct Input {
-  Orbit* orbit = nullptr;
-  bool dragging = false, paused = false, step_once = false, toggle_stereo = false;
-  double last_x = 0, last_y = 0;
-};
-
-Input& input_of(GLFWwindow* w) {
-  return *static_cast<Input*>(glfwGetWindowUserPointer(w));
 }
 
 void on_key(GLFWwindow* w, int key, int, int action, int) {
   if (action != GLFW_PRESS) return;
-  Input& in = input_of(w);
-  if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) glfwSetWindowShouldClose(w, GLFW_TRUE);
-  if (key == GLFW_KEY_SPACE) in.paused = !in.paused;
-  if (key == GLFW_KEY_N) in.step_once = true;
-  if (key == GLFW_KEY_S) in.toggle_stereo = true;
+  ViewerControls& c = controls_of(w);
+  c.key(key_of(key));
+  if (c.quit()) glfwSetWindowShouldClose(w, GLFW_TRUE);
 }
 
 void on_button(GLFWwindow* w, int button, int action, int) {
-  Input& in = input_of(w);
   if (button != GLFW_MOUSE_BUTTON_LEFT) return;
-  in.dragging = action == GLFW_PRESS;
-  glfwGetCursorPos(w, &in.last_x, &in.last_y);
+  double x = 0, y = 0;
+  glfwGetCursorPos(w, &x, &y);
+  controls_of(w).button(action == GLFW_PRESS, x, y);
 }
 
 void on_cursor(GLFWwindow* w, double x, double y) {
-  Input& in = input_of(w);
-  if (!in.dragging) return;
-  in.orbit->yaw -= 0.008 * (x - in.last_x);
-  in.orbit->pitch = std::clamp(in.orbit->pitch + 0.008 * (y - in.last_y), -1.5, 1.5);
-  in.last_x = x;
-  in.last_y = y;
+  controls_of(w).cursor(x, y);
 }
 
 void on_scroll(GLFWwindow* w, double, double dy) {
-  input_of(w).orbit->distance *= std::pow(0.9, dy);
+  controls_of(w).scroll(dy);
 }
 
 }  // namespace
@@ -131,10 +116,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     ~Destroy() { glfwDestroyWindow(w); }
   } destroy{window};
   Presenter presenter(window);
-  Orbit orbit(writer.camera());
-  Input input;
-  input.orbit = &orbit;
-  glfwSetWindowUserPointer(window, &input);
+  ViewerControls controls(writer.camera());
+  glfwSetWindowUserPointer(window, &controls);
   glfwSetKeyCallback(window, on_key);
   glfwSetMouseButtonCallback(window, on_button);
   glfwSetCursorPosCallback(window, on_cursor);
@@ -150,14 +133,11 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   int frames = 0;
   while (glfwWindowShouldClose(window) != GLFW_TRUE) {
     glfwPollEvents();
-    if (input.toggle_stereo) {
+    if (controls.take_stereo_toggle()) {
       mode = mode == RenderSettings::Mode::Stereo ? RenderSettings::Mode::Mono
                                                   : RenderSettings::Mode::Stereo;
-      input.toggle_stereo = false;
     }
-    int64_t advance = input.paused ? 0 : scene.render.every;
-    if (input.step_once) advance = 1;
-    input.step_once = false;
+    const int64_t advance = controls.steps_for_frame(scene.render.every);
     if (advance > 0) {
       solver->advance(advance * plan.substeps, plan.dt_used);
       step += advance;
@@ -173,21 +153,17 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
                               r.stereo.layout == StereoSettings::Layout::SideBySide;
     r.width = std::max(1, side_by_side ? fw / 2 : fw);
     r.height = fh;
-    Camera camera = writer.camera();
-    camera.position = orbit.position();
-    camera.target = orbit.target;
-    writer.set_setup(make_frame_setup(camera, r, mode));
+    writer.set_setup(make_frame_setup(controls.orbit().camera(writer.camera()), r, mode));
     inputs.set_displacement(solver->read_state(false).displacement);
     presenter.present(writer.render(inputs.inputs()));
     ++frames;
     const auto now = std::chrono::steady_clock::now();
     const double seconds = std::chrono::duration<double>(now - last_title).count();
     if (seconds > 0.5) {
-      char title[256];
-      std::snprintf(title, sizeof title, "phyxel view %s  step %lld%s  %.1f fps", file.c_str(),
-                    static_cast<long long>(step), input.paused ? " (paused)" : "",
-                    frames / seconds);
-      glfwSetWindowTitle(window, title);
+      glfwSetWindowTitle(
+          window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
+                               frames / seconds)
+                      .c_str());
       frames = 0;
       last_title = now;
     }
