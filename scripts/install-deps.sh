@@ -14,6 +14,7 @@ packages=(
   vulkan-validationlayers              # validation layers, on in every GPU test
   glslang-tools spirv-tools            # shaders compiled at build time
   libglfw3-dev                         # windowed viewer
+  xvfb xauth xdotool                   # viewer test: virtual X server, key presses (docs/decisions.md)
   libgtest-dev                         # tests
   calculix-ccx                         # FEM reference solutions for validation
   gnuplot-nox                          # run-time-vs-error plot of phyxel bench --accuracy
