@@ -107,6 +107,18 @@ TEST_F(RenderFrames, BadTextureAndOversizedFramesNameTheKey) {
               std::string::npos)
         << m;
   }
+  // Within the side limit (16384 on lavapipe and NVIDIA), but 32 bytes of accumulation per
+  // pixel make 4.6 GB, more than a device binds at once (maxStorageBufferRange <= 4 GiB).
+  scene.render.width = scene.render.height = 12000;
+  try {
+    FrameWriter writer(scene, set, {RenderSettings::Mode::Mono, dir}, &ctx());
+    ADD_FAILURE() << "a frame larger than the device binds was accepted";
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("block.json: render.width and render.height: a frame of"), std::string::npos)
+        << m;
+    EXPECT_NE(m.find("maxStorageBufferRange"), std::string::npos) << m;
+  }
 }
 
 TEST_F(RenderFrames, GpuSolverBuffersRenderLikeTheHostCopyOfTheirState) {
