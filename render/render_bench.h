@@ -1,7 +1,8 @@
 // Render timing for `phyxel bench` (not a test): a stereo (or mono) frame of a spherical
 // shell of about N surfels, eye size 1920 x 1080 by default, repeated; median host time per
 // frame (record, submit, wait, readback included), median GPU time of the frame and of each
-// pass. With `with_solver`, also the GPU solver on the same shell: its step rate alone, and
+// pass. With `with_solver`, also the GPU solver on the same shell (breathing, no gravity, so it
+// stays in view): its step rate alone, and
 // with a frame rendered from its buffers every 1/60 s of its own stepping (what a live view at
 // 60 frames/s costs the simulation).
 #pragma once

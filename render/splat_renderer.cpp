@@ -1,7 +1,6 @@
 #include "render/splat_renderer.h"
 
 #include <algorithm>
-#include <array>
 #include <cstring>
 #include <stdexcept>
 #include <string>
