@@ -103,8 +103,6 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
                              "which " +
                              solver.device() + " cannot do; use --device cpu");
   const int64_t check = check_interval(scene, options, sleeping);
-  std::vector<double> wave_speed(set.materials.size());
-  for (size_t m = 0; m < set.materials.size(); ++m) wave_speed[m] = p_wave_speed(set.materials[m]);
   int64_t below_since = -1;
   std::vector<int64_t> object_below_since(set.objects.size(), -1);
   std::vector<uint8_t> awake(set.objects.size(), 1);
@@ -157,22 +155,21 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         break;
       }
       const PointState state = solver.read_state(false);
+      if (const Runaway r = find_runaway(set, state.velocity); r.phyxel >= 0) {
+        result.unstable = true;
+        result.unstable_step = step;
+        result.unstable_phyxel = r.phyxel;
+        result.unstable_speed = r.speed;
+        result.unstable_wave_speed = r.wave_speed;
+        break;
+      }
       double kinetic = 0;
       std::vector<double> object_kinetic(set.objects.size(), 0.0);
       for (size_t i = 0; i < set.size(); ++i) {
         const double v2 = state.velocity[i].squaredNorm();
-        const double c = wave_speed[set.material[i]];
-        if (v2 > c * c && !result.unstable) {
-          result.unstable = true;
-          result.unstable_step = step;
-          result.unstable_phyxel = static_cast<long>(i);
-          result.unstable_speed = std::sqrt(v2);
-          result.unstable_wave_speed = c;
-        }
         object_kinetic[set.object[i]] += 0.5 * set.mass[i] * v2;
         kinetic += 0.5 * set.mass[i] * v2;
       }
-      if (result.unstable) break;
       if (rest.enabled) {
         if (kinetic >= rest.kinetic_energy_below) {
           below_since = -1;
@@ -273,6 +270,23 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   add("  not recorded: %scutting/collision passes (no tool), stress eigen pass (no tearing)",
       rendering ? "" : "render passes (render.mode none), ");
   return out.str();
+}
+
+Runaway find_runaway(const PhyxelSet& set, const std::vector<Vec3>& velocity) {
+  std::vector<double> wave_speed(set.materials.size());
+  for (size_t m = 0; m < set.materials.size(); ++m) wave_speed[m] = p_wave_speed(set.materials[m]);
+  Runaway r;
+  for (size_t i = 0; i < set.size() && i < velocity.size(); ++i) {
+    const double v2 = velocity[i].squaredNorm();
+    const double c = wave_speed[set.material[i]];
+    if (v2 > c * c) {
+      r.phyxel = static_cast<long>(i);
+      r.speed = std::sqrt(v2);
+      r.wave_speed = c;
+      break;
+    }
+  }
+  return r;
 }
 
 }  // namespace phyxel

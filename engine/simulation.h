@@ -57,6 +57,14 @@ struct RunResult {
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
                          const RunOptions& options);
 
+// A finite state running away: the first phyxel faster than its material's p-wave speed
+// (which no elastic tissue is: it would mean a strain above one per step), or phyxel -1.
+struct Runaway {
+  long phyxel = -1;
+  double speed = 0, wave_speed = 0;
+};
+Runaway find_runaway(const PhyxelSet& set, const std::vector<Vec3>& velocity);
+
 // The passes the run will record and why, one per line (phyxel run --explain).
 std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& solver,
                            const RunOptions& options);
