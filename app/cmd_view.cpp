@@ -14,15 +14,20 @@ namespace {
 constexpr const char* kViewHelp =
     "usage: phyxel view SCENE [options]\n"
     "\n"
-    "Simulates SCENE with the CPU reference solver and shows it live in a window, drawn by the\n"
+    "Simulates SCENE (CPU reference or GPU solver) and shows it live in a window, drawn by the\n"
     "splat renderer as the scene's render settings say (render.every steps per frame).\n"
     "Needs a display; without one use phyxel run SCENE --render mono|stereo --out DIR.\n"
     "\n"
     "  mouse drag: orbit   wheel: zoom   space: pause   n: one step   s: mono/stereo   q: quit\n"
     "\n"
     "options:\n"
+    "  --device D          solver: cpu (the double-precision reference, default), gpu (the best\n"
+    "                      Vulkan device), gpu:N or part of a device name (the GPU solver, "
+    "float32;\n"
+    "                      the renderer then reads its buffers on the same device)\n"
     "  --render MODE       mono or stereo (default: the scene's render.mode, mono when none)\n"
-    "  --render-device D   Vulkan device of the renderer (default gpu: the best one)\n"
+    "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu: the "
+    "best)\n"
     "  --threads N         CPU solver threads (default: all cores)\n"
     "  --validate          Vulkan validation layers on for the renderer\n"
     "  --help              this text";
@@ -37,6 +42,7 @@ int view_command(const Args& args) {
   }
   render::ViewerOptions options;
   const std::string mode = opts.value("--render", "");
+  options.device = opts.value("--device", "cpu");
   options.render_device = opts.value("--render-device", "gpu");
   options.threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
   options.validation = opts.flag("--validate");

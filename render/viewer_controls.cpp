@@ -83,11 +83,11 @@ bool ViewerControls::take_stereo_toggle() {
 }
 
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,
-                         double fps) {
+                         double fps, const std::string& note) {
   char title[512];
-  std::snprintf(title, sizeof title, "phyxel view %s  step %lld%s  %s  %.1f fps", file.c_str(),
+  std::snprintf(title, sizeof title, "phyxel view %s  step %lld%s  %s  %.1f fps%s%s", file.c_str(),
                 static_cast<long long>(step), paused ? " (paused)" : "", stereo ? "stereo" : "mono",
-                fps);
+                fps, note.empty() ? "" : "  ", note.c_str());
   return title;
 }
 

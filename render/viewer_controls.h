@@ -59,8 +59,9 @@ class ViewerControls {
   double last_x_ = 0, last_y_ = 0;
 };
 
-// The window title: scene, step, pause state, render mode and frame rate.
+// The window title: scene, step, pause state, render mode, frame rate and a note (empty, or
+// why the simulation was halted).
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,
-                         double fps);
+                         double fps, const std::string& note = {});
 
 }  // namespace phyxel::render

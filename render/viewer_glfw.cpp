@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "compute/gpu_solver.h"
 #include "engine/simulation.h"
 #include "render/frame_output.h"
 #include "render/present_glfw.h"
@@ -64,6 +65,27 @@ void on_scroll(GLFWwindow* w, double, double dy) {
   controls_of(w).scroll(dy);
 }
 
+// Empty while the state is finite and no phyxel outruns its material's wave speed; else what
+// happened (also printed once to standard error, with what to try).
+std::string stability_problem(const PhyxelSet& set, Solver& solver, int64_t step) {
+  char text[256];
+  if (const long bad = solver.first_non_finite(); bad >= 0) {
+    std::snprintf(text, sizeof text, "halted: non-finite at step %lld, phyxel %ld",
+                  static_cast<long long>(step), bad);
+  } else if (const Runaway r = find_runaway(set, solver.read_state(false).velocity);
+             r.phyxel >= 0) {
+    std::snprintf(text, sizeof text, "halted: runaway at step %lld, phyxel %ld (%.3g m/s)",
+                  static_cast<long long>(step), r.phyxel, r.speed);
+  } else {
+    return {};
+  }
+  std::fprintf(stderr,
+               "phyxel view: %s; the simulation is unstable: try a smaller simulation.courant "
+               "or dt, or smaller loads\n",
+               text);
+  return text;
+}
+
 }  // namespace
 
 bool viewer_available() {
@@ -92,14 +114,24 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   RenderSettings::Mode mode = scene.render.mode;
 
   const PhyxelSet set = sample_scene(scene);
-  auto solver = make_cpu_solver(set, scene.simulation.gravity, options.threads);
   const TimeStepPlan plan = plan_time_step(scene, set);
+  const bool on_gpu = options.device != "cpu";
   gpu::ContextOptions context;
-  context.device = options.render_device;
+  context.device = on_gpu ? options.device : options.render_device;
   context.validation = options.validation;
   gpu::Context ctx(context);
-  FrameWriter writer(scene, set, {mode, {}, options.render_device}, &ctx);
-  HostInputs inputs(ctx, set, solver->neighbours());
+  // The GPU solver shares the renderer's context: frames read its buffers where they are.
+  std::unique_ptr<gpu::GpuSolver> gpu_solver;
+  std::unique_ptr<Solver> cpu_solver;
+  std::unique_ptr<HostInputs> host;
+  if (on_gpu) {
+    gpu_solver = std::make_unique<gpu::GpuSolver>(ctx, set, scene.simulation.gravity);
+  } else {
+    cpu_solver = make_cpu_solver(set, scene.simulation.gravity, options.threads);
+    host = std::make_unique<HostInputs>(ctx, set, cpu_solver->neighbours());
+  }
+  Solver& solver = on_gpu ? static_cast<Solver&>(*gpu_solver) : *cpu_solver;
+  FrameWriter writer(scene, set, {mode, {}, context.device}, &ctx);
 
   const int eyes = mode == RenderSettings::Mode::Stereo &&
                            scene.render.stereo.layout == StereoSettings::Layout::SideBySide
@@ -123,14 +155,16 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   glfwSetCursorPosCallback(window, on_cursor);
   glfwSetScrollCallback(window, on_scroll);
   std::printf(
-      "phyxel view: %s, %zu phyxels, rendering on %s, showing on %s\n"
+      "phyxel view: %s, %zu phyxels, simulating on %s, rendering on %s, showing on %s\n"
       "  drag: orbit, wheel: zoom, space: pause, n: one step, s: mono/stereo, q: quit\n",
-      file.c_str(), set.size(), ctx.info().name.c_str(), presenter.device_name().c_str());
+      file.c_str(), set.size(), solver.device().c_str(), ctx.info().name.c_str(),
+      presenter.device_name().c_str());
   std::fflush(stdout);
 
   int64_t step = 0;
   auto last_title = std::chrono::steady_clock::now();
   int frames = 0;
+  std::string halted;  // why the simulation stopped (non-finite or runaway), empty while fine
   while (glfwWindowShouldClose(window) != GLFW_TRUE) {
     glfwPollEvents();
     if (controls.take_stereo_toggle()) {
@@ -138,8 +172,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
                                                   : RenderSettings::Mode::Stereo;
     }
     const int64_t advance = controls.steps_for_frame(scene.render.every);
-    if (advance > 0) {
-      solver->advance(advance * plan.substeps, plan.dt_used);
+    if (advance > 0 && halted.empty()) {
+      solver.advance(advance * plan.substeps, plan.dt_used);
       step += advance;
     }
     int fw = 0, fh = 0;
@@ -154,15 +188,20 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     r.width = std::max(1, side_by_side ? fw / 2 : fw);
     r.height = fh;
     writer.set_setup(make_frame_setup(controls.orbit().camera(writer.camera()), r, mode));
-    inputs.set_displacement(solver->read_state(false).displacement);
-    presenter.present(writer.render(inputs.inputs()));
+    if (on_gpu) {
+      presenter.present(writer.render(gpu_solver->buffers()));
+    } else {
+      host->set_displacement(cpu_solver->read_state(false).displacement);
+      presenter.present(writer.render(host->inputs()));
+    }
     ++frames;
     const auto now = std::chrono::steady_clock::now();
     const double seconds = std::chrono::duration<double>(now - last_title).count();
     if (seconds > 0.5) {
+      if (halted.empty()) halted = stability_problem(set, solver, step);
       glfwSetWindowTitle(
           window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
-                               frames / seconds)
+                               frames / seconds, halted)
                       .c_str());
       frames = 0;
       last_title = now;

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # `phyxel view` in a real window: a virtual X server (Xvfb), lavapipe rendering (validation
 # on) and presenting, key presses sent through the X server with xdotool, and the viewer's
-# state read back from its window title (step, "(paused)", mono/stereo). Checks that the
-# simulation runs, space pauses it (the step stops), n advances exactly one step, s switches
-# to stereo, a drag is taken, q quits with status 0, and validation reported nothing.
+# state read back from its window title (step, "(paused)", mono/stereo, "halted: ..."). Checks
+# that the simulation runs, space pauses it (the step stops), n advances exactly one step, s
+# switches to stereo, a drag is taken, q quits with status 0 and validation said nothing; the
+# same with the GPU solver; and that a runaway simulation is halted with a message.
 # Registered with ctest by tests/CMakeLists.txt when the viewer is built.
 #
 #   window_e2e.sh PHYXEL SOURCE_DIR OUT_DIR
@@ -28,19 +29,24 @@ if [ "${PHYXEL_E2E_INNER:-}" != 1 ]; then
   exec xvfb-run -a -s "-screen 0 1280x720x24" bash "$0" "$@"
 fi
 
-"$phyxel" view "$src/scenes/beam.json" --validate --threads 1 >"$out/view.log" 2>&1 &
-pid=$!
-trap 'kill $pid 2>/dev/null' EXIT
-
-alive() { kill -0 "$pid" 2>/dev/null || fail "the viewer exited early"; }
-win=""
-for _ in $(seq 600); do
-  win="$(xdotool search --name '^phyxel view' 2>/dev/null | head -1)"
-  [ -n "$win" ] && break
-  alive
-  sleep 0.1
-done
-[ -n "$win" ] || fail "no viewer window appeared in 60 s"
+# start_viewer LOG ARGS...: runs phyxel view ARGS in the background, finds its window.
+pid="" win=""
+start_viewer() {
+  log="$out/$1"
+  shift
+  "$phyxel" view "$@" >"$log" 2>&1 &
+  pid=$!
+  win=""
+  for _ in $(seq 600); do
+    win="$(xdotool search --pid "$pid" --name '^phyxel view' 2>/dev/null | head -1)"
+    [ -n "$win" ] && return 0
+    alive
+    sleep 0.1
+  done
+  fail "no viewer window appeared in 60 s"
+}
+trap '[ -n "$pid" ] && kill $pid 2>/dev/null' EXIT
+alive() { kill -0 "$pid" 2>/dev/null || fail "the viewer exited early ($log)"; }
 title() { xdotool getwindowname "$win" 2>/dev/null; }
 # wait_for REGEX SECONDS: until the title matches.
 wait_for() {
@@ -54,7 +60,24 @@ wait_for() {
   fail "the title never matched '$1' in $2 s (last: '$t')"
 }
 step_now() { title | sed -nE 's/.* step ([0-9]+).*/\1/p'; }
+# quit_viewer: q closes the window; the viewer exits 0 and validation said nothing.
+quit_viewer() {
+  xdotool key --window "$win" q
+  for _ in $(seq 300); do
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  kill -0 "$pid" 2>/dev/null && fail "q did not close the viewer in 30 s"
+  wait "$pid"
+  local status=$?
+  pid=""
+  [ "$status" = 0 ] || fail "the viewer exited with status $status ($log)"
+  grep -q "vulkan validation" "$log" && fail "validation reported problems ($log)"
+  return 0
+}
 
+# 1. The CPU reference solver: pause, one step, stereo, a drag, quit.
+start_viewer view_cpu.log "$src/scenes/beam.json" --validate --threads 1
 wait_for ' step [1-9][0-9]*  mono ' 120
 xdotool key --window "$win" space
 wait_for ' \(paused\)  mono ' 30
@@ -70,16 +93,37 @@ wait_for ' stereo ' 30
 xdotool mousemove --window "$win" 200 200 mousedown 1 mousemove --window "$win" 320 240 mouseup 1
 xdotool key --window "$win" space
 wait_for " step [0-9]+  stereo " 30
-xdotool key --window "$win" q
-for _ in $(seq 300); do
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.1
-done
-kill -0 "$pid" 2>/dev/null && fail "q did not close the viewer in 30 s"
-wait "$pid"
-status=$?
+quit_viewer
+grep -q "simulating on cpu" "$log" || fail "the viewer did not say where it simulates ($log)"
+
+# 2. The GPU solver (lavapipe here), rendered from its own buffers, in stereo.
+start_viewer view_gpu.log "$src/scenes/beam.json" --device gpu --render stereo --validate
+wait_for ' step [1-9][0-9]*  stereo ' 120
+quit_viewer
+grep -q "simulating on gpu:0 llvmpipe" "$log" || fail "the GPU solver was not used ($log)"
+
+# 3. A runaway load: the viewer halts the simulation and says where, instead of drawing NaN.
+cat >"$out/runaway.json" <<'JSON'
+{
+  "simulation": {"dt": 5e-5, "steps": 4000, "gravity": [0, 0, 0]},
+  "objects": [{
+    "name": "beam",
+    "shape": {"type": "box", "min": [0, -0.01, -0.01], "max": [0.1, 0.01, 0.01]},
+    "spacing": 0.0025,
+    "material": {"young": 1e6, "poisson": 0.3, "density": 1000},
+    "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [0.0005, 1, 1]}],
+    "loads": [{"region": {"type": "box", "min": [0.09, -1, -1], "max": [1, 1, 1]},
+               "force": [0, 0, -1e6]}]
+  }]
+}
+JSON
+start_viewer view_runaway.log "$out/runaway.json" --threads 1
+wait_for ' halted: (runaway|non-finite) at step [0-9]+, phyxel [0-9]+' 120
+halted_at="$(step_now)"
+sleep 1.5
+[ "$(step_now)" = "$halted_at" ] || fail "the simulation went on after it was halted"
+quit_viewer
+grep -q "the simulation is unstable" "$log" || fail "no message on standard error ($log)"
+
 trap - EXIT
-[ "$status" = 0 ] || fail "the viewer exited with status $status"
-grep -q "vulkan validation" "$out/view.log" && fail "validation reported problems"
-grep -q "rendering on llvmpipe" "$out/view.log" || fail "the viewer did not say where it renders"
-echo "window_e2e: ok (paused at step $paused_at, stepped once, stereo, orbit drag, quit)"
+echo "window_e2e: ok (CPU: paused at step $paused_at, one step, stereo, drag; GPU solver; runaway halted at step $halted_at)"
