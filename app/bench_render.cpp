@@ -57,10 +57,11 @@ int bench_render_command(const Args& args) {
     if (with_solver) {
       std::printf(
           "%10s solver on the same %u phyxels: %.4g steps/s alone, %.4g steps/s (%.1f %%) "
-          "with a frame every %lld steps (%.1f frames/s)\n",
+          "with a frame every %lld steps (%.1f frames/s, GPU %.3f ms per frame)\n",
           "", r.phyxels, r.solver_steps_per_s, r.solver_steps_per_s_rendering,
           100 * r.solver_steps_per_s_rendering / std::max(r.solver_steps_per_s, 1e-30),
-          static_cast<long long>(r.steps_per_frame), r.frames_per_s_rendering);
+          static_cast<long long>(r.steps_per_frame), r.frames_per_s_rendering,
+          r.solver_frame_gpu_s * 1e3);
     }
     std::fflush(stdout);
     rows.push_back({{"device", r.device},
@@ -76,6 +77,7 @@ int bench_render_command(const Args& args) {
                     {"solver_steps_per_s_rendering", r.solver_steps_per_s_rendering},
                     {"steps_per_frame", r.steps_per_frame},
                     {"frames_per_s_rendering", r.frames_per_s_rendering},
+                    {"solver_frame_gpu_ms", r.solver_frame_gpu_s * 1e3},
                     {"splats_per_s", r.splats_per_s},
                     {"gpu_pass_ms", pass_json},
                     {"frames", r.frames}});

@@ -1,10 +1,11 @@
 // Render timing for `phyxel bench` (not a test): a stereo (or mono) frame of a spherical
-// shell of about N surfels, eye size 1920 x 1080 by default, repeated; median host time per
-// frame (record, submit, wait, readback included), median GPU time of the frame and of each
-// pass. With `with_solver`, also the GPU solver on the same shell (breathing, no gravity, so it
-// stays in view): its step rate alone, and
-// with a frame rendered from its buffers every 1/60 s of its own stepping (what a live view at
-// 60 frames/s costs the simulation).
+// shell of about N surfels, eye size 1920 x 1080 by default, repeated after 0.5 s of warm-up
+// frames (the GPU's clocks rise under load); median GPU time of the frame and of each pass
+// (frames recorded 8 to a submission, so the GPU does not idle between them), and median host
+// time per frame (one at a time: record, submit, wait, readback into an image). With `with_solver`,
+// also the GPU solver on the same shell (breathing, no gravity, so it stays in view): its step rate
+// alone, and with a frame rendered from its buffers every 1/60 s of its own stepping (what a live
+// view at 60 frames/s costs the simulation).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +37,7 @@ struct RenderBenchResult {
   std::vector<gpu::PassTime> median_passes;  // "render clear", "render deform", ... (GPU ns)
   // with_solver: steps/s alone and while rendering (steps_per_frame steps between frames).
   double solver_steps_per_s = 0, solver_steps_per_s_rendering = 0, frames_per_s_rendering = 0;
+  double solver_frame_gpu_s = 0;  // median GPU time of those frames, readback excluded
   int64_t steps_per_frame = 0;
 };
 

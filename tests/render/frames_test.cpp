@@ -172,6 +172,7 @@ TEST_F(RenderFrames, BenchEntryPointMeasuresAStereoFrame) {
       EXPECT_GE(r.median_passes[i].ns, 0.0);
     }
     EXPECT_GT(r.median_gpu_s, 0.0);
+    EXPECT_GT(r.solver_frame_gpu_s, 0.0);
   }
 }
 
