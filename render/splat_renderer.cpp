@@ -146,6 +146,11 @@ uint64_t eye_stride_of(const FrameSetup& setup) {
   return (uint64_t(setup.eye_width) * setup.height + 63) / 64 * 64;
 }
 
+// Bytes of the accumulation buffer of all eyes (kAccumChannels ints per pixel).
+uint64_t accum_bytes_of(const FrameSetup& setup) {
+  return setup.eye_count() * eye_stride_of(setup) * layout::kAccumChannels * sizeof(int32_t);
+}
+
 }  // namespace
 
 void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
@@ -154,7 +159,7 @@ void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
     return;
   }
   const uint64_t stride = eye_stride_of(setup);
-  const uint64_t accum_bytes = n * stride * layout::kAccumChannels * sizeof(int32_t);
+  const uint64_t accum_bytes = accum_bytes_of(setup);
   eye_stride = static_cast<uint32_t>(stride);
   depth =
       gpu::Buffer(ctx, n * stride * sizeof(uint32_t), gpu::MemoryIntent::Device, "render depth");
@@ -176,9 +181,6 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   VkPhysicalDeviceProperties props{};
   ctx.instance().fn().vkGetPhysicalDeviceProperties(ctx.physical_device(), &props);
   m.limits = props.limits;
-  if (texture.width == 0 || texture.height == 0) {
-    throw std::invalid_argument("SplatRenderer: the texture is empty (0 x 0 pixels)");
-  }
   m.texture = Texture(m.images, texture, m.limits.maxImageDimension2D);
   m.create_texture_set();
   m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 6, sizeof(layout::DeformPush));
@@ -212,7 +214,7 @@ std::string SplatRenderer::frame_error(const FrameSetup& setup) const {
     return "a frame of " + size + " is larger than " + m.ctx.info().name + " renders (at most " +
            std::to_string(max_side) + " pixels per side)";
   }
-  const uint64_t accum = setup.eye_count() * eye_stride_of(setup) * layout::kAccumChannels * 4;
+  const uint64_t accum = accum_bytes_of(setup);
   const uint64_t range = m.ctx.info().max_storage_buffer_range;
   if (accum > range) {
     return "a frame of " + size + " needs " + std::to_string(accum >> 20) +

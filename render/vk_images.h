@@ -95,7 +95,6 @@ class Texture {
 
   VkImageView view() const { return image_.view(); }
   VkSampler sampler() const { return sampler_; }
-  const GpuImage& image() const { return image_; }
 
  private:
   void reset();

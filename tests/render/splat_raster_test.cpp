@@ -188,7 +188,7 @@ TEST_F(SplatRaster, AFarCheckerboardIsSampledAtItsCoarseLevelNotAliased) {
   EXPECT_LT(mean, 200);
 }
 
-TEST_F(SplatRaster, AFrameLargerThanTheDeviceBindsIsRefusedWithItsSize) {
+TEST_F(SplatRaster, FramesLargerThanTheDeviceBindsAndEmptyTexturesAreRefused) {
   const PhyxelSet set = lattice_box(Vec3::Zero(), Vec3(0.01, 0.01, 0.01), 0.005);
   const NeighbourLists neighbours = find_rest_neighbours(set);
   HostInputs inputs(ctx(), set, neighbours);
@@ -215,6 +215,13 @@ TEST_F(SplatRaster, AFrameLargerThanTheDeviceBindsIsRefusedWithItsSize) {
   empty.height = 0;
   EXPECT_FALSE(renderer.frame_error(empty).empty());
   EXPECT_TRUE(renderer.frame_error(test::setup_for(cam, 64, 48)).empty());
+  // An empty texture is refused with a message, not uploaded.
+  try {
+    SplatRenderer none(ctx(), build_surfel_table(set), RgbaImage());
+    ADD_FAILURE() << "an empty texture was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("texture is empty"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
