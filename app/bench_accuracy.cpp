@@ -10,7 +10,7 @@
 
 #include "app/bench_accuracy.h"
 #include "app/options.h"
-#include "engine/validation.h"
+#include "engine/run/validation.h"
 
 namespace phyxel::app {
 namespace {

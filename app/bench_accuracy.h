@@ -5,7 +5,7 @@
 #include <string>
 
 #include "app/commands.h"
-#include "engine/validation.h"
+#include "engine/run/validation.h"
 
 namespace phyxel::app {
 

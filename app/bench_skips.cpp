@@ -11,7 +11,7 @@
 #include "app/bench_extras.h"
 #include "app/options.h"
 #include "compute/gpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 
 namespace phyxel::app {
 namespace {

@@ -13,8 +13,8 @@
 #include "app/bench_extras.h"
 #include "app/options.h"
 #include "compute/gpu_solver.h"
-#include "engine/shape.h"
-#include "engine/simulation.h"
+#include "engine/geometry/shape.h"
+#include "engine/run/simulation.h"
 
 namespace phyxel::app {
 namespace {

@@ -14,7 +14,7 @@
 #include "app/options.h"
 #include "compute/gpu_solver_bench.h"
 #include "compute/timing.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 
 namespace phyxel::app {
 namespace {

@@ -14,7 +14,7 @@
 #include "app/options.h"
 #include "app/run_report.h"
 #include "compute/gpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 #include "render/frame_output.h"
 
 namespace phyxel::app {

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 
 namespace phyxel::app {
 

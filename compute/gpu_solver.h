@@ -1,5 +1,5 @@
-// The GPU solver: the CPU reference's MLS physics (engine/cpu_solver.h, docs/decisions.md) as
-// Vulkan compute passes in float32, behind the engine's Solver interface.
+// The GPU solver: the CPU reference's MLS physics (engine/solver/cpu_solver.h, docs/decisions.md)
+// as Vulkan compute passes in float32, behind the engine's Solver interface.
 //
 //   construction  neighbour search on the GPU (hash grid, counting sort, CSR rows sorted by
 //                 index), per-pair poly6 weights, moment matrices and their regularised
@@ -27,7 +27,7 @@
 #include "compute/context.h"
 #include "compute/shaders/layout.h"
 #include "compute/timing.h"
-#include "engine/solver.h"
+#include "engine/solver/solver.h"
 
 namespace phyxel::gpu {
 
@@ -92,8 +92,8 @@ class GpuSolver final : public Solver {
   const NeighbourLists& neighbours() const override { return neighbours_; }
 
   // Pass selection (on by default), sleeping and load changes, with exactly CpuSolver's
-  // semantics (engine/cpu_solver.h): the force pass and the kicks visit the phyxels that move
-  // (not fixed, not removed, object awake), the stress pass those and their neighbours. Off:
+  // semantics (engine/solver/cpu_solver.h): the force pass and the kicks visit the phyxels that
+  // move (not fixed, not removed, object awake), the stress pass those and their neighbours. Off:
   // every phyxel of an awake object that is not removed (fixed ones get their reactions and
   // never move). Each call rebuilds the pass lists on the host from the flags and the CSR,
   // uploads them and recomputes the forces.

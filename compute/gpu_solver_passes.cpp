@@ -1,5 +1,5 @@
 // GpuSolver: pass selection, sleeping and load changes, with CpuSolver's semantics
-// (engine/cpu_solver.cpp, build_pass_lists, set_object_awake, set_external_forces).
+// (engine/solver/cpu_solver.cpp, build_pass_lists, set_object_awake, set_external_forces).
 //
 // The lists are built on the host (from the engine flags, the awake objects and the CSR, all
 // kept on the host) whenever they change, which is rare (a sleep, a wake, --no-skip, a cut),

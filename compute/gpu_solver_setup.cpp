@@ -40,8 +40,8 @@ layout::SolverClass make_class(const Material& mat, const ObjectRange& obj, uint
   c.elastic = {float(lame_lambda(mat) - kv), float(lame_mu(mat)), float(kv), float(mat.damping)};
   c.kernel = {float(h * h), float(315.0 / (64.0 * std::numbers::pi * h * h * h)),
               float(mat.hourglass), float(h * (1 + kCellMargin))};
-  // The CPU's bound h^2 (1 - 1e-9) (engine/neighbours.cpp) as hi + lo for the double test, and
-  // the float test's bound (shaders/solver_nbr.glsl).
+  // The CPU's bound h^2 (1 - 1e-9) (engine/solver/neighbours.cpp) as hi + lo for the double test,
+  // and the float test's bound (shaders/solver_nbr.glsl).
   const double bound = h * h * (1 - 1e-9);
   const double hi = float_part(bound);
   c.search = {float(hi), float(bound - hi), float(h * h * (1 - 1e-5)), 0.0f};

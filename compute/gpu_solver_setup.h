@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "compute/shaders/layout.h"
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
 
 namespace phyxel::gpu {
 

@@ -15,7 +15,7 @@
 #include <array>
 #include <cstdint>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::render {
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "compute/context.h"
-#include "engine/solver.h"
+#include "engine/solver/solver.h"
 #include "render/splat_renderer.h"
 
 namespace phyxel::render {

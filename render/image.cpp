@@ -11,7 +11,7 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::render {
 namespace {

@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "compute/gpu_solver.h"
-#include "engine/neighbours.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
+#include "engine/solver/neighbours.h"
 #include "render/frame_output.h"
 #include "render/sample_shapes.h"
 

@@ -8,7 +8,7 @@
 namespace phyxel::render {
 namespace {
 
-constexpr double kSplatRadius = 0.8;  // in spacings, as engine/sampling.cpp
+constexpr double kSplatRadius = 0.8;  // in spacings, as engine/sampling/sampling.cpp
 
 constexpr std::array<std::array<int, 3>, 6> kFaces = {
     {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};

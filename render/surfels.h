@@ -22,8 +22,8 @@
 
 #include "compute/buffer.h"
 #include "compute/recorder.h"
-#include "engine/neighbours.h"
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/solver/neighbours.h"
 #include "render/shaders/render_layout.h"
 
 namespace phyxel::render {

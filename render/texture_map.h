@@ -35,7 +35,7 @@
 #include <numbers>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::render {
 

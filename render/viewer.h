@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::render {
 

@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "compute/gpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 #include "render/frame_output.h"
 #include "render/present_glfw.h"
 #include "render/viewer.h"

@@ -61,8 +61,8 @@ PHYXEL_ASSERT_SIZE(AxpyPush, 8);
 // Per-phyxel buffers are arrays of vec4 (or uint/float), indexed by phyxel; per-pair buffers
 // are aligned with the CSR neighbour index (see compute/README.md, "GPU solver buffers").
 
-// The engine's PhyxelFlags (engine/phyxel_set.h) in the low byte of the per-phyxel flags word,
-// the GPU's own status bits above them, and the phyxel's parameter class in the high 16 bits.
+// The engine's PhyxelFlags (engine/sampling/phyxel_set.h) in the low byte of the per-phyxel flags
+// word, the GPU's own status bits above them, and the phyxel's parameter class in the high 16 bits.
 PHYXEL_CONST uint kFlagFixed = 1u;
 PHYXEL_CONST uint kFlagSurface = 2u;
 PHYXEL_CONST uint kFlagRemoved = 4u;
@@ -70,7 +70,7 @@ PHYXEL_CONST uint kFlagRegularised = 256u;  // set by solver_precompute: A_i was
 // Some of the phyxel's pairs were deactivated (weight 0 in the pair-weight buffer): the passes
 // read its stored weights instead of recomputing them from x0 (see kWeightsAuto).
 PHYXEL_CONST uint kFlagPairsEdited = 512u;
-PHYXEL_CONST uint kFlagClassShift = 16u;    // flags >> 16 = index into the SolverClass array
+PHYXEL_CONST uint kFlagClassShift = 16u;  // flags >> 16 = index into the SolverClass array
 PHYXEL_CONST uint kMaxSolverClasses = 65536u;
 
 // One (object, material) combination: what the passes need besides per-phyxel data.

@@ -1,7 +1,7 @@
 // The body of nbr_pairs.comp and nbr_pairs_f64.comp (which set PHYXEL_NBR_FLOAT64).
 // Neighbour search, steps 4 and 6: every phyxel visits the 27 cells around its own and keeps
 // the phyxels of those cells (same object, not itself) inside the support, by the CPU's rule
-// (engine/neighbours.cpp; see within_support in solver_nbr.glsl). kNbrCount writes how many;
+// (engine/solver/neighbours.cpp; see within_support in solver_nbr.glsl). kNbrCount writes how many;
 // kNbrFill (after the counts were scanned into offset) writes them from offset[i], sorts the
 // row by index and stores each pair's poly6 weight, aligned with the index.
 #ifndef PHYXEL_NBR_PAIRS_GLSL

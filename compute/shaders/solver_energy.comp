@@ -1,7 +1,7 @@
 // Per phyxel i: (strain, kinetic, potential, 0) with
 //   strain    = v_i W(F_i) + kappa_i / 2 sum_j w_ij |G_i x_ij - (u_j - u_i)|^2,
 //   kinetic   = m_i |v_i|^2 / 2,   potential = -ext_i . u_i
-// (engine/cpu_solver.cpp, internal_energy() and energies()). solver_reduce sums them.
+// (engine/solver/cpu_solver.cpp, internal_energy() and energies()). solver_reduce sums them.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"

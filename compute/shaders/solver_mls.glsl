@@ -1,5 +1,5 @@
 // Pointwise pieces of the MLS model shared by the solver shaders; the GLSL twin of
-// engine/mls_model.h and engine/kernel.h (see docs/decisions.md for the derivation).
+// engine/solver/mls_model.h and engine/solver/kernel.h (see docs/decisions.md for the derivation).
 // Include after layout.h.
 #ifndef PHYXEL_SOLVER_MLS_GLSL
 #define PHYXEL_SOLVER_MLS_GLSL

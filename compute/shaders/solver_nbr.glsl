@@ -19,7 +19,7 @@ ivec3 cell_of_point(vec3 local_position, float cell_size) {
   return ivec3(floor(local_position / cell_size));
 }
 
-// The support test |x0_j - x0_i|^2 < h^2 (1 - 1e-9) of the CPU (engine/neighbours.cpp).
+// The support test |x0_j - x0_i|^2 < h^2 (1 - 1e-9) of the CPU (engine/solver/neighbours.cpp).
 // Positions are x0 minus the object's centre, split on the host into hi = float(x) and
 // lo = float(x - hi), so hi + lo holds x to about 48 bits.
 #if PHYXEL_NBR_FLOAT64

@@ -3,7 +3,7 @@
 // condition number exceeds kMaxCondition (small eigenvalues raised to lambda_max / 100), the
 // residual R_i = A^-1 A A^-1 - A^-1 of a regularised inverse, and the hourglass stiffness
 // kappa_i = gamma mu v_i / (tr A_i / 3). The GLSL twin of regularised_inverse() in
-// engine/mls_model.h. Idempotent, so cutting can rerun it for the phyxels it touched.
+// engine/solver/mls_model.h. Idempotent, so cutting can rerun it for the phyxels it touched.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -24,7 +24,7 @@ layout(std430, binding = kPrecomputeBindingAinv) writeonly buffer Ainv { vec4 ai
 layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
 
-const float kMaxCondition = 100.0;  // engine/mls_model.h kMaxMomentCondition
+const float kMaxCondition = 100.0;  // engine/solver/mls_model.h kMaxMomentCondition
 
 // One Jacobi rotation in the (a, b) plane that zeroes m[a][b]; q accumulates the eigenvectors.
 void rotate(inout mat3 m, inout mat3 q, int a, int b) {

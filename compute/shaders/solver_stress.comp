@@ -1,7 +1,7 @@
 // Step pass 1, per phyxel i of the stress pass list (a gather over its neighbours):
 //   M = sum_j w_ij (u_j - u_i) x_ij^T, G = M A^-1, F = I + G,
 //   D_i = v_i P(F) A^-1 - kappa_i G (+ kappa_i M R_i where A_i was regularised),
-// stored as three vec4 columns. See engine/cpu_solver.cpp, compute_forces(), first loop.
+// stored as three vec4 columns. See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"

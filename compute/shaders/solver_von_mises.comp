@@ -1,5 +1,5 @@
 // Von Mises equivalent of the Cauchy stress sigma = P F^T / J per phyxel (P itself where
-// |J| <= 1e-12), as engine/mls_model.h von_mises(). Same bindings as solver_energy; vel and
+// |J| <= 1e-12), as engine/solver/mls_model.h von_mises(). Same bindings as solver_energy; vel and
 // ext are not read; out is one float per phyxel.
 #version 450
 #extension GL_GOOGLE_include_directive : require

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "compute/gpu_solver.h"
-#include "engine/cpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
+#include "engine/solver/cpu_solver.h"
 #include "tests/physics/physics_fixtures.h"
 #include "tests/vulkan/vulkan_test.h"
 

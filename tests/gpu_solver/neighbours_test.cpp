@@ -1,8 +1,8 @@
-// The GPU neighbour search against the CPU's (engine/neighbours.cpp): the same rows, sorted,
+// The GPU neighbour search against the CPU's (engine/solver/neighbours.cpp): the same rows, sorted,
 // on awkward sizes (not multiples of the workgroup size), two objects, removed phyxels and
 // wider supports; the stored pair weights are the poly6 weights.
-#include "engine/neighbours.h"
-#include "engine/kernel.h"
+#include "engine/solver/neighbours.h"
+#include "engine/solver/kernel.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
 
 namespace phyxel::gpu::test {

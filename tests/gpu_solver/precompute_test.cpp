@@ -1,15 +1,15 @@
 // The precompute pass against the CPU reference's moment matrices: A_i^-1 (regularised where
 // the condition number exceeds 100) and which phyxels were regularised, on a full box, a
 // one-layer plate, a line and a lone phyxel.
-#include "engine/kernel.h"
-#include "engine/mls_model.h"
-#include "engine/neighbours.h"
+#include "engine/solver/kernel.h"
+#include "engine/solver/mls_model.h"
+#include "engine/solver/neighbours.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
 
 namespace phyxel::gpu::test {
 namespace {
 
-// The CPU's A_i^-1 (engine/cpu_solver.cpp, constructor) for every phyxel.
+// The CPU's A_i^-1 (engine/solver/cpu_solver.cpp, constructor) for every phyxel.
 std::vector<MomentInverse> cpu_inverses(const PhyxelSet& set) {
   const NeighbourLists nbr = find_rest_neighbours(set);
   std::vector<MomentInverse> out(set.size());

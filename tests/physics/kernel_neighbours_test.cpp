@@ -3,8 +3,8 @@
 
 #include <numbers>
 
-#include "engine/kernel.h"
-#include "engine/neighbours.h"
+#include "engine/solver/kernel.h"
+#include "engine/solver/neighbours.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {

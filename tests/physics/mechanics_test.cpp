@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "engine/cpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
+#include "engine/solver/cpu_solver.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {

@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "engine/cpu_solver.h"
+#include "engine/solver/cpu_solver.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {

@@ -6,8 +6,8 @@
 #include <random>
 #include <string>
 
-#include "engine/phyxel_set.h"
-#include "engine/scene.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::test {
 

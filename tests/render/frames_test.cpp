@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "compute/gpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 #include "render/frame_output.h"
 #include "render/render_bench.h"
 #include "render/sample_shapes.h"

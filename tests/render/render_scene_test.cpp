@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "tests/render/render_test_util.h"
 
 namespace phyxel {

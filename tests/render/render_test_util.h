@@ -14,7 +14,7 @@
 #include <memory>
 #include <string>
 
-#include "engine/neighbours.h"
+#include "engine/solver/neighbours.h"
 #include "render/image.h"
 #include "render/splat_renderer.h"
 #include "tests/vulkan/vulkan_test.h"

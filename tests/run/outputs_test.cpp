@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "engine/vtp_writer.h"
+#include "engine/run/vtp_writer.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "sampling_helpers.h"
 
 namespace phyxel::test {

@@ -6,11 +6,11 @@
 #include <memory>
 #include <random>
 
-#include "engine/mesh.h"
-#include "engine/mesh_query.h"
-#include "engine/phyxel_set.h"
-#include "engine/sampling_region.h"
-#include "engine/shape.h"
+#include "engine/geometry/mesh.h"
+#include "engine/geometry/mesh_query.h"
+#include "engine/geometry/shape.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/sampling/sampling_region.h"
 #include "mesh_helpers.h"
 
 namespace phyxel::test {

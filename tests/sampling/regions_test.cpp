@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
 #include "sampling_helpers.h"
 
 namespace phyxel::test {

@@ -6,7 +6,7 @@
 #include <set>
 #include <tuple>
 
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
 #include "sampling_helpers.h"
 
 namespace phyxel::test {

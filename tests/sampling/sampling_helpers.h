@@ -7,8 +7,8 @@
 #include <fstream>
 #include <string>
 
-#include "engine/phyxel_set.h"
-#include "engine/scene.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::test {
 

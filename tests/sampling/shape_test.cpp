@@ -1,7 +1,7 @@
 // Inside tests and bounds of the analytic shapes, with their boundary tolerance.
 #include <gtest/gtest.h>
 
-#include "engine/shape.h"
+#include "engine/geometry/shape.h"
 #include "sampling_helpers.h"
 
 namespace phyxel::test {

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::scene_test {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "engine/mesh.h"
-#include "engine/scene.h"
+#include "engine/geometry/mesh.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel {
 namespace {

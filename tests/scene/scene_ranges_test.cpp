@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 #include "tests/scene/scene_error_helpers.h"
 
 namespace phyxel {

@@ -2,8 +2,8 @@
 // skipped until a load reaches them, and --no-skip gives the same result within round-off.
 #include <gtest/gtest.h>
 
-#include "engine/cpu_solver.h"
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
+#include "engine/solver/cpu_solver.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "engine/validation.h"
+#include "engine/run/validation.h"
 
 namespace phyxel {
 namespace {

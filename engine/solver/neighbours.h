@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
 
 namespace phyxel {
 

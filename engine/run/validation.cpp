@@ -1,4 +1,4 @@
-#include "engine/validation.h"
+#include "engine/run/validation.h"
 
 #include <chrono>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 
 namespace phyxel {
 namespace {

@@ -10,10 +10,10 @@
 #include <map>
 #include <sstream>
 
-#include "engine/json_reader.h"
-#include "engine/mesh.h"
-#include "engine/scene.h"
-#include "engine/shape.h"
+#include "engine/geometry/mesh.h"
+#include "engine/geometry/shape.h"
+#include "engine/scene/json_reader.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel {
 namespace {

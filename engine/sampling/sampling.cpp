@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/phyxel_set.h"
-#include "engine/sampling_region.h"
-#include "engine/shape.h"
+#include "engine/geometry/shape.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/sampling/sampling_region.h"
 
 namespace phyxel {
 namespace {

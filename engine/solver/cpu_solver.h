@@ -14,9 +14,9 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "engine/mls_model.h"
-#include "engine/neighbours.h"
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/solver/mls_model.h"
+#include "engine/solver/neighbours.h"
 
 namespace phyxel {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include "engine/json_reader.h"
-#include "engine/scene.h"
+#include "engine/scene/json_reader.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel {
 namespace {

@@ -1,4 +1,4 @@
-#include "engine/vtp_writer.h"
+#include "engine/run/vtp_writer.h"
 
 #include <cerrno>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "engine/neighbours.h"
+#include "engine/solver/neighbours.h"
 
 #include <algorithm>
 #include <cmath>

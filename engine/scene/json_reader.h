@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel::json_reader {
 

@@ -3,7 +3,7 @@
 
 #include <Eigen/Geometry>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel {
 

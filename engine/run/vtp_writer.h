@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "engine/solver.h"
+#include "engine/solver/solver.h"
 
 namespace phyxel {
 

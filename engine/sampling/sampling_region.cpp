@@ -1,7 +1,7 @@
 // Inside tests of scene shapes over lattices and cells (sampling_region.h).
-#include "engine/sampling_region.h"
+#include "engine/sampling/sampling_region.h"
 
-#include "engine/shape.h"
+#include "engine/geometry/shape.h"
 
 namespace phyxel {
 

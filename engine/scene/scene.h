@@ -22,7 +22,7 @@ struct SceneError : std::runtime_error {
 
 using Vec3 = Eigen::Vector3d;
 
-// A closed triangle surface (from an OBJ file), already scaled. See engine/mesh.h.
+// A closed triangle surface (from an OBJ file), already scaled. See engine/geometry/mesh.h.
 struct TriangleMesh;
 
 struct Shape {

@@ -1,4 +1,4 @@
-#include "engine/simulation.h"
+#include "engine/run/simulation.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "engine/vtp_writer.h"
+#include "engine/run/vtp_writer.h"
 
 namespace phyxel {
 

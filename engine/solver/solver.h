@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/cpu_solver.h"
-#include "engine/phyxel_set.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/solver/cpu_solver.h"
 
 namespace phyxel {
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "engine/scene.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel {
 

@@ -15,8 +15,8 @@
 #include <string>
 #include <unordered_map>
 
-#include "engine/mesh.h"
-#include "engine/mesh_query.h"
+#include "engine/geometry/mesh.h"
+#include "engine/geometry/mesh_query.h"
 
 namespace phyxel {
 namespace {

@@ -1,10 +1,10 @@
 // Inside tests and bounds of scene shapes.
-#include "engine/shape.h"
+#include "engine/geometry/shape.h"
 
 #include <cmath>
 
-#include "engine/mesh.h"
-#include "engine/mesh_query.h"
+#include "engine/geometry/mesh.h"
+#include "engine/geometry/mesh_query.h"
 
 namespace phyxel {
 

@@ -7,8 +7,8 @@
 #include <optional>
 #include <vector>
 
-#include "engine/mesh_query.h"
-#include "engine/scene.h"
+#include "engine/geometry/mesh_query.h"
+#include "engine/scene/scene.h"
 
 namespace phyxel {
 

@@ -1,11 +1,11 @@
-#include "engine/cpu_solver.h"
+#include "engine/solver/cpu_solver.h"
 
 #include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "engine/kernel.h"
+#include "engine/solver/kernel.h"
 
 namespace phyxel {
 

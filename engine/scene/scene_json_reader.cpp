@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <set>
 
-#include "engine/json_reader.h"
+#include "engine/scene/json_reader.h"
 
 namespace phyxel::json_reader {
 

@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "engine/mesh.h"
+#include "engine/geometry/mesh.h"
 
 namespace phyxel {
 

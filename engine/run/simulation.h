@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/solver.h"
+#include "engine/solver/solver.h"
 
 namespace phyxel {
 

@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-#include "engine/solver.h"
+#include "engine/solver/solver.h"
 
 namespace phyxel {
 namespace {

@@ -1,5 +1,5 @@
 // Solid angles, closest points and the winding-number BVH of mesh_query.h.
-#include "engine/mesh_query.h"
+#include "engine/geometry/mesh_query.h"
 
 #include <algorithm>
 #include <cmath>
