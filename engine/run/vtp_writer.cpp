@@ -87,6 +87,11 @@ void write_points_vtp(const std::filesystem::path& file, const PhyxelSet& set,
   Array flags{"flags", "UInt32", 1, {}};
   for (size_t i = 0; i < n; ++i) append_raw(flags.bytes, set.flags[i]);
   data.push_back(std::move(flags));
+  if (!state.contact.empty()) {  // scenes with tools: 1 where a tool touched the phyxel
+    Array contact{"contact", "UInt32", 1, {}};
+    for (size_t i = 0; i < n; ++i) append_raw(contact.bytes, uint32_t{state.contact[i]});
+    data.push_back(std::move(contact));
+  }
   Array connectivity{"connectivity", "Int64", 1, {}}, offsets{"offsets", "Int64", 1, {}};
   for (size_t i = 0; i < n; ++i) {
     append_raw(connectivity.bytes, static_cast<int64_t>(i));

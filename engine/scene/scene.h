@@ -13,14 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "engine/surgery/tool.h"
+
 namespace phyxel {
 
 // Every error about user input. what() is one line: "FILE: JSON.PATH: problem; allowed ...".
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-
-using Vec3 = Eigen::Vector3d;
 
 // A closed triangle surface (from an OBJ file), already scaled. See engine/geometry/mesh.h.
 struct TriangleMesh;
@@ -140,6 +140,7 @@ struct Scene {
   OutputSettings output;
   CameraSettings camera;
   RenderSettings render;
+  std::vector<ToolDesc> tools;  // `tools`: instruments (engine/surgery/tool.h)
 };
 
 // Reads and validates a scene file. Throws SceneError naming the file and JSON path.

@@ -24,6 +24,8 @@ class CpuBackend final : public Solver {
     return text;
   }
   void advance(int64_t substeps, double dt) override {
+    if (!motion_.empty()) solver_->set_tool_motion(motion_, Real(dt));
+    motion_.clear();
     for (int64_t s = 0; s < substeps; ++s) solver_->step(Real(dt));
   }
   Energies energies() override { return solver_->energies(); }
@@ -38,6 +40,7 @@ class CpuBackend final : public Solver {
       s.velocity[i] = solver_->velocity()[i].template cast<double>();
     }
     if (with_stress) s.von_mises = solver_->von_mises_stress();
+    s.contact = solver_->contact();
     return s;
   }
   size_t regularised_count() const override { return solver_->regularised_count(); }
@@ -51,10 +54,16 @@ class CpuBackend final : public Solver {
   size_t force_pass_size() const override { return solver_->force_pass_size(); }
   bool supports_load_changes() const override { return true; }
   void set_external_forces(const std::vector<Vec3>& f) override { solver_->set_external_forces(f); }
+  bool supports_tools() const override { return true; }
+  void set_tools(const std::vector<ContactTool>& tools) override { solver_->set_tools(tools); }
+  void set_tool_motion(const std::vector<ToolMotion>& motion) override { motion_ = motion; }
+  std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
+  size_t contact_candidates() const override { return solver_->contact_candidates(); }
 
  private:
   int threads_;
   std::unique_ptr<CpuSolver<Real>> solver_;
+  std::vector<ToolMotion> motion_;  // for the next advance()
 };
 
 }  // namespace

@@ -15,7 +15,8 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
       object_(set.object),
       awake_(set.objects.size(), 1),
       flags_(set.flags),
-      nbr_(find_rest_neighbours(set)) {
+      nbr_(find_rest_neighbours(set)),
+      broad_(set) {
   const size_t n = set.size();
   rest_.resize(n);
   mass_.resize(n);
@@ -62,6 +63,9 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     kappa_[i] = tr > 0 ? Real(mat.hourglass * lame_mu(mat) * set.volume[i] / tr) : Real(0);
   }
   regularised_count_ = regularised;
+  for (const ObjectRange& o : set.objects) reach_spacing_ = std::max(reach_spacing_, o.spacing);
+  contact_.assign(n, 0);
+  contact_force_.assign(n, V3::Zero());
   mass_d_ = set.mass;
   build_pass_lists();
   u_.assign(n, V3::Zero());
@@ -189,6 +193,7 @@ void CpuSolver<Real>::step(Real dt) {
     v_[i] = (v_[i] + half / mass_[i] * f_[i]) / (1 + damping_[i] * half);
     u_[i] += dt * v_[i];
   }
+  if (!tools_.empty()) apply_contacts(dt);
   compute_forces();
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long s = 0; s < nf; ++s) {
@@ -196,6 +201,78 @@ void CpuSolver<Real>::step(Real dt) {
     if (flags_[i] & kFixed) continue;
     v_[i] = (v_[i] + half / mass_[i] * f_[i]) / (1 + damping_[i] * half);
   }
+}
+
+template <class Real>
+void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
+  tools_ = tools;
+  motion_.clear();
+  motion_step_ = 0;
+  candidates_.clear();
+  samples_.clear();
+}
+
+template <class Real>
+void CpuSolver<Real>::set_tool_motion(const std::vector<ToolMotion>& motion, Real dt) {
+  if (tools_.empty()) return;
+  motion_ = motion;
+  motion_step_ = 0;
+  samples_.clear();
+  // Broad phase for the chunk: phyxels whose rest position is within reach of the tools'
+  // swept bounds, reach from the largest displacement and speed now (contact_reach).
+  double max_u = 0, max_v = 0;
+  for (size_t i = 0; i < u_.size(); ++i) {
+    max_u = std::max(max_u, double(u_[i].norm()));
+    max_v = std::max(max_v, double(v_[i].norm()));
+  }
+  const double duration = double(dt) * double(motion.size() / tools_.size());
+  const double reach = contact_reach(reach_spacing_, max_u, max_v, duration);
+  for (const uint32_t i : candidates_) {  // no stale contact from the last chunk's list
+    contact_[i] = 0;
+    contact_force_[i] = V3::Zero();
+  }
+  candidates_.clear();
+  for (uint32_t i : broad_.candidates(swept_bounds(tools_, motion_), reach))
+    if (awake_[object_[i]]) candidates_.push_back(i);
+}
+
+template <class Real>
+void CpuSolver<Real>::apply_contacts(Real dt) {
+  // This substep's motion of each tool; past the chunk's motions the tools stay at their
+  // last end pose.
+  const size_t nt = tools_.size();
+  const size_t steps = motion_.size() / nt;
+  std::vector<ToolMotion> now(nt);
+  for (size_t t = 0; t < nt; ++t) {
+    if (steps == 0) return;
+    const size_t k = std::min(motion_step_, steps - 1);
+    now[t] = motion_[k * nt + t];
+    if (motion_step_ >= steps) now[t].from = now[t].to;
+  }
+  ++motion_step_;
+  for (size_t s = 0; s < candidates_.size(); ++s) {
+    const uint32_t i = candidates_[s];
+    contact_[i] = 0;
+    contact_force_[i] = V3::Zero();
+  }
+  // In ascending phyxel order, tool by tool: the sums are the same on every run.
+  std::vector<ToolContactSample> felt(nt);
+  for (const uint32_t i : candidates_) {
+    for (size_t t = 0; t < nt; ++t) {
+      const V3 x_new = rest_[i] + u_[i];
+      const V3 x_prev = x_new - dt * v_[i];
+      V3 dx;
+      if (!contact_correction<Real>(tools_[t], now[t], x_prev, x_new, dx)) continue;
+      u_[i] += dx;
+      v_[i] += dx / dt;
+      const V3 f = mass_[i] * dx / (dt * dt);
+      contact_force_[i] += f;
+      contact_[i] = 1;
+      felt[t].force -= f.template cast<double>();
+      ++felt[t].contacts;
+    }
+  }
+  samples_.insert(samples_.end(), felt.begin(), felt.end());
 }
 
 template <class Real>

@@ -17,6 +17,7 @@
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/mls_model.h"
 #include "engine/solver/neighbours.h"
+#include "engine/surgery/contact.h"
 
 namespace phyxel {
 
@@ -61,6 +62,19 @@ class CpuSolver {
   size_t stress_pass_size() const { return stress_list_.size(); }
   size_t force_pass_size() const { return force_list_.size(); }
 
+  // Tools (engine/surgery/contact.h): contact runs after every drift, on the phyxels the broad
+  // phase found for the chunk of substeps whose motions set_tool_motion gave (substeps x
+  // tools, consumed one substep per step(); a step past them keeps the last end pose).
+  void set_tools(const std::vector<ContactTool>& tools);
+  void set_tool_motion(const std::vector<ToolMotion>& motion, Real dt);
+  // What each tool felt per substep since set_tool_motion (substeps x tools).
+  const std::vector<ToolContactSample>& tool_samples() const { return samples_; }
+  // 1 where a tool touched the phyxel in the last step.
+  const std::vector<uint8_t>& contact() const { return contact_; }
+  // The contact force on each phyxel in the last step (N; zero where there was no contact).
+  const std::vector<V3>& contact_force() const { return contact_force_; }
+  size_t contact_candidates() const { return candidates_.size(); }
+
   // Recomputes force() from the current displacement; call after changing u by hand.
   void compute_forces();
   // One velocity-Verlet (leapfrog) step of size dt with implicit mass-proportional damping.
@@ -80,6 +94,7 @@ class CpuSolver {
   M3 moment_sum(size_t i) const;  // M_i
   int threads_for(long n) const;  // threads worth using for n phyxels
   void build_pass_lists();
+  void apply_contacts(Real dt);  // after the drift of step()
 
   Vec3 gravity_;
   std::vector<uint32_t> object_;
@@ -99,6 +114,17 @@ class CpuSolver {
   std::vector<Real> w_;  // w_ij aligned with nbr_.index
   size_t regularised_count_ = 0;
   int threads_ = 0;
+
+  // Tools.
+  std::vector<ContactTool> tools_;
+  ContactBroadPhase broad_;
+  double reach_spacing_ = 0;  // the largest object spacing, for contact_reach
+  std::vector<ToolMotion> motion_;
+  size_t motion_step_ = 0;  // substeps of motion_ consumed
+  std::vector<uint32_t> candidates_;
+  std::vector<ToolContactSample> samples_;
+  std::vector<uint8_t> contact_;
+  std::vector<V3> contact_force_;
 
   std::vector<V3> u_, v_, f_;
   std::vector<M3> d_;  // pass-1 result

@@ -8,6 +8,7 @@
 
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/cpu_solver.h"
+#include "engine/surgery/contact.h"
 
 namespace phyxel {
 
@@ -16,6 +17,7 @@ struct PointState {
   std::vector<Vec3> displacement;
   std::vector<Vec3> velocity;
   std::vector<double> von_mises;
+  std::vector<uint8_t> contact;  // 1 where a tool touched the phyxel in the last substep
 };
 
 class Solver {
@@ -40,6 +42,15 @@ class Solver {
   // Loads that switch on or off during the run (scene loads with from/until).
   virtual bool supports_load_changes() const { return false; }
   virtual void set_external_forces(const std::vector<Vec3>&) {}
+  // Tools (engine/surgery/contact.h): their shapes and friction, set once; then before each
+  // advance(n, dt) the motion of every tool over each of the n substeps (n x tools, row-major
+  // by substep), and after it what each tool felt in each substep (n x tools).
+  virtual bool supports_tools() const { return false; }
+  virtual void set_tools(const std::vector<ContactTool>&) {}
+  virtual void set_tool_motion(const std::vector<ToolMotion>&) {}
+  virtual std::vector<ToolContactSample> tool_samples() { return {}; }
+  // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
+  virtual size_t contact_candidates() const { return 0; }
 };
 
 // The CPU reference solver behind the Solver interface. threads <= 0: all cores.
