@@ -15,6 +15,7 @@
 #include "app/run_report.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
+#include "engine/run/tool_trace.h"
 #include "render/frame_output.h"
 
 namespace phyxel::app {
@@ -177,7 +178,20 @@ int run_command(const Args& args) {
         render::write_solver_frame(*frames, s, step, buffers);
       };
     }
-    const RunResult result = run_simulation(scene, set, *solver, options);
+    // Tools: DIR/tools.csv, a row per step and tool.
+    std::unique_ptr<ToolTraceWriter> trace;
+    if (!scene.tools.empty()) {
+      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools);
+      options.on_tool_step = [&trace](int64_t step, double t,
+                                      const std::vector<ToolStepRecord>& records) {
+        trace->write(step, t, records);
+      };
+    }
+    RunResult result = run_simulation(scene, set, *solver, options);
+    if (trace) {
+      trace->close();
+      result.outputs.push_back("tools.csv");
+    }
     const size_t frame_count = frames ? frames->written().size() : 0;
     options.on_frame = nullptr;
     frames.reset();  // before the solver: it may own the context

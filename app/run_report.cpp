@@ -57,7 +57,20 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       {"wakes", result.wakes},
       {"load_changes", result.load_changes},
       {"outputs", result.outputs},
+      {"real_time_factor", result.real_time_factor},
   };
+  if (options.real_time) j["max_lag_seconds"] = result.max_lag;
+  if (!result.tools.empty()) {
+    json tools = json::array();
+    for (const ToolRunStats& t : result.tools)
+      tools.push_back({{"name", t.name},
+                       {"force", {t.last_force.x(), t.last_force.y(), t.last_force.z()}},
+                       {"max_force", t.max_force},
+                       {"contacts", t.contacts},
+                       {"max_contacts", t.max_contacts},
+                       {"steps_in_contact", t.steps_in_contact}});
+    j["tools"] = tools;
+  }
   if (result.non_finite) {
     j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};
   } else if (result.unstable) {

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "engine/run/vtp_writer.h"
 
@@ -82,6 +83,48 @@ int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleep
   return check;
 }
 
+// A sleeping object wakes when a tool comes near it: some phyxel of it (at its displacement
+// when it went to sleep, which has not changed since) within the tools' swept bounds of the
+// next advance, grown by the object's spacing.
+void wake_touched_objects(const PhyxelSet& set, const ToolTrack& tools,
+                          const std::vector<ToolMotion>& motion, const std::vector<Vec3>& last_u,
+                          std::vector<uint8_t>& awake, std::vector<int64_t>& below_since,
+                          Solver& solver, RunResult& result) {
+  Bounds bounds;
+  for (size_t k = 0; k < motion.size(); ++k) {
+    const ToolShape& shape = tools.shape(k % tools.size());
+    bounds.extend(tool_bounds(shape, motion[k].from));
+    bounds.extend(tool_bounds(shape, motion[k].to));
+  }
+  for (size_t o = 0; o < set.objects.size(); ++o) {
+    if (awake[o]) continue;
+    const ObjectRange& obj = set.objects[o];
+    Bounds near = bounds;
+    near.grow(obj.spacing);
+    for (uint32_t i = obj.first; i < obj.first + obj.count; ++i) {
+      const Vec3 x = set.rest[i] + last_u[i];
+      if ((x.array() >= near.min.array()).all() && (x.array() <= near.max.array()).all()) {
+        awake[o] = 1;
+        below_since[o] = -1;
+        solver.set_object_awake(static_cast<uint32_t>(o), true);
+        ++result.wakes;
+        break;
+      }
+    }
+  }
+}
+
+// Real-time pacing: sleep while the simulation is ahead of the wall clock; note the lag when
+// it is behind.
+void pace(std::chrono::steady_clock::time_point start, double simulated, RunResult& result) {
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (simulated > wall)
+    std::this_thread::sleep_for(std::chrono::duration<double>(simulated - wall));
+  else
+    result.max_lag = std::max(result.max_lag, wall - simulated);
+}
+
 }  // namespace
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
@@ -103,6 +146,20 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
                              "which " +
                              solver.device() + " cannot do; use --device cpu");
   const int64_t check = check_interval(scene, options, sleeping);
+  ToolTrack tools(scene.tools, options.tool_pose);
+  if (!tools.empty()) {
+    if (!solver.supports_tools())
+      throw std::runtime_error(scene.file.string() + ": the scene has tools, which " +
+                               solver.device() + " cannot simulate; use --device cpu");
+    solver.set_tools(contact_tools(scene.tools));
+  }
+  // Steps per advance while tools move: the broad phase is built once per advance.
+  const int64_t tool_chunk =
+      tools.empty() ? 0
+      : options.real_time
+          ? 1
+          : std::max<int64_t>(1, options.tool_chunk_substeps / result.plan.substeps);
+  std::vector<Vec3> last_u(set.size(), Vec3::Zero());  // as of the last check
   int64_t below_since = -1;
   std::vector<int64_t> object_below_since(set.objects.size(), -1);
   std::vector<uint8_t> awake(set.objects.size(), 1);
@@ -125,7 +182,25 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     if (every > 0) next = std::min(next, next_multiple(step, every));
     if (options.frame_every > 0) next = std::min(next, next_multiple(step, options.frame_every));
     if (next_event < events.size()) next = std::min(next, events[next_event]);
-    solver.advance((next - step) * result.plan.substeps, result.plan.dt_used);
+    if (tool_chunk > 0) next = std::min(next, step + tool_chunk);
+    const int64_t substeps = (next - step) * result.plan.substeps;
+    if (!tools.empty()) {
+      const std::vector<ToolMotion> motion =
+          tools.motions(step * result.plan.substeps, substeps, result.plan.dt_used);
+      wake_touched_objects(set, tools, motion, last_u, awake, object_below_since, solver, result);
+      solver.set_tool_motion(motion);
+    }
+    solver.advance(substeps, result.plan.dt_used);
+    if (!tools.empty()) {
+      const std::vector<ToolStepRecord> records =
+          tools.fold(solver.tool_samples(), next - step, result.plan.substeps);
+      for (int64_t s = step; options.on_tool_step && s < next; ++s)
+        options.on_tool_step(
+            s + 1, double(s + 1) * step_time,
+            std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
+                                        records.begin() + (s - step + 1) * tools.size()));
+    }
+    if (options.real_time) pace(start, double(next) * step_time, result);
     const int64_t previous = step;
     step = next;
     if (options.progress) options.progress(step, total);
@@ -155,6 +230,7 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         break;
       }
       const PointState state = solver.read_state(false);
+      if (!tools.empty()) last_u = state.displacement;
       if (const Runaway r = find_runaway(set, state.velocity); r.phyxel >= 0) {
         result.unstable = true;
         result.unstable_step = step;
@@ -197,10 +273,15 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     if (options.on_frame && options.frame_every > 0 && (step % options.frame_every == 0 || last))
       options.on_frame(step, solver);
     if (result.stopped_at_rest) break;
+    if (options.stop_requested && options.stop_requested()) break;
   }
   result.steps_done = step;
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.simulated_time = double(step) * step_time;
+  result.real_time_factor =
+      result.wall_seconds > 0 ? result.simulated_time / result.wall_seconds : 0;
+  result.tools = tools.stats();
   if (!result.non_finite && !result.unstable) {
     write_points(step);
     result.energies = solver.energies();
@@ -267,8 +348,16 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
     add("  render: %s frames at step 0, every %lld steps and at the end (offscreen, PNG)",
         scene.render.mode == RenderSettings::Mode::Stereo ? "stereo" : "mono",
         static_cast<long long>(scene.render.every));
-  add("  not recorded: %scutting/collision passes (no tool), stress eigen pass (no tearing)",
-      rendering ? "" : "render passes (render.mode none), ");
+  if (!scene.tools.empty()) {
+    add("    contact        %zu tool(s): after every drift, on the phyxels a rest-space grid "
+        "finds near the tools' swept bounds (broad phase once per advance of at most %lld "
+        "substeps); the tools' forces are summed per substep",
+        scene.tools.size(), static_cast<long long>(options.tool_chunk_substeps));
+    add("  tools: tools.csv (a row per step and tool) and summary.json tools");
+  }
+  add("  not recorded: %s%sstress eigen pass (no tearing), cutting passes (no scalpel)",
+      rendering ? "" : "render passes (render.mode none), ",
+      scene.tools.empty() ? "contact passes (no tool), " : "");
   return out.str();
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/solver/solver.h"
+#include "engine/surgery/tool_track.h"
 
 namespace phyxel {
 
@@ -32,6 +33,18 @@ struct RunOptions {
   // Frames: on_frame(step, solver) every frame_every steps and at the end (0: never).
   int64_t frame_every = 0;
   std::function<void(int64_t step, Solver& solver)> on_frame;
+  // Tools (scene.tools): the pose of a haptic-controlled tool at simulated time t (required
+  // when the scene has one); path tools follow their paths.
+  ToolTrack::PoseSource tool_pose;
+  // After every step of a scene with tools: the step, its end time and per tool its record.
+  std::function<void(int64_t step, double t, const std::vector<ToolStepRecord>&)> on_tool_step;
+  // Substeps per advance while tools move (the broad phase is built once per advance).
+  int64_t tool_chunk_substeps = 64;
+  // Pace simulated time to the wall clock (interactive and haptic runs): the loop advances one
+  // step at a time and sleeps while it is ahead; RunResult says how far it fell behind.
+  bool real_time = false;
+  // Polled between advances: true stops the run after the current step (the viewer, signals).
+  std::function<bool()> stop_requested;
 };
 
 struct RunResult {
@@ -52,6 +65,10 @@ struct RunResult {
   Energies energies;
   double max_displacement = 0;
   std::vector<std::string> outputs;  // files written, relative to out_dir
+  std::vector<ToolRunStats> tools;   // per scene tool
+  double simulated_time = 0;         // s
+  double real_time_factor = 0;       // simulated seconds per wall second
+  double max_lag = 0;                // real_time runs: the most wall time was ahead of it, s
 };
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,

@@ -1,0 +1,78 @@
+#include "engine/surgery/tool_track.h"
+
+#include <stdexcept>
+#include <utility>
+
+namespace phyxel {
+
+ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source)
+    : tools_(tools), source_(std::move(pose_source)) {
+  for (const ToolDesc& t : tools_) {
+    last_.push_back(pose_at(t.path, 0.0));
+    stats_.push_back({t.name, Vec3::Zero(), 0, 0, 0, 0});
+  }
+  if (live() && !source_)
+    throw std::invalid_argument("ToolTrack: a haptic tool needs a pose source");
+}
+
+bool ToolTrack::live() const {
+  for (const ToolDesc& t : tools_)
+    if (t.control == ToolDesc::Control::Haptic) return true;
+  return false;
+}
+
+std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double dt) {
+  const size_t nt = tools_.size();
+  motions_.assign(static_cast<size_t>(count) * nt, {});
+  for (size_t t = 0; t < nt; ++t) {
+    const ToolDesc& tool = tools_[t];
+    const bool live_tool = tool.control == ToolDesc::Control::Haptic;
+    const ToolPose start = last_[t];
+    const ToolPose target = live_tool ? source_(t, double(first + count) * dt) : ToolPose{};
+    ToolPose from = start;
+    for (int64_t k = 0; k < count; ++k) {
+      ToolPose to;
+      if (live_tool) {
+        const double s = double(k + 1) / double(count);
+        to.position = start.position + s * (target.position - start.position);
+        to.axis = slerp_axis(start.axis, target.axis, s);
+      } else {
+        to = pose_at(tool.path, double(first + k + 1) * dt);
+      }
+      motions_[static_cast<size_t>(k) * nt + t] = {from, to};
+      from = to;
+    }
+    last_[t] = from;
+  }
+  return motions_;
+}
+
+std::vector<ToolStepRecord> ToolTrack::fold(const std::vector<ToolContactSample>& samples,
+                                            int64_t steps, int64_t substeps) {
+  const size_t nt = tools_.size();
+  const size_t expected = static_cast<size_t>(steps * substeps) * nt;
+  if (samples.size() != expected || motions_.size() != expected)
+    throw std::logic_error("ToolTrack::fold: " + std::to_string(samples.size()) + " samples and " +
+                           std::to_string(motions_.size()) + " motions for an advance of " +
+                           std::to_string(expected));
+  std::vector<ToolStepRecord> records(static_cast<size_t>(steps) * nt);
+  for (int64_t s = 0; s < steps; ++s)
+    for (size_t t = 0; t < nt; ++t) {
+      ToolStepRecord& r = records[static_cast<size_t>(s) * nt + t];
+      for (int64_t k = 0; k < substeps; ++k)
+        r.force += samples[static_cast<size_t>(s * substeps + k) * nt + t].force;
+      r.force /= double(substeps);
+      const size_t last = static_cast<size_t>(s * substeps + substeps - 1) * nt + t;
+      r.contacts = samples[last].contacts;
+      r.pose = motions_[last].to;
+      ToolRunStats& st = stats_[t];
+      st.last_force = r.force;
+      st.max_force = std::max(st.max_force, r.force.norm());
+      st.contacts = r.contacts;
+      st.max_contacts = std::max(st.max_contacts, r.contacts);
+      if (r.contacts > 0) ++st.steps_in_contact;
+    }
+  return records;
+}
+
+}  // namespace phyxel

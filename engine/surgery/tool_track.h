@@ -1,0 +1,67 @@
+// The run loop's side of the tools: where each tool is at every substep (its path, or a pose
+// source such as a haptic loop), and what each felt per step (from the solver's per-substep
+// samples), with the statistics summary.json reports.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/scene/scene.h"
+#include "engine/surgery/contact.h"
+
+namespace phyxel {
+
+// What one tool felt over a run.
+struct ToolRunStats {
+  std::string name;
+  Vec3 last_force = Vec3::Zero();  // N, on the tool, mean over the last step's substeps
+  double max_force = 0;            // N, the largest |force| of any step
+  uint32_t contacts = 0;           // phyxels in contact at the last substep
+  uint32_t max_contacts = 0;
+  int64_t steps_in_contact = 0;
+};
+
+// One step's record of one tool (a row of tools.csv).
+struct ToolStepRecord {
+  ToolPose pose;              // at the end of the step
+  Vec3 force = Vec3::Zero();  // N, on the tool, mean over the step's substeps
+  uint32_t contacts = 0;      // at the step's last substep
+};
+
+class ToolTrack {
+ public:
+  // pose_source(tool, t): the pose of a tool that is not path-driven ("control": "haptic") at
+  // simulated time t; may be empty when no tool needs it (paths are used).
+  using PoseSource = std::function<ToolPose(size_t tool, double t)>;
+  ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source);
+
+  bool empty() const { return tools_.empty(); }
+  const ToolShape& shape(size_t tool) const { return tools_[tool].shape; }
+  size_t size() const { return tools_.size(); }
+  // Whether a tool follows a pose source instead of its path.
+  bool live() const;
+
+  // The motions of every tool over the substeps [first, first + count) of size dt (count x
+  // tools, row-major by substep). Path tools: exactly their path at the substep boundaries.
+  // Live tools: from the pose the last chunk ended at to the source's pose now, linearly.
+  std::vector<ToolMotion> motions(int64_t first, int64_t count, double dt);
+
+  // Folds an advance of `steps` steps of `substeps` substeps each (samples: steps x substeps
+  // x tools) into per-step records; returns them (steps x tools) and updates the statistics.
+  std::vector<ToolStepRecord> fold(const std::vector<ToolContactSample>& samples, int64_t steps,
+                                   int64_t substeps);
+  const std::vector<ToolRunStats>& stats() const { return stats_; }
+  // The pose every tool ended the last chunk at.
+  const std::vector<ToolPose>& poses() const { return last_; }
+
+ private:
+  std::vector<ToolDesc> tools_;
+  PoseSource source_;
+  std::vector<ToolPose> last_;       // end pose of the last chunk
+  std::vector<ToolMotion> motions_;  // of the last chunk
+  std::vector<ToolRunStats> stats_;
+};
+
+}  // namespace phyxel
