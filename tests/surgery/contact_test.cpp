@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -245,6 +246,23 @@ TEST(BroadPhase, EmptyBoundsFarBoundsAndAllFixed) {
   for (uint32_t& f : set.flags) f |= kFixed;
   const ContactBroadPhase none(set);
   EXPECT_TRUE(none.candidates({Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 1.0).empty());
+}
+
+TEST(BroadPhase, HugeOrNonFiniteReachCoversTheWholeGrid) {
+  // A diverging simulation gives an enormous or infinite reach (contact_reach of a huge speed):
+  // the candidates are then every phyxel that can take contact, never a slab of the grid.
+  std::mt19937 rng(47);
+  const PhyxelSet set = random_set(500, rng);
+  const ContactBroadPhase grid(set);
+  std::vector<uint32_t> all;
+  for (uint32_t i = 0; i < set.size(); ++i) {
+    if (!(set.flags[i] & (kFixed | kRemoved))) all.push_back(i);
+  }
+  const Bounds tool{Vec3(0, 0.01, 0.15), Vec3(0.001, 0.011, 0.151)};
+  for (double reach : {1e10, 1e30, std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_EQ(grid.candidates(tool, reach), all) << "reach " << reach;
+  }
 }
 
 // A sampled box scene: its lower part is clamped (fixed) and never a candidate.
