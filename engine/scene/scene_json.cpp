@@ -14,6 +14,7 @@
 #include "engine/geometry/shape.h"
 #include "engine/scene/json_reader.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_json_tools.h"
 
 namespace phyxel {
 namespace {
@@ -283,7 +284,7 @@ Scene parse_scene(const std::string& json_text, const fs::path& file) {
   const Node root(doc, "", name);
   root.expect_object(
       "a scene object {\"simulation\": {...}, \"objects\": [...], \"output\": {...}}",
-      {"simulation", "objects", "output", "camera", "render"});
+      {"simulation", "objects", "output", "camera", "render", "tools"});
   Scene scene;
   scene.file = file;
   scene.simulation =
@@ -306,6 +307,7 @@ Scene parse_scene(const std::string& json_text, const fs::path& file) {
 
   if (const auto output = root.find("output")) scene.output = read_output(*output);
   read_view_settings(root, scene);
+  read_tools(root, scene);
   return scene;
 }
 

@@ -100,8 +100,12 @@ std::vector<uint32_t> ContactBroadPhase::candidates(const Bounds& bounds, double
     const double l = (bounds.min[a] - reach - origin_[a]) / cell_;
     const double h = (bounds.max[a] + reach - origin_[a]) / cell_;
     if (h < 0 || l >= dims_[a]) return out;  // the grown box misses the grid
-    lo[a] = std::clamp(static_cast<int>(std::floor(l)), 0, dims_[a] - 1);
-    hi[a] = std::clamp(static_cast<int>(std::floor(h)), 0, dims_[a] - 1);
+    // Clamped as doubles before the conversion: an enormous or infinite reach (a diverging
+    // run's speed) overflowed int (undefined; INT_MIN on x86, one slab of the grid). A NaN
+    // takes the whole axis, the conservative answer.
+    const double top = dims_[a] - 1;
+    lo[a] = l > 0 ? static_cast<int>(std::min(std::floor(l), top)) : 0;
+    hi[a] = h < top ? static_cast<int>(std::max(std::floor(h), 0.0)) : dims_[a] - 1;
   }
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)

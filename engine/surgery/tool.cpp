@@ -32,8 +32,10 @@ Eigen::Matrix3d rotation_between(const Vec3& a, const Vec3& b) {
 }  // namespace
 
 Vec3 slerp_axis(const Vec3& a, const Vec3& b, double s) {
-  const double c = std::clamp(a.dot(b), -1.0, 1.0);
-  const double theta = std::acos(c);
+  // The angle by atan2, as in rotation_between: acos(a.b) cannot resolve angles within about
+  // 1.5e-8 of 0 or pi, so b = -a whose dot product rounds above -1 took the general branch,
+  // where a + b = 0 gave a zero axis at s = 0.5 and a jump from a to -a instead of a turn.
+  const double theta = std::atan2(a.cross(b).norm(), a.dot(b));
   if (theta < 1e-9) return a;
   if (M_PI - theta < 1e-9) {
     const Vec3 k = perpendicular(a);

@@ -1,0 +1,150 @@
+// Scene files: the `tools` key (docs/scene-format.md, "tools"): surgical instruments with their
+// rigid shape, path of keyframes, friction and control (engine/surgery/tool.h).
+#include "engine/scene/scene_json_tools.h"
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <string>
+#include <string_view>
+
+namespace phyxel {
+namespace {
+
+using json_reader::Limits;
+using json_reader::Node;
+
+constexpr std::string_view kToolsExpected = "an array of tool objects";
+constexpr std::string_view kToolExpected =
+    "a tool object {\"name\": \"probe\", \"type\": \"probe\", \"shape\": {...}, \"path\": "
+    "[...], ...}";
+constexpr std::string_view kToolShapeExpected =
+    "a tool shape {\"type\": \"sphere\" | \"capsule\", \"radius\": m, \"length\": m}";
+constexpr std::string_view kPathExpected =
+    "an array of one or more path keys {\"t\": s, \"position\": [x, y, z], \"axis\": [x, y, z]}";
+constexpr std::string_view kKeyExpected =
+    "a path key {\"t\": s, \"position\": [x, y, z], \"axis\": [x, y, z]}";
+constexpr std::string_view kCouplingExpected =
+    "a coupling object {\"stiffness\": N/m, \"damping\": N s/m, \"mass\": kg, \"max_force\": N}";
+
+// Coulomb coefficients of instruments on tissue are well below 1; above this a value is a typo.
+constexpr double kMaxFriction = 10;
+
+// Instruments of the tool model whose actions (cutting, suction, grasping) are not built yet:
+// named so that a scene asking for one is told so, not that the name is unknown.
+constexpr std::array<std::string_view, 3> kComingTypes = {"scalpel", "suction", "grasper"};
+
+ToolDesc::Type read_type(const Node& node) {
+  const nlohmann::json& v = node.value();
+  if (v.is_string() && std::find(kComingTypes.begin(), kComingTypes.end(), v.get<std::string>()) !=
+                           kComingTypes.end()) {
+    node.fail("tool type \"" + v.get<std::string>() + "\" is not available yet",
+              "allowed probe (scalpel, suction and grasper come with their actions)");
+  }
+  node.choice({"probe"});
+  return ToolDesc::Type::Probe;
+}
+
+ToolShape read_tool_shape(const Node& node) {
+  node.expect_object(kToolShapeExpected, {"type", "radius", "length"});
+  const std::string type =
+      node.at("type", "\"sphere\" or \"capsule\"").choice({"sphere", "capsule"});
+  ToolShape s;
+  if (type == "sphere") {
+    node.expect_object("a sphere tool shape", {"type", "radius"});
+    s.type = ToolShape::Type::Sphere;
+    s.radius = node.number("radius", Limits::above(0), "m");
+  } else {
+    node.expect_object("a capsule tool shape", {"type", "radius", "length"});
+    s.type = ToolShape::Type::Capsule;
+    s.radius = node.number("radius", Limits::above(0), "m");
+    s.length = node.number("length", Limits::above(0), "m");
+  }
+  return s;
+}
+
+// The keys of a path: t strictly increasing, the axis non-zero and stored as a unit vector.
+std::vector<ToolKey> read_path(const Node& node) {
+  const std::vector<Node> keys = node.elements(kPathExpected);
+  if (keys.empty()) node.fail("empty array", "allowed " + std::string(kPathExpected));
+  std::vector<ToolKey> path;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const Node& k = keys[i];
+    k.expect_object(kKeyExpected, {"t", "position", "axis"});
+    ToolKey key;
+    key.t = k.number("t", Limits::at_least(0), "s");
+    if (!path.empty() && !(key.t > path.back().t)) {
+      k.at("t", "").fail("t = " + json_reader::format_number(key.t) + " is not greater than t = " +
+                             json_reader::format_number(path.back().t) + " of path[" +
+                             std::to_string(i - 1) + "]",
+                         "allowed strictly increasing t along the path, t >= 0 (s)");
+    }
+    key.position = k.vec3("position", Limits::any(), "m");
+    key.axis = k.vec3_or("axis", Vec3::UnitZ(), Limits::any(), "");
+    if (key.axis.isZero(0)) {
+      k.at("axis", "")
+          .fail("zero axis",
+                "allowed a non-zero direction [x, y, z] (the shaft, from the tip; "
+                "it is normalised)");
+    }
+    // Stable: components near the limits of double neither underflow nor overflow the norm.
+    key.axis = key.axis.stableNormalized();
+    path.push_back(key);
+  }
+  return path;
+}
+
+CouplingSettings read_coupling(const Node& node) {
+  node.expect_object(kCouplingExpected, {"stiffness", "damping", "mass", "max_force"});
+  CouplingSettings c;
+  c.stiffness = node.number_or("stiffness", c.stiffness, Limits::above(0), "N/m");
+  c.damping = node.number_or("damping", c.damping, Limits::at_least(0), "N s/m");
+  c.mass = node.number_or("mass", c.mass, Limits::above(0), "kg");
+  c.max_force = node.number_or("max_force", c.max_force, Limits::above(0), "N");
+  return c;
+}
+
+ToolDesc read_tool(const Node& node) {
+  node.expect_object(kToolExpected,
+                     {"name", "type", "shape", "path", "friction", "control", "coupling"});
+  ToolDesc tool;
+  tool.name = node.at("name", "a non-empty string").text();
+  tool.type = read_type(node.at("type", "\"probe\""));
+  tool.shape = read_tool_shape(node.at("shape", kToolShapeExpected));
+  tool.path = read_path(node.at("path", kPathExpected));
+  tool.friction = node.number_or("friction", 0.0, {0, kMaxFriction, true, true}, "");
+  if (const auto control = node.find("control")) {
+    tool.control = control->choice({"path", "haptic"}) == "haptic" ? ToolDesc::Control::Haptic
+                                                                   : ToolDesc::Control::Path;
+  }
+  if (const auto coupling = node.find("coupling")) {
+    if (tool.control != ToolDesc::Control::Haptic) {
+      coupling->fail(
+          "\"coupling\" applies only to a haptic tool, and this tool's control is "
+          "\"path\"",
+          "allowed coupling only with \"control\": \"haptic\"; remove it or set the "
+          "control");
+    }
+    tool.coupling = read_coupling(*coupling);
+  }
+  return tool;
+}
+
+}  // namespace
+
+void read_tools(const Node& root, Scene& scene) {
+  const auto tools = root.find("tools");
+  if (!tools) return;
+  std::map<std::string, std::string> names;  // name -> path of its first use
+  for (const Node& node : tools->elements(kToolsExpected)) {
+    scene.tools.push_back(read_tool(node));
+    const std::string path = node.path() + ".name";
+    if (const auto [it, fresh] = names.emplace(scene.tools.back().name, path); !fresh) {
+      json_reader::fail(node.file(), path,
+                        "duplicate tool name \"" + it->first + "\" (also " + it->second + ")",
+                        "allowed a name that no other tool uses");
+    }
+  }
+}
+
+}  // namespace phyxel

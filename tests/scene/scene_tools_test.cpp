@@ -1,0 +1,370 @@
+// The `tools` key: a full parse with every key, the defaults, and one SceneError line
+// "FILE: JSON.PATH: problem; allowed ..." per invalid value. Each error test starts from the
+// shipped demo with two valid tools added and breaks one thing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "engine/scene/scene.h"
+#include "tests/scene/scene_error_helpers.h"
+
+namespace phyxel {
+namespace {
+
+using nlohmann::json;
+using namespace scene_test;
+
+// A path-driven capsule with every key but coupling, and a haptic sphere with its coupling.
+json two_tools() {
+  return json::parse(R"([
+    {"name": "probe", "type": "probe", "shape": {"type": "capsule", "radius": 0.002, "length": 0.03},
+     "path": [{"t": 0.0, "position": [0, 0, 0.06], "axis": [0, 0, 2]},
+              {"t": 0.5, "position": [0, 0, 0.045], "axis": [3, 0, 4]}],
+     "friction": 0.2, "control": "path"},
+    {"name": "hand", "type": "probe", "shape": {"type": "sphere", "radius": 0.004},
+     "path": [{"t": 0.25, "position": [0.01, 0.02, 0.03]}],
+     "control": "haptic",
+     "coupling": {"stiffness": 500, "damping": 0.5, "mass": 0.05, "max_force": 4}}
+  ])");
+}
+
+json with_tools() {
+  json j = demo();
+  j["tools"] = two_tools();
+  return j;
+}
+
+std::string tools_error(const std::function<void(json&)>& edit) {
+  json j = with_tools();
+  edit(j);
+  return error_text(j.dump());
+}
+
+json& tool0(json& j) {
+  return j["tools"][0];
+}
+
+// --- valid scenes ---
+
+TEST(SceneTools, EveryKeyIsRead) {
+  const Scene s = parse_scene(with_tools().dump(), kFile);
+  ASSERT_EQ(s.tools.size(), 2u);
+
+  const ToolDesc& probe = s.tools[0];
+  EXPECT_EQ(probe.name, "probe");
+  EXPECT_EQ(probe.type, ToolDesc::Type::Probe);
+  EXPECT_EQ(probe.shape.type, ToolShape::Type::Capsule);
+  EXPECT_DOUBLE_EQ(probe.shape.radius, 0.002);
+  EXPECT_DOUBLE_EQ(probe.shape.length, 0.03);
+  ASSERT_EQ(probe.path.size(), 2u);
+  EXPECT_DOUBLE_EQ(probe.path[0].t, 0.0);
+  EXPECT_DOUBLE_EQ(probe.path[1].t, 0.5);
+  EXPECT_EQ(probe.path[0].position, Vec3(0, 0, 0.06));
+  EXPECT_EQ(probe.path[1].position, Vec3(0, 0, 0.045));
+  // Axes are stored normalised: [0, 0, 2] -> z, [3, 0, 4] -> [0.6, 0, 0.8].
+  EXPECT_NEAR((probe.path[0].axis - Vec3(0, 0, 1)).norm(), 0, 1e-15);
+  EXPECT_NEAR((probe.path[1].axis - Vec3(0.6, 0, 0.8)).norm(), 0, 1e-15);
+  EXPECT_DOUBLE_EQ(probe.friction, 0.2);
+  EXPECT_EQ(probe.control, ToolDesc::Control::Path);
+
+  const ToolDesc& hand = s.tools[1];
+  EXPECT_EQ(hand.name, "hand");
+  EXPECT_EQ(hand.shape.type, ToolShape::Type::Sphere);
+  EXPECT_DOUBLE_EQ(hand.shape.radius, 0.004);
+  EXPECT_DOUBLE_EQ(hand.shape.length, 0.0);
+  ASSERT_EQ(hand.path.size(), 1u);
+  EXPECT_DOUBLE_EQ(hand.path[0].t, 0.25);
+  EXPECT_EQ(hand.path[0].position, Vec3(0.01, 0.02, 0.03));
+  EXPECT_EQ(hand.control, ToolDesc::Control::Haptic);
+  EXPECT_DOUBLE_EQ(hand.coupling.stiffness, 500);
+  EXPECT_DOUBLE_EQ(hand.coupling.damping, 0.5);
+  EXPECT_DOUBLE_EQ(hand.coupling.mass, 0.05);
+  EXPECT_DOUBLE_EQ(hand.coupling.max_force, 4);
+}
+
+TEST(SceneTools, Defaults) {
+  json j = demo();
+  j["tools"] = json::parse(R"([{"name": "p", "type": "probe",
+    "shape": {"type": "sphere", "radius": 0.001}, "path": [{"t": 0, "position": [0, 0, 1]}]}])");
+  const Scene s = parse_scene(j.dump(), kFile);
+  ASSERT_EQ(s.tools.size(), 1u);
+  const ToolDesc& t = s.tools[0];
+  EXPECT_EQ(t.path[0].axis, Vec3::UnitZ());
+  EXPECT_EQ(t.friction, 0.0);
+  EXPECT_EQ(t.control, ToolDesc::Control::Path);
+  const CouplingSettings defaults;
+  EXPECT_EQ(t.coupling.stiffness, defaults.stiffness);
+  EXPECT_EQ(t.coupling.damping, defaults.damping);
+  EXPECT_EQ(t.coupling.mass, defaults.mass);
+  EXPECT_EQ(t.coupling.max_force, defaults.max_force);
+}
+
+TEST(SceneTools, HapticCouplingKeysDefaultOneByOne) {
+  json j = with_tools();
+  j["tools"][1]["coupling"] = json::parse(R"({"mass": 0.1})");
+  const Scene s = parse_scene(j.dump(), kFile);
+  const CouplingSettings defaults;
+  EXPECT_EQ(s.tools[1].coupling.mass, 0.1);
+  EXPECT_EQ(s.tools[1].coupling.stiffness, defaults.stiffness);
+  EXPECT_EQ(s.tools[1].coupling.damping, defaults.damping);
+  EXPECT_EQ(s.tools[1].coupling.max_force, defaults.max_force);
+}
+
+TEST(SceneTools, NoToolsKeyAndEmptyArrayGiveNoTools) {
+  EXPECT_TRUE(parse_scene(demo().dump(), kFile).tools.empty());
+  json j = demo();
+  j["tools"] = json::array();
+  EXPECT_TRUE(parse_scene(j.dump(), kFile).tools.empty());
+}
+
+TEST(SceneTools, TinyAndHugeAxesAreNormalised) {
+  json j = with_tools();
+  tool0(j)["path"][0]["axis"] = {1e-200, 0, 1e-200};
+  tool0(j)["path"][1]["axis"] = {0, 1e300, 0};
+  const Scene s = parse_scene(j.dump(), kFile);
+  EXPECT_NEAR((s.tools[0].path[0].axis - Vec3(1, 0, 1) / std::sqrt(2.0)).norm(), 0, 1e-15);
+  EXPECT_NEAR((s.tools[0].path[1].axis - Vec3::UnitY()).norm(), 0, 1e-15);
+}
+
+// --- the array and the tool object ---
+
+TEST(SceneToolsErrors, TopLevelKeyListNamesTools) {
+  const std::string msg = error_with([](json& j) { j["tool"] = json::array(); });
+  expect_error(
+      msg, "tool",
+      {"unknown key \"tool\"", "did you mean \"tools\"?",
+       "allowed keys at the top level: simulation, objects, output, camera, render, tools"});
+}
+
+TEST(SceneToolsErrors, ToolsMustBeAnArray) {
+  const std::string msg = tools_error([](json& j) { j["tools"] = json::object(); });
+  expect_error(msg, "tools", {"expected an array of tool objects", "got an object"});
+}
+
+TEST(SceneToolsErrors, UnknownToolKey) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["frictoin"] = 0.1; });
+  expect_error(msg, "tools[0].frictoin",
+               {"unknown key", "did you mean \"friction\"?",
+                "allowed keys in tools[0]: name, type, shape, path, friction, control, coupling"});
+}
+
+TEST(SceneToolsErrors, NameRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j).erase("name"); });
+  expect_error(msg, "tools[0].name", {"missing required key \"name\"", "a non-empty string"});
+}
+
+TEST(SceneToolsErrors, NameEmpty) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["name"] = ""; });
+  expect_error(msg, "tools[0].name", {"empty string", "allowed a non-empty string"});
+}
+
+TEST(SceneToolsErrors, NameDuplicate) {
+  const std::string msg = tools_error([](json& j) { j["tools"][1]["name"] = "probe"; });
+  expect_error(msg, "tools[1].name",
+               {"duplicate tool name \"probe\"", "also tools[0].name", "no other tool uses"});
+}
+
+// --- type ---
+
+TEST(SceneToolsErrors, TypeRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j).erase("type"); });
+  expect_error(msg, "tools[0].type", {"missing required key \"type\"", "\"probe\""});
+}
+
+TEST(SceneToolsErrors, ComingTypesAreNotAvailableYet) {
+  for (const char* type : {"scalpel", "suction", "grasper"}) {
+    const std::string msg = tools_error([&](json& j) { tool0(j)["type"] = type; });
+    expect_error(msg, "tools[0].type",
+                 {"tool type \"" + std::string(type) + "\" is not available yet", "allowed probe"});
+  }
+}
+
+TEST(SceneToolsErrors, UnknownType) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["type"] = "probbe"; });
+  expect_error(msg, "tools[0].type",
+               {"unknown value \"probbe\"", "did you mean \"probe\"?", "allowed probe"});
+  EXPECT_EQ(msg.find("not available yet"), std::string::npos) << msg;
+}
+
+// --- shape ---
+
+TEST(SceneToolsErrors, ShapeRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j).erase("shape"); });
+  expect_error(msg, "tools[0].shape",
+               {"missing required key \"shape\"", "\"sphere\" | \"capsule\""});
+}
+
+TEST(SceneToolsErrors, ShapeTypeUnknown) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["shape"]["type"] = "box"; });
+  expect_error(msg, "tools[0].shape.type", {"unknown value \"box\"", "allowed sphere, capsule"});
+}
+
+TEST(SceneToolsErrors, SphereHasNoLength) {
+  const std::string msg = tools_error([](json& j) { j["tools"][1]["shape"]["length"] = 0.01; });
+  expect_error(msg, "tools[1].shape.length",
+               {"unknown key \"length\"", "allowed keys in tools[1].shape: type, radius"});
+}
+
+TEST(SceneToolsErrors, UnknownShapeKey) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["shape"]["center"] = {0, 0, 0}; });
+  expect_error(msg, "tools[0].shape.center",
+               {"unknown key \"center\"", "allowed keys in tools[0].shape: type, radius, length"});
+}
+
+TEST(SceneToolsErrors, RadiusZero) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["shape"]["radius"] = 0; });
+  expect_error(msg, "tools[0].shape.radius", {"0 is out of range", "allowed radius > 0 (m)"});
+}
+
+TEST(SceneToolsErrors, SphereRadiusRequired) {
+  const std::string msg = tools_error([](json& j) { j["tools"][1]["shape"].erase("radius"); });
+  expect_error(msg, "tools[1].shape.radius", {"missing required key \"radius\"", "radius > 0"});
+}
+
+TEST(SceneToolsErrors, CapsuleLengthNegative) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["shape"]["length"] = -0.01; });
+  expect_error(msg, "tools[0].shape.length", {"-0.01 is out of range", "allowed length > 0 (m)"});
+}
+
+TEST(SceneToolsErrors, CapsuleLengthRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["shape"].erase("length"); });
+  expect_error(msg, "tools[0].shape.length", {"missing required key \"length\"", "length > 0"});
+}
+
+// --- path ---
+
+TEST(SceneToolsErrors, PathRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j).erase("path"); });
+  expect_error(msg, "tools[0].path", {"missing required key \"path\"", "one or more path keys"});
+}
+
+TEST(SceneToolsErrors, PathEmpty) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"] = json::array(); });
+  expect_error(msg, "tools[0].path", {"empty array", "allowed an array of one or more path keys"});
+}
+
+TEST(SceneToolsErrors, PathNotAnArray) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"] = {{"t", 0}}; });
+  expect_error(msg, "tools[0].path",
+               {"expected an array of one or more path keys", "got an object"});
+}
+
+TEST(SceneToolsErrors, UnknownPathKeyKey) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][1]["time"] = 1; });
+  expect_error(msg, "tools[0].path[1].time",
+               {"unknown key \"time\"", "allowed keys in tools[0].path[1]: t, position, axis"});
+}
+
+TEST(SceneToolsErrors, KeyTimeRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][1].erase("t"); });
+  expect_error(msg, "tools[0].path[1].t", {"missing required key \"t\"", "t >= 0 (s)"});
+}
+
+TEST(SceneToolsErrors, KeyTimeNegative) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][0]["t"] = -0.1; });
+  expect_error(msg, "tools[0].path[0].t", {"-0.1 is out of range", "allowed t >= 0 (s)"});
+}
+
+TEST(SceneToolsErrors, KeyTimeNotANumber) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][0]["t"] = "0"; });
+  expect_error(msg, "tools[0].path[0].t", {"expected a number", "allowed t >= 0 (s)"});
+}
+
+TEST(SceneToolsErrors, KeyTimesMustIncreaseStrictly) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][1]["t"] = 0.0; });
+  expect_error(msg, "tools[0].path[1].t",
+               {"t = 0 is not greater than t = 0 of path[0]", "strictly increasing"});
+}
+
+TEST(SceneToolsErrors, KeyTimesGoingBackNameBothValues) {
+  const std::string msg = tools_error([](json& j) {
+    tool0(j)["path"].push_back({{"t", 0.25}, {"position", {0, 0, 0.04}}});
+  });
+  expect_error(msg, "tools[0].path[2].t",
+               {"t = 0.25 is not greater than t = 0.5 of path[1]", "strictly increasing"});
+}
+
+TEST(SceneToolsErrors, KeyPositionRequired) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][1].erase("position"); });
+  expect_error(msg, "tools[0].path[1].position", {"missing required key \"position\"", "(m)"});
+}
+
+TEST(SceneToolsErrors, KeyPositionWrongLength) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][1]["position"] = {0, 0}; });
+  expect_error(msg, "tools[0].path[1].position",
+               {"expected an array of 3 numbers", "got an array of 2 elements", "(m)"});
+}
+
+TEST(SceneToolsErrors, KeyPositionComponentNotANumber) {
+  const std::string msg = tools_error([](json& j) {
+    tool0(j)["path"][0]["position"] = {0, "y", 0};
+  });
+  expect_error(msg, "tools[0].path[0].position[1]", {"expected a number", "got string \"y\""});
+}
+
+TEST(SceneToolsErrors, KeyAxisZero) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][1]["axis"] = {0, 0, 0}; });
+  expect_error(msg, "tools[0].path[1].axis", {"zero axis", "allowed a non-zero direction"});
+}
+
+TEST(SceneToolsErrors, KeyAxisWrongType) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["path"][0]["axis"] = "z"; });
+  expect_error(msg, "tools[0].path[0].axis", {"expected an array of 3 numbers", "string \"z\""});
+}
+
+// --- friction, control, coupling ---
+
+TEST(SceneToolsErrors, FrictionNegative) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["friction"] = -0.1; });
+  expect_error(msg, "tools[0].friction", {"-0.1 is out of range", "allowed 0 <= friction <= 10"});
+}
+
+TEST(SceneToolsErrors, FrictionAbsurd) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["friction"] = 20; });
+  expect_error(msg, "tools[0].friction", {"20 is out of range", "allowed 0 <= friction <= 10"});
+}
+
+TEST(SceneToolsErrors, ControlUnknown) {
+  const std::string msg = tools_error([](json& j) { tool0(j)["control"] = "hapitc"; });
+  expect_error(msg, "tools[0].control",
+               {"unknown value \"hapitc\"", "did you mean \"haptic\"?", "allowed path, haptic"});
+}
+
+TEST(SceneToolsErrors, CouplingOnlyForHapticControl) {
+  const std::string msg = tools_error([](json& j) { j["tools"][1]["control"] = "path"; });
+  expect_error(msg, "tools[1].coupling",
+               {"\"coupling\" applies only to a haptic tool", "\"control\": \"haptic\""});
+}
+
+TEST(SceneToolsErrors, CouplingWithDefaultControlIsRejected) {
+  const std::string msg = tools_error([](json& j) { j["tools"][1].erase("control"); });
+  expect_error(msg, "tools[1].coupling", {"applies only to a haptic tool", "remove it"});
+}
+
+TEST(SceneToolsErrors, UnknownCouplingKey) {
+  const std::string msg = tools_error([](json& j) { j["tools"][1]["coupling"]["spring"] = 1; });
+  expect_error(msg, "tools[1].coupling.spring",
+               {"unknown key \"spring\"",
+                "allowed keys in tools[1].coupling: stiffness, damping, mass, max_force"});
+}
+
+TEST(SceneToolsErrors, CouplingRanges) {
+  struct Case {
+    const char* key;
+    double value;
+    const char* allowed;
+  };
+  for (const Case& c : {Case{"stiffness", 0, "allowed stiffness > 0 (N/m)"},
+                        Case{"damping", -1, "allowed damping >= 0 (N s/m)"},
+                        Case{"mass", 0, "allowed mass > 0 (kg)"},
+                        Case{"max_force", -2, "allowed max_force > 0 (N)"}}) {
+    const std::string msg =
+        tools_error([&](json& j) { j["tools"][1]["coupling"][c.key] = c.value; });
+    expect_error(msg, std::string("tools[1].coupling.") + c.key, {"is out of range", c.allowed});
+  }
+}
+
+}  // namespace
+}  // namespace phyxel

@@ -1,0 +1,325 @@
+// Tool-tissue contact (engine/surgery/contact.h): the projection of one phyxel to the tool's
+// surface with Coulomb friction, in double and float, and the rest-space broad phase against a
+// brute-force search.
+#include "engine/surgery/contact.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace phyxel {
+namespace {
+
+using Vec3f = Eigen::Vector3f;
+
+const ContactTool kSphere{{ToolShape::Type::Sphere, 0.01, 0}, 0};
+// A capsule along z from the origin: its side is the cylinder r = 0.01, 0 <= z <= 0.05.
+const ContactTool kCapsule{{ToolShape::Type::Capsule, 0.01, 0.05}, 0};
+
+ContactTool with_friction(ContactTool tool, double mu) {
+  tool.friction = mu;
+  return tool;
+}
+
+ToolMotion at_rest(const Vec3& tip) {
+  return {{tip, Vec3::UnitZ()}, {tip, Vec3::UnitZ()}};
+}
+
+// --- the narrow phase and response ---
+
+TEST(ContactCorrection, DoubleEndsExactlyOnTheSphereWithoutFriction) {
+  const ToolMotion motion = at_rest(Vec3(0.1, 0.2, 0.3));
+  std::mt19937 rng(1);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> depth(0.0001, 0.0099);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const Vec3 x_new = motion.to.position + (0.01 - depth(rng)) * dir;
+    const Vec3 x_prev = x_new + 0.001 * Vec3(g(rng), g(rng), g(rng));  // any earlier position
+    Vec3 dx = Vec3::Constant(7);
+    ASSERT_TRUE(contact_correction<double>(kSphere, motion, x_prev, x_new, dx));
+    EXPECT_LT(std::abs(tool_distance(kSphere.shape, motion.to, x_new + dx).distance), 1e-12);
+    EXPECT_NEAR(dx.normalized().dot(dir), 1, 1e-12);  // straight out along the normal
+  }
+}
+
+TEST(ContactCorrection, FloatEndsOnTheSphereWithinFloatRounding) {
+  const ToolMotion motion = at_rest(Vec3(0.1, 0.2, 0.3));
+  std::mt19937 rng(2);
+  std::normal_distribution<double> g;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const Vec3f x_new = (motion.to.position + 0.006 * dir).cast<float>();
+    Vec3f dx = Vec3f::Constant(7);
+    ASSERT_TRUE(contact_correction<float>(kSphere, motion, x_new, x_new, dx));
+    const Vec3f end = x_new + dx;
+    // Float positions near 0.3 m are spaced 3e-8 m apart.
+    EXPECT_LT(std::abs(tool_distance(kSphere.shape, motion.to, end.cast<double>()).distance), 2e-7);
+  }
+}
+
+TEST(ContactCorrection, NoCorrectionOutside) {
+  const ToolMotion motion = at_rest(Vec3(0.1, 0.2, 0.3));
+  for (const ContactTool& tool : {kSphere, with_friction(kCapsule, 0.5)}) {
+    for (const Vec3& x : {Vec3(0.1, 0.2, 0.3 - 0.0101), Vec3(0.2, 0.2, 0.3), Vec3(0.1, 0.2, 0.37),
+                          Vec3(0.1, 0.211, 0.32)}) {
+      Vec3 dx = Vec3::Constant(7);
+      EXPECT_FALSE(contact_correction<double>(tool, motion, x, x, dx)) << x.transpose();
+      EXPECT_EQ(dx, Vec3::Constant(7));
+      Vec3f dxf = Vec3f::Constant(7);
+      EXPECT_FALSE(contact_correction<float>(tool, motion, Vec3f(x.cast<float>()),
+                                             Vec3f(x.cast<float>()), dxf));
+      EXPECT_EQ(dxf, Vec3f::Constant(7));
+    }
+  }
+}
+
+// Friction on the capsule's flat direction (along its axis): the phyxel comes from just outside
+// the side at z = 0.02, is pushed 1 mm into it and slips `slip` along z.
+struct SideCase {
+  Vec3 x_prev = Vec3(0.0105, 0, 0.02);
+  Vec3 x_new;
+  explicit SideCase(double slip) : x_new(0.009, 0, 0.02 + slip) {}
+};
+
+TEST(ContactCorrection, LargeFrictionSticks) {
+  const SideCase c(0.0002);
+  Vec3 dx;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 1.0), at_rest(Vec3::Zero()),
+                                         c.x_prev, c.x_new, dx));
+  const Vec3 end = c.x_new + dx;
+  EXPECT_NEAR((end - Vec3(0.01, 0, 0.02)).norm(), 0, 1e-15);  // on the side, no slip at all
+}
+
+TEST(ContactCorrection, SlidingLosesMuTimesTheNormalCorrection) {
+  for (double mu : {0.0, 0.05, 0.1, 0.19}) {
+    const SideCase c(0.0002);
+    Vec3 dx;
+    ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()),
+                                           c.x_prev, c.x_new, dx));
+    const Vec3 end = c.x_new + dx;
+    const double dn = 0.001;  // the phyxel was 1 mm inside
+    EXPECT_NEAR(end.x(), 0.01, 1e-15) << mu;
+    EXPECT_NEAR(end.y(), 0, 1e-15) << mu;
+    EXPECT_NEAR(end.z() - c.x_prev.z(), 0.0002 - mu * dn, 1e-15) << mu;
+  }
+}
+
+TEST(ContactCorrection, JustBelowTheLimitSticksJustAboveSlidesByTheExcess) {
+  // |slip| = 0.8 mu |dn| sticks; |slip| = 1.25 mu |dn| slides by the excess over mu |dn|.
+  const SideCase at(0.0002), above(0.00025);
+  Vec3 dx;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.25), at_rest(Vec3::Zero()),
+                                         at.x_prev, at.x_new, dx));
+  EXPECT_NEAR((at.x_new + dx).z(), 0.02, 1e-15);
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.2), at_rest(Vec3::Zero()),
+                                         above.x_prev, above.x_new, dx));
+  EXPECT_NEAR((above.x_new + dx).z(), 0.02 + 0.00005, 1e-15);
+}
+
+TEST(ContactCorrection, FrictionIsRelativeToTheMovingTool) {
+  // The tool moves 1 mm along its axis; a phyxel at rest 1 mm inside its side is dragged along
+  // when friction sticks, and only pushed out without friction.
+  const ToolMotion motion{{Vec3::Zero(), Vec3::UnitZ()}, {Vec3(0, 0, 0.001), Vec3::UnitZ()}};
+  const Vec3 x(0.009, 0, 0.02);
+  Vec3 dx;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 2.0), motion, x, x, dx));
+  EXPECT_NEAR((x + dx - Vec3(0.01, 0, 0.021)).norm(), 0, 1e-15);
+  ASSERT_TRUE(contact_correction<double>(kCapsule, motion, x, x, dx));
+  EXPECT_NEAR((x + dx - Vec3(0.01, 0, 0.02)).norm(), 0, 1e-15);
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.5), motion, x, x, dx));
+  EXPECT_NEAR((x + dx - Vec3(0.01, 0, 0.0205)).norm(), 0, 1e-15);  // slides: 0.5 of 1 mm
+}
+
+TEST(ContactCorrection, FloatFrictionMatchesDouble) {
+  for (double mu : {0.0, 0.1, 1.0}) {
+    const SideCase c(0.0002);
+    Vec3 dx;
+    Vec3f dxf;
+    ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()),
+                                           c.x_prev, c.x_new, dx));
+    ASSERT_TRUE(contact_correction<float>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()),
+                                          Vec3f(c.x_prev.cast<float>()),
+                                          Vec3f(c.x_new.cast<float>()), dxf));
+    EXPECT_LT((dxf.cast<double>() - dx).norm(), 1e-8) << mu;
+  }
+}
+
+// --- the broad phase ---
+
+// A hand-made set: `n` phyxels at random rest positions in a box, about 10% fixed and 5%
+// removed, in two objects of support radius 0.004 and 0.006 m (the grid's cell is the larger).
+PhyxelSet random_set(size_t n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> x(-0.05, 0.05), y(0, 0.03), z(0.1, 0.2), u(0, 1);
+  PhyxelSet set;
+  for (size_t i = 0; i < n; ++i) {
+    set.rest.emplace_back(x(rng), y(rng), z(rng));
+    const double r = u(rng);
+    uint32_t flags = r < 0.1 ? kFixed : r < 0.15 ? kRemoved : 0u;
+    if (u(rng) < 0.3) flags |= kSurface;
+    set.flags.push_back(flags);
+  }
+  ObjectRange a, b;
+  a.first = 0, a.count = uint32_t(n / 2), a.support_radius = 0.004;
+  b.first = a.count, b.count = uint32_t(n - a.count), b.support_radius = 0.006;
+  set.objects = {a, b};
+  return set;
+}
+
+bool inside(const Vec3& p, const Bounds& b, double reach) {
+  for (int a = 0; a < 3; ++a) {
+    if (!(p[a] >= b.min[a] - reach && p[a] <= b.max[a] + reach)) return false;
+  }
+  return true;
+}
+
+// Checks the candidates of every query against a brute-force search of the set.
+void check_against_brute_force(const PhyxelSet& set, double cell, const Bounds& bounds,
+                               double reach) {
+  const ContactBroadPhase grid(set);
+  const std::vector<uint32_t> got = grid.candidates(bounds, reach);
+  for (size_t k = 1; k < got.size(); ++k) ASSERT_LT(got[k - 1], got[k]) << "not ascending";
+  for (uint32_t i = 0; i < set.size(); ++i) {
+    const bool takes_contact = !(set.flags[i] & (kFixed | kRemoved));
+    const bool found = std::binary_search(got.begin(), got.end(), i);
+    if (takes_contact && inside(set.rest[i], bounds, reach)) {
+      EXPECT_TRUE(found) << "missed phyxel " << i << " at " << set.rest[i].transpose();
+    }
+    if (!takes_contact) {
+      EXPECT_FALSE(found) << "fixed or removed phyxel " << i;
+    }
+    // A candidate lies in a cell overlapping the grown bounds: within one cell of them.
+    if (found) {
+      EXPECT_TRUE(inside(set.rest[i], bounds, reach + cell * (1 + 1e-9))) << i;
+    }
+  }
+}
+
+TEST(BroadPhase, RandomQueriesMatchBruteForce) {
+  std::mt19937 rng(42);
+  const PhyxelSet set = random_set(3000, rng);
+  std::uniform_real_distribution<double> cx(-0.07, 0.07), cy(-0.02, 0.05), cz(0.08, 0.22);
+  std::uniform_real_distribution<double> half(0, 0.02), reach(0, 0.01);
+  for (int q = 0; q < 300; ++q) {
+    const Vec3 c(cx(rng), cy(rng), cz(rng));
+    const Vec3 h(half(rng), half(rng), half(rng));
+    const Bounds bounds{c - h, c + h};
+    check_against_brute_force(set, 0.006, bounds, reach(rng));
+    if (HasFailure()) return;
+  }
+}
+
+TEST(BroadPhase, EverythingOnceForBoundsAroundTheSet) {
+  std::mt19937 rng(43);
+  const PhyxelSet set = random_set(500, rng);
+  const ContactBroadPhase grid(set);
+  const std::vector<uint32_t> got = grid.candidates({Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0);
+  std::vector<uint32_t> expected;
+  for (uint32_t i = 0; i < set.size(); ++i) {
+    if (!(set.flags[i] & (kFixed | kRemoved))) expected.push_back(i);
+  }
+  EXPECT_EQ(got, expected);
+}
+
+TEST(BroadPhase, ReachGrowsTheQuery) {
+  std::mt19937 rng(44);
+  const PhyxelSet set = random_set(2000, rng);
+  const ContactBroadPhase grid(set);
+  // A point-sized box just outside the set: nothing without reach, the brute-force set with it.
+  const Bounds outside{Vec3(0, 0.04, 0.15), Vec3(0, 0.04, 0.15)};
+  EXPECT_TRUE(grid.candidates(outside, 0).empty());
+  EXPECT_FALSE(grid.candidates(outside, 0.02).empty());
+  check_against_brute_force(set, 0.006, outside, 0.02);
+}
+
+TEST(BroadPhase, EmptyBoundsFarBoundsAndAllFixed) {
+  std::mt19937 rng(45);
+  PhyxelSet set = random_set(300, rng);
+  const ContactBroadPhase grid(set);
+  EXPECT_TRUE(grid.candidates(Bounds{}, 1.0).empty());
+  EXPECT_TRUE(grid.candidates({Vec3(5, 5, 5), Vec3(6, 6, 6)}, 0.1).empty());
+  EXPECT_TRUE(grid.candidates({Vec3(-5, -5, -5), Vec3(-4, -4, -4)}, 0.1).empty());
+  for (uint32_t& f : set.flags) f |= kFixed;
+  const ContactBroadPhase none(set);
+  EXPECT_TRUE(none.candidates({Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 1.0).empty());
+}
+
+TEST(BroadPhase, HugeOrNonFiniteReachCoversTheWholeGrid) {
+  // A diverging simulation gives an enormous or infinite reach (contact_reach of a huge speed):
+  // the candidates are then every phyxel that can take contact, never a slab of the grid.
+  std::mt19937 rng(47);
+  const PhyxelSet set = random_set(500, rng);
+  const ContactBroadPhase grid(set);
+  std::vector<uint32_t> all;
+  for (uint32_t i = 0; i < set.size(); ++i) {
+    if (!(set.flags[i] & (kFixed | kRemoved))) all.push_back(i);
+  }
+  const Bounds tool{Vec3(0, 0.01, 0.15), Vec3(0.001, 0.011, 0.151)};
+  for (double reach : {1e10, 1e30, std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_EQ(grid.candidates(tool, reach), all) << "reach " << reach;
+  }
+}
+
+// A sampled box scene: its lower part is clamped (fixed) and never a candidate.
+TEST(BroadPhase, SampledSceneSkipsFixedPhyxels) {
+  Scene scene;
+  ObjectDesc o;
+  o.name = "block";
+  o.shape.type = Shape::Type::Box;
+  o.shape.min = Vec3(0, 0, 0);
+  o.shape.max = Vec3(0.02, 0.02, 0.03);
+  o.spacing = 0.0025;
+  o.support_radius = 2 * o.spacing;
+  o.material.young = 1e4;
+  o.material.poisson = 0.3;
+  o.material.density = 1000;
+  Shape clamp;
+  clamp.type = Shape::Type::Box;
+  clamp.min = Vec3(-1, -1, -1);
+  clamp.max = Vec3(1, 1, 0.0051);
+  o.fixed.push_back(clamp);
+  scene.objects.push_back(o);
+  const PhyxelSet set = sample_scene(scene);
+  ASSERT_GT(set.size(), 100u);
+  const auto fixed = std::count_if(set.flags.begin(), set.flags.end(),
+                                   [](uint32_t f) { return (f & kFixed) != 0; });
+  ASSERT_GT(fixed, 0);
+  std::mt19937 rng(46);
+  std::uniform_real_distribution<double> c(-0.005, 0.035), half(0, 0.01), reach(0, 0.005);
+  for (int q = 0; q < 100; ++q) {
+    const Vec3 centre(c(rng), c(rng), c(rng));
+    const Vec3 h(half(rng), half(rng), half(rng));
+    check_against_brute_force(set, o.support_radius, {centre - h, centre + h}, reach(rng));
+    if (HasFailure()) return;
+  }
+}
+
+// --- reach and swept bounds ---
+
+TEST(ContactReach, AddsDisplacementTwiceTheTravelAndTheSpacing) {
+  EXPECT_DOUBLE_EQ(contact_reach(0.002, 0.01, 0.5, 0.004), 0.01 + 2 * 0.004 * 0.5 + 0.002);
+  EXPECT_DOUBLE_EQ(contact_reach(0.002, 0, 0, 0.004), 0.002);
+}
+
+TEST(ContactSweptBounds, UnionOverSubstepsAndTools) {
+  const std::vector<ContactTool> tools = {kSphere, kCapsule};
+  // Two substeps x two tools, row-major by substep.
+  const std::vector<ToolMotion> motion = {
+      {{Vec3(0, 0, 0), Vec3::UnitZ()}, {Vec3(0.1, 0, 0), Vec3::UnitZ()}},    // sphere, step 0
+      {{Vec3(0, 0, 1), Vec3::UnitZ()}, {Vec3(0, 0, 1), Vec3::UnitZ()}},      // capsule, step 0
+      {{Vec3(0.1, 0, 0), Vec3::UnitZ()}, {Vec3(0.2, 0, 0), Vec3::UnitZ()}},  // sphere, step 1
+      {{Vec3(0, 0, 1), Vec3::UnitZ()}, {Vec3(0, 0, 1), -Vec3::UnitY()}}};    // capsule, step 1
+  const Bounds b = swept_bounds(tools, motion);
+  EXPECT_NEAR((b.min - Vec3(-0.01, -0.06, -0.01)).norm(), 0, 1e-15);
+  EXPECT_NEAR((b.max - Vec3(0.21, 0.01, 1.06)).norm(), 0, 1e-15);
+  EXPECT_TRUE(swept_bounds({}, motion).empty());
+  EXPECT_TRUE(swept_bounds(tools, {}).empty());
+}
+
+}  // namespace
+}  // namespace phyxel
