@@ -64,8 +64,9 @@ ToolPose pose_at(const std::vector<ToolKey>& path, double t);
 Vec3 slerp_axis(const Vec3& a, const Vec3& b, double s);
 
 // Signed distance from x to the tool's surface (negative inside) and the outward unit normal
-// of the closest surface point. For a point on the capsule's segment (or the sphere's centre),
-// where no direction is defined, the normal is a fixed perpendicular to the axis.
+// of the closest surface point. Where no direction is defined (a point on the capsule's
+// segment, or the sphere's centre) the normal is fixed: a perpendicular to the capsule's axis,
+// minus the axis for a sphere.
 struct ToolDistance {
   double distance = 0;
   Vec3 normal = Vec3::UnitZ();

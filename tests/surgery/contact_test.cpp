@@ -41,7 +41,9 @@ TEST(ContactCorrection, DoubleEndsExactlyOnTheSphereWithoutFriction) {
     const Vec3 x_new = motion.to.position + (0.01 - depth(rng)) * dir;
     const Vec3 x_prev = x_new + 0.001 * Vec3(g(rng), g(rng), g(rng));  // any earlier position
     Vec3 dx = Vec3::Constant(7);
-    ASSERT_TRUE(contact_correction<double>(kSphere, motion, x_prev, x_new, dx));
+    Vec3 dv;
+    ASSERT_TRUE(
+        contact_correction<double>(kSphere, motion, 1e-3, x_prev, x_new, Vec3::Zero(), dx, dv));
     EXPECT_LT(std::abs(tool_distance(kSphere.shape, motion.to, x_new + dx).distance), 1e-12);
     EXPECT_NEAR(dx.normalized().dot(dir), 1, 1e-12);  // straight out along the normal
   }
@@ -55,7 +57,9 @@ TEST(ContactCorrection, FloatEndsOnTheSphereWithinFloatRounding) {
     const Vec3 dir = Vec3(g(rng), g(rng), g(rng)).normalized();
     const Vec3f x_new = (motion.to.position + 0.006 * dir).cast<float>();
     Vec3f dx = Vec3f::Constant(7);
-    ASSERT_TRUE(contact_correction<float>(kSphere, motion, x_new, x_new, dx));
+    Vec3f dvf;
+    ASSERT_TRUE(
+        contact_correction<float>(kSphere, motion, 1e-3f, x_new, x_new, Vec3f::Zero(), dx, dvf));
     const Vec3f end = x_new + dx;
     // Float positions near 0.3 m are spaced 3e-8 m apart.
     EXPECT_LT(std::abs(tool_distance(kSphere.shape, motion.to, end.cast<double>()).distance), 2e-7);
@@ -68,11 +72,14 @@ TEST(ContactCorrection, NoCorrectionOutside) {
     for (const Vec3& x : {Vec3(0.1, 0.2, 0.3 - 0.0101), Vec3(0.2, 0.2, 0.3), Vec3(0.1, 0.2, 0.37),
                           Vec3(0.1, 0.211, 0.32)}) {
       Vec3 dx = Vec3::Constant(7);
-      EXPECT_FALSE(contact_correction<double>(tool, motion, x, x, dx)) << x.transpose();
+      Vec3 dv;
+      EXPECT_FALSE(contact_correction<double>(tool, motion, 1e-3, x, x, Vec3::Zero(), dx, dv))
+          << x.transpose();
       EXPECT_EQ(dx, Vec3::Constant(7));
       Vec3f dxf = Vec3f::Constant(7);
-      EXPECT_FALSE(contact_correction<float>(tool, motion, Vec3f(x.cast<float>()),
-                                             Vec3f(x.cast<float>()), dxf));
+      Vec3f dvf;
+      EXPECT_FALSE(contact_correction<float>(tool, motion, 1e-3f, Vec3f(x.cast<float>()),
+                                             Vec3f(x.cast<float>()), Vec3f::Zero(), dxf, dvf));
       EXPECT_EQ(dxf, Vec3f::Constant(7));
     }
   }
@@ -89,8 +96,9 @@ struct SideCase {
 TEST(ContactCorrection, LargeFrictionSticks) {
   const SideCase c(0.0002);
   Vec3 dx;
-  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 1.0), at_rest(Vec3::Zero()),
-                                         c.x_prev, c.x_new, dx));
+  Vec3 dv;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 1.0), at_rest(Vec3::Zero()), 1e-3,
+                                         c.x_prev, c.x_new, Vec3::Zero(), dx, dv));
   const Vec3 end = c.x_new + dx;
   EXPECT_NEAR((end - Vec3(0.01, 0, 0.02)).norm(), 0, 1e-15);  // on the side, no slip at all
 }
@@ -99,8 +107,9 @@ TEST(ContactCorrection, SlidingLosesMuTimesTheNormalCorrection) {
   for (double mu : {0.0, 0.05, 0.1, 0.19}) {
     const SideCase c(0.0002);
     Vec3 dx;
-    ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()),
-                                           c.x_prev, c.x_new, dx));
+    Vec3 dv;
+    ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()), 1e-3,
+                                           c.x_prev, c.x_new, Vec3::Zero(), dx, dv));
     const Vec3 end = c.x_new + dx;
     const double dn = 0.001;  // the phyxel was 1 mm inside
     EXPECT_NEAR(end.x(), 0.01, 1e-15) << mu;
@@ -113,11 +122,12 @@ TEST(ContactCorrection, JustBelowTheLimitSticksJustAboveSlidesByTheExcess) {
   // |slip| = 0.8 mu |dn| sticks; |slip| = 1.25 mu |dn| slides by the excess over mu |dn|.
   const SideCase at(0.0002), above(0.00025);
   Vec3 dx;
-  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.25), at_rest(Vec3::Zero()),
-                                         at.x_prev, at.x_new, dx));
+  Vec3 dv;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.25), at_rest(Vec3::Zero()), 1e-3,
+                                         at.x_prev, at.x_new, Vec3::Zero(), dx, dv));
   EXPECT_NEAR((at.x_new + dx).z(), 0.02, 1e-15);
-  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.2), at_rest(Vec3::Zero()),
-                                         above.x_prev, above.x_new, dx));
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.2), at_rest(Vec3::Zero()), 1e-3,
+                                         above.x_prev, above.x_new, Vec3::Zero(), dx, dv));
   EXPECT_NEAR((above.x_new + dx).z(), 0.02 + 0.00005, 1e-15);
 }
 
@@ -127,11 +137,14 @@ TEST(ContactCorrection, FrictionIsRelativeToTheMovingTool) {
   const ToolMotion motion{{Vec3::Zero(), Vec3::UnitZ()}, {Vec3(0, 0, 0.001), Vec3::UnitZ()}};
   const Vec3 x(0.009, 0, 0.02);
   Vec3 dx;
-  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 2.0), motion, x, x, dx));
+  Vec3 dv;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 2.0), motion, 1e-3, x, x,
+                                         Vec3::Zero(), dx, dv));
   EXPECT_NEAR((x + dx - Vec3(0.01, 0, 0.021)).norm(), 0, 1e-15);
-  ASSERT_TRUE(contact_correction<double>(kCapsule, motion, x, x, dx));
+  ASSERT_TRUE(contact_correction<double>(kCapsule, motion, 1e-3, x, x, Vec3::Zero(), dx, dv));
   EXPECT_NEAR((x + dx - Vec3(0.01, 0, 0.02)).norm(), 0, 1e-15);
-  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.5), motion, x, x, dx));
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.5), motion, 1e-3, x, x,
+                                         Vec3::Zero(), dx, dv));
   EXPECT_NEAR((x + dx - Vec3(0.01, 0, 0.0205)).norm(), 0, 1e-15);  // slides: 0.5 of 1 mm
 }
 
@@ -139,14 +152,57 @@ TEST(ContactCorrection, FloatFrictionMatchesDouble) {
   for (double mu : {0.0, 0.1, 1.0}) {
     const SideCase c(0.0002);
     Vec3 dx;
+    Vec3 dv;
     Vec3f dxf;
-    ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()),
-                                           c.x_prev, c.x_new, dx));
-    ASSERT_TRUE(contact_correction<float>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()),
+    Vec3f dvf;
+    ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()), 1e-3,
+                                           c.x_prev, c.x_new, Vec3::Zero(), dx, dv));
+    ASSERT_TRUE(contact_correction<float>(with_friction(kCapsule, mu), at_rest(Vec3::Zero()), 1e-3f,
                                           Vec3f(c.x_prev.cast<float>()),
-                                          Vec3f(c.x_new.cast<float>()), dxf));
+                                          Vec3f(c.x_new.cast<float>()), Vec3f::Zero(), dxf, dvf));
     EXPECT_LT((dxf.cast<double>() - dx).norm(), 1e-8) << mu;
   }
+}
+
+// The velocity response: relative to the tool surface, the normal velocity into the tool is
+// removed, a separating one kept, and the tangential one reduced within mu times the normal
+// change.
+TEST(ContactCorrection, VelocityIntoTheToolIsRemovedSeparatingKept) {
+  const SideCase c(0);
+  Vec3 dx, dv;
+  // Moving into the side (-x) at 0.5 m/s and along z at 0.1 m/s, no friction.
+  ASSERT_TRUE(contact_correction<double>(kCapsule, at_rest(Vec3::Zero()), 1e-3, c.x_prev, c.x_new,
+                                         Vec3(-0.5, 0, 0.1), dx, dv));
+  EXPECT_NEAR((dv - Vec3(0.5, 0, 0)).norm(), 0, 1e-15);
+  // Already moving out (+x): no velocity change, the position is still corrected.
+  ASSERT_TRUE(contact_correction<double>(kCapsule, at_rest(Vec3::Zero()), 1e-3, c.x_prev, c.x_new,
+                                         Vec3(0.3, 0, 0.1), dx, dv));
+  EXPECT_EQ(dv, Vec3::Zero());
+  EXPECT_NEAR(dx.x(), 0.001, 1e-15);
+}
+
+TEST(ContactCorrection, TangentialVelocityObeysCoulomb) {
+  const SideCase c(0);
+  Vec3 dx, dv;
+  // Normal change 0.5 m/s; tangential 0.1 m/s: mu = 0.1 takes 0.05 of it (sliding), mu = 1
+  // all of it (sticking).
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 0.1), at_rest(Vec3::Zero()), 1e-3,
+                                         c.x_prev, c.x_new, Vec3(-0.5, 0, 0.1), dx, dv));
+  EXPECT_NEAR((dv - Vec3(0.5, 0, -0.05)).norm(), 0, 1e-15);
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 1.0), at_rest(Vec3::Zero()), 1e-3,
+                                         c.x_prev, c.x_new, Vec3(-0.5, 0, 0.1), dx, dv));
+  EXPECT_NEAR((dv - Vec3(0.5, 0, -0.1)).norm(), 0, 1e-15);
+}
+
+TEST(ContactCorrection, VelocityIsRelativeToTheMovingTool) {
+  // The tool moves 1 mm along +z in a substep of 1 ms (1 m/s); a phyxel inside its side moving
+  // into it at 0.2 m/s with no z velocity: sticking friction gives it the tool's 1 m/s along z.
+  const ToolMotion motion{{Vec3::Zero(), Vec3::UnitZ()}, {Vec3(0, 0, 0.001), Vec3::UnitZ()}};
+  const Vec3 x(0.009, 0, 0.02);
+  Vec3 dx, dv;
+  ASSERT_TRUE(contact_correction<double>(with_friction(kCapsule, 10.0), motion, 1e-3, x, x,
+                                         Vec3(-0.2, 0, 0), dx, dv));
+  EXPECT_NEAR((dv - Vec3(0.2, 0, 1.0)).norm(), 0, 1e-12);
 }
 
 // --- the broad phase ---
