@@ -200,8 +200,14 @@ void HapticLoop::tick(double now) {
   Vec3 f_tissue = Vec3::Zero();
   uint32_t contacts = 0;
   if (have_pair_) {
-    f_tissue = extrapolate_force(pair_[1], get(&pair_[2]), pair_[7], get(&pair_[8]), now);
     contacts = uint32_t(pair_[11]);
+    // Contact made or lost between the two snapshots: the force jumped, a line through the
+    // jump is no prediction (it would overshoot at the onset and pull at the release), so
+    // the newest force is held.
+    const bool contact_changed = (pair_[5] > 0) != (pair_[11] > 0);
+    f_tissue = contact_changed || !settings_.extrapolate
+                   ? get(&pair_[8])
+                   : extrapolate_force(pair_[1], get(&pair_[2]), pair_[7], get(&pair_[8]), now);
   }
 
   // 3. The simulated tool under the virtual coupling, symplectic Euler.

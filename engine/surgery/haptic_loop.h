@@ -10,7 +10,9 @@
 //     simulator: linear anisotropic elasticity, complex interactions and force extrapolation",
 //     J. Visualization and Computer Animation 13(3), the paper's reference [28]):
 //       F(t) = F_k + (F_k - F_{k-1}) (t - t_k) / (t_k - t_{k-1}),
-//     the horizon t - t_k clamped to [0, t_k - t_{k-1}] (one physics period);
+//     the horizon t - t_k clamped to [0, t_k - t_{k-1}] (one physics period); where contact
+//     was made or lost between the two (one has contacts, the other none) the force jumped
+//     and F_k is held instead;
 //  3. the simulated tool (mass m) under the virtual coupling (Colgate, Stanley and Brown
 //     1995, "Issues in the haptic display of tool use", IROS):
 //       m a = k (x_d - x_t) + b (v_d - v_t) + F_tissue,
@@ -49,6 +51,7 @@ struct HapticLoopSettings {
   double velocity_cutoff_hz = 100;  // low-pass of the device's finite-difference velocity
   double overrun_ms = 2;            // a period longer than this is an overrun
   double spin_us = 200;             // sleep until this long before the deadline, then spin
+  bool extrapolate = true;          // false: hold the newest force (zero-order hold)
 };
 
 // The loop's latest state, for the physics and for display.

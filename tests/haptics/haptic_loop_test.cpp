@@ -73,6 +73,34 @@ TEST(HapticExtrapolation, TheLoopFeelsTheExtrapolatedRamp) {
   EXPECT_EQ(loop.state().contacts, 1u);
 }
 
+TEST(HapticExtrapolation, ContactMadeOrLostHoldsTheNewestForce) {
+  HapticLoop loop(still_device(Vec3::Zero()), coupling(), ToolPose{});
+  // Onset: no contact, then contact. A line through the jump would double the force.
+  loop.publish(snapshot(0.000, Vec3::Zero(), 0));
+  loop.publish(snapshot(0.005, Vec3(0, 0, 2), 4));
+  loop.tick(0.008);
+  EXPECT_EQ(loop.state().tissue_force, Vec3(0, 0, 2));
+  // Release: contact, then none. A line would pull the tool into the tissue.
+  loop.publish(snapshot(0.010, Vec3::Zero(), 0));
+  loop.tick(0.013);
+  EXPECT_EQ(loop.state().tissue_force, Vec3::Zero());
+  // In contact on both: extrapolated.
+  loop.publish(snapshot(0.015, Vec3(0, 0, 1), 3));
+  loop.publish(snapshot(0.020, Vec3(0, 0, 2), 3));
+  loop.tick(0.0225);
+  EXPECT_NEAR(loop.state().tissue_force.z(), 2.5, 1e-12);
+}
+
+TEST(HapticExtrapolation, CanBeTurnedOff) {
+  HapticLoopSettings settings;
+  settings.extrapolate = false;
+  HapticLoop loop(still_device(Vec3::Zero()), coupling(), ToolPose{}, settings);
+  loop.publish(snapshot(0.000, Vec3(0, 0, 1), 3));
+  loop.publish(snapshot(0.005, Vec3(0, 0, 2), 3));
+  loop.tick(0.008);
+  EXPECT_EQ(loop.state().tissue_force, Vec3(0, 0, 2));
+}
+
 TEST(HapticCoupling, FreeSpaceConvergesToTheDeviceWithoutOvershoot) {
   const CouplingSettings c = coupling();
   const Vec3 target(0.01, 0, 0);
