@@ -213,7 +213,7 @@ int run(Options o) {
       }
       if (log.is_open()) {
         char line[160];
-        std::snprintf(line, sizeof line, "%.6f,%u,%.9g,%.9g,%.9g,%u\n", t, f.seq, f.force.x(),
+        std::snprintf(line, sizeof line, "%.6f,%u,%.9g,%.9g,%.9g,%u\n", t, f.seq, f.force.x() + 0.0,
                       f.force.y(), f.force.z(), f.status);
         log << line;
       }
