@@ -98,6 +98,10 @@ void HapticLoop::start() {
   // A fresh start: the time stopped is neither a period nor a device motion.
   ticked_ = false;
   have_device_ = false;
+  {
+    std::lock_guard lock(error_mutex_);
+    error_.clear();
+  }
   stop_.store(false);
   thread_ = std::thread(&HapticLoop::run, this);
 }
@@ -119,7 +123,14 @@ void HapticLoop::run() {
     std::this_thread::sleep_until(deadline - margin);
     while (Clock::now() < deadline) {
     }
-    tick(clock());
+    try {
+      tick(clock());
+    } catch (const std::exception& e) {
+      // A device that throws (a driver gone wrong) ends the loop; stop() still joins.
+      std::lock_guard lock(error_mutex_);
+      error_ = e.what();
+      return;
+    }
     deadline += period;
     const auto now = Clock::now();
     if (now >= deadline) {
@@ -298,6 +309,11 @@ HapticState HapticLoop::state() const {
 
 ToolPose HapticLoop::tool_pose() const {
   return state().tool;
+}
+
+std::string HapticLoop::error() const {
+  std::lock_guard lock(error_mutex_);
+  return error_;
 }
 
 HapticStats HapticLoop::stats() const {

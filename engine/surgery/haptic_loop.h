@@ -30,6 +30,8 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
+#include <string>
 #include <thread>
 
 #include "engine/surgery/haptic_device.h"
@@ -93,7 +95,9 @@ class HapticLoop {
   // The thread: idempotent; stop() joins it. Do not call tick() while it runs.
   void start();
   void stop();
-  bool running() const { return thread_.joinable(); }
+  bool running() const { return thread_.joinable(); }  // started and not stopped
+  // Why the thread ended on its own (the device threw); empty while it runs or stopped cleanly.
+  std::string error() const;
 
   // One tick at wall time `now` (s, HapticLoop::clock() or any monotonic clock in tests).
   // The thread calls it on its deadlines; tests call it directly.
@@ -136,6 +140,8 @@ class HapticLoop {
   // Shared with other threads.
   std::atomic<bool> stop_{false};
   std::thread thread_;
+  mutable std::mutex error_mutex_;
+  std::string error_;
   DoubleBuffer<12> snapshots_;              // the physics' last two snapshots (prev, cur)
   std::array<double, 6> publisher_prev_{};  // the publishing thread's last snapshot
   bool publisher_has_prev_ = false;

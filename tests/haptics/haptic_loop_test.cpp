@@ -318,5 +318,31 @@ TEST(HapticThread, RunsStopsAndReportsFiniteStats) {
   EXPECT_GT(loop.stats().ticks, ticks);
 }
 
+// A device whose driver fails after a few reads.
+class FailingDevice : public HapticDevice {
+ public:
+  std::string name() const override { return "failing"; }
+  HapticSample read(double) override {
+    if (++reads_ > 5) throw HapticError("the driver fell over");
+    return {ToolPose{}, true, 0};
+  }
+  void send(const Vec3&, double, uint32_t = 0) override {}
+  std::atomic<int> reads_{0};
+};
+
+TEST(HapticThread, ADeviceThatThrowsEndsTheThreadWithItsMessage) {
+  auto device = std::make_shared<FailingDevice>();
+  HapticLoop loop(device, coupling(), ToolPose{});
+  loop.start();
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (loop.error().empty() && std::chrono::steady_clock::now() < give_up) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_EQ(loop.error(), "the driver fell over");
+  EXPECT_EQ(loop.stats().ticks, 6u);  // the sixth tick threw in read()
+  loop.stop();
+  EXPECT_FALSE(loop.running());
+}
+
 }  // namespace
 }  // namespace phyxel
