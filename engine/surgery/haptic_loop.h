@@ -105,7 +105,7 @@ class HapticLoop {
 
   // Physics side (one publishing thread): wait-free.
   void publish(const HapticSnapshot& snapshot);
-  // The simulated tool's pose, lock-free (retries only while a tick writes it, nanoseconds).
+  // The simulated tool's pose, lock-free (a retry only if two ticks wrote during the read).
   ToolPose tool_pose() const;
   HapticState state() const;
   HapticStats stats() const;
