@@ -16,6 +16,7 @@
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/run/tool_trace.h"
+#include "engine/surgery/haptic_session.h"
 #include "render/frame_output.h"
 
 namespace phyxel::app {
@@ -46,6 +47,10 @@ constexpr const char* kRunHelp =
     "                      render.mode); offscreen, never needs a display\n"
     "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu);\n"
     "                      with a GPU solver the renderer reads its buffers on its device\n"
+    "  --haptic-device D   the device of tools with \"control\": \"haptic\": scripted (their\n"
+    "                      path, replayed on the wall clock; default), udp:PORT or\n"
+    "                      udp:ADDRESS:PORT (an external device driver, docs/haptics.md); such\n"
+    "                      runs are paced to the wall clock and a 1 kHz haptic loop runs\n"
     "  --quiet             no progress bar\n"
     "  --help              this text\n"
     "\n"
@@ -99,6 +104,7 @@ int run_command(const Args& args) {
   const bool no_skip = opts.flag("--no-skip");
   const std::string render_mode = opts.value("--render", "");
   const std::string render_device = opts.value("--render-device", "gpu");
+  const std::string haptic_device = opts.value("--haptic-device", "scripted");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {
@@ -187,7 +193,20 @@ int run_command(const Args& args) {
         trace->write(step, t, records);
       };
     }
+    // Haptic tools: a 1 kHz loop each, the run paced to the wall clock.
+    HapticSession haptics(scene, haptic_device);
+    if (!haptics.empty()) {
+      options.tool_pose = haptics.pose_source();
+      options.real_time = true;
+      options.on_tool_step = [&trace, &haptics](int64_t step, double t,
+                                                const std::vector<ToolStepRecord>& records) {
+        haptics.publish(t, records);
+        trace->write(step, t, records);
+      };
+      haptics.start();
+    }
     RunResult result = run_simulation(scene, set, *solver, options);
+    haptics.stop();
     if (trace) {
       trace->close();
       result.outputs.push_back("tools.csv");
@@ -196,7 +215,13 @@ int run_command(const Args& args) {
     options.on_frame = nullptr;
     frames.reset();  // before the solver: it may own the context
     if (result.steps_done < options.steps) bar.finish();
-    write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result);
+    write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result, &haptics);
+    if (options.real_time && result.real_time_factor < 0.99)
+      std::fprintf(stderr,
+                   "phyxel run: the simulation ran at %.2fx real time (fell behind the wall clock "
+                   "by up to %.3f s); haptic forces lagged accordingly. Use a coarser scene or "
+                   "--device gpu\n",
+                   result.real_time_factor, result.max_lag);
     if (!result.plan.reason.empty())
       std::fprintf(stderr, "phyxel run: %s\n", result.plan.reason.c_str());
     const std::string device_name = solver->device();

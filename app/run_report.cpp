@@ -8,7 +8,8 @@
 namespace phyxel::app {
 
 void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
-                       Solver& solver, const RunOptions& options, const RunResult& result) {
+                       Solver& solver, const RunOptions& options, const RunResult& result,
+                       const HapticSession* haptics) {
   using nlohmann::json;
   json objects = json::array();
   const NeighbourLists& nbr = solver.neighbours();
@@ -70,6 +71,23 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
                        {"max_contacts", t.max_contacts},
                        {"steps_in_contact", t.steps_in_contact}});
     j["tools"] = tools;
+  }
+  if (haptics != nullptr && !haptics->empty()) {
+    json loops = json::array();
+    for (const HapticSession::ToolLoop& l : haptics->loops()) {
+      const HapticStats st = l.loop->stats();
+      loops.push_back({{"tool", l.name},
+                       {"device", l.loop->device().name()},
+                       {"ticks", st.ticks},
+                       {"period_mean_ms", st.period_mean_ms},
+                       {"period_p99_ms", st.period_p99_ms},
+                       {"period_max_ms", st.period_max_ms},
+                       {"overruns", st.overruns},
+                       {"max_force_jump", st.max_force_jump},
+                       {"max_hand_force", st.max_hand_force},
+                       {"snapshots", st.snapshots}});
+    }
+    j["haptics"] = loops;
   }
   if (result.non_finite) {
     j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};

@@ -4,10 +4,12 @@
 #include <filesystem>
 
 #include "engine/run/simulation.h"
+#include "engine/surgery/haptic_session.h"
 
 namespace phyxel::app {
 
 void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
-                       Solver& solver, const RunOptions& options, const RunResult& result);
+                       Solver& solver, const RunOptions& options, const RunResult& result,
+                       const HapticSession* haptics = nullptr);
 
 }  // namespace phyxel::app

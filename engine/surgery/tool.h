@@ -34,7 +34,7 @@ struct ToolPose {
   Vec3 axis = Vec3::UnitZ();     // unit
 };
 
-// Virtual coupling between a haptic device and the simulated tool (engine/surgery/haptics.h).
+// Virtual coupling between a haptic device and the simulated tool (engine/surgery/haptic_loop.h).
 struct CouplingSettings {
   double stiffness = 200;  // N/m, spring between the device pose and the simulated tool
   double damping = 0;      // N s/m; 0: critical for `mass`

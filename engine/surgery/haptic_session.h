@@ -1,0 +1,54 @@
+// The haptic side of a run: one HapticLoop (1 kHz thread, virtual coupling) per scene tool with
+// "control": "haptic", each on a device, feeding the run loop the simulated tools' poses
+// (RunOptions::tool_pose) and taking the tissue's force on them after every step
+// (RunOptions::on_tool_step).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/scene/scene.h"
+#include "engine/surgery/haptic_device.h"
+#include "engine/surgery/haptic_loop.h"
+#include "engine/surgery/tool_track.h"
+
+namespace phyxel {
+
+// A device from its command-line spec: "scripted" (the tool's own path, replayed on the wall
+// clock), "udp:PORT" or "udp:ADDRESS:PORT" (an external driver, docs/haptics.md). Throws
+// HapticError naming the spec and what is allowed.
+std::shared_ptr<HapticDevice> make_haptic_device(const std::string& spec, const ToolDesc& tool,
+                                                 int index);
+
+class HapticSession {
+ public:
+  // Devices from `spec` (make_haptic_device; with udp and several haptic tools, the n-th
+  // haptic tool listens on PORT + n). No haptic tool: an empty session.
+  HapticSession(const Scene& scene, const std::string& spec);
+  // One given device for every haptic tool (the viewer's mouse).
+  HapticSession(const Scene& scene, std::shared_ptr<HapticDevice> device);
+  ~HapticSession();
+
+  bool empty() const { return loops_.empty(); }
+  void start();
+  void stop();
+  // For RunOptions::tool_pose: the simulated pose of scene tool `tool` now.
+  ToolTrack::PoseSource pose_source() const;
+  // For RunOptions::on_tool_step: publishes each haptic tool's force to its loop.
+  void publish(double sim_time, const std::vector<ToolStepRecord>& records);
+
+  struct ToolLoop {
+    size_t tool;  // index into scene.tools
+    std::string name;
+    std::unique_ptr<HapticLoop> loop;
+  };
+  const std::vector<ToolLoop>& loops() const { return loops_; }
+
+ private:
+  void add(const Scene& scene, size_t tool, std::shared_ptr<HapticDevice> device);
+  std::vector<ToolLoop> loops_;
+  std::vector<int> loop_of_;  // per scene tool: index into loops_, or -1
+};
+
+}  // namespace phyxel
