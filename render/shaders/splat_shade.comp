@@ -23,25 +23,28 @@ const float kHeadDiffuse = 0.35;
 const float kSpecular = 0.25;
 const float kShininess = 32.0;
 
-// Steel: a dark grey, slightly blue base; the reflection of a bright sky above a sharp
-// horizon and a dark floor below (eye space), which gives a rod the bands of a polished
-// instrument; a sharp highlight of the key light and a streak of the head light along the
-// part that faces the eye.
+// Steel: a dark, slightly blue grey base that mirrors a studio (eye space): a bright sky
+// above a sharp horizon and a dark floor below, a soft box around the key light and a dimmer
+// one to the right, which give a rod the bands of a polished instrument at any orientation;
+// a sharp highlight of the key light and a streak of the head light.
 const vec3 kSteel = vec3(0.30, 0.32, 0.36);
 const vec3 kSky = vec3(0.95, 0.97, 1.0);
-const vec3 kHorizonSky = vec3(0.62, 0.66, 0.72);
-const vec3 kHorizonFloor = vec3(0.26, 0.26, 0.27);
-const vec3 kFloor = vec3(0.13, 0.13, 0.14);
+const vec3 kHorizonSky = vec3(0.70, 0.73, 0.78);
+const vec3 kHorizonFloor = vec3(0.38, 0.38, 0.40);
+const vec3 kFloor = vec3(0.24, 0.24, 0.26);
+const vec3 kFillBox = vec3(0.7071, -0.1414, 0.6928);  // normalize(0.5, -0.1, 0.49)
 
 vec3 shade_tool(vec3 n, vec3 view) {
   const float key = max(dot(n, kKeyLight), 0.0);
   const vec3 r = reflect(-view, n);
   const float key_spec = pow(max(dot(reflect(-kKeyLight, n), view), 0.0), 24.0);
-  const float head_spec = pow(max(dot(n, view), 0.0), 16.0);
+  const float head_spec = pow(max(dot(n, view), 0.0), 8.0);
   const vec3 env = r.y >= 0.0 ? mix(kHorizonSky, kSky, smoothstep(0.0, 0.6, r.y))
                               : mix(kHorizonFloor, kFloor, smoothstep(0.0, 0.4, -r.y));
-  const vec3 colour =
-      kSteel * (0.12 + 0.25 * key) + 0.7 * env + vec3(0.8 * key_spec + 0.3 * head_spec);
+  const float boxes = 0.35 * smoothstep(0.55, 0.85, dot(r, kKeyLight)) +
+                      0.20 * smoothstep(0.6, 0.9, dot(r, kFillBox));
+  const vec3 colour = kSteel * (0.12 + 0.25 * key) + 0.55 * env +
+                      vec3(boxes + 0.8 * key_spec + 0.35 * head_spec);
   return min(colour, vec3(1.0));
 }
 

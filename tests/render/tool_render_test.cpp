@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "engine/run/simulation.h"
+#include "render/frame_output.h"
 #include "render/sample_shapes.h"
 #include "render/tool_raycast.h"
 #include "tests/render/render_test_util.h"
@@ -134,7 +136,6 @@ TEST_F(ToolRender, SteelWhereTheToolIsNearestTissueWhereItIsInFront) {
   // The tissue's surface lies between the balls of radius R - 1.5 s (every ray into it meets
   // tissue first) and R + 0.5 s (no splat reaches beyond).
   const EyeView& eye = setup.eyes[0];
-  const Eigen::Matrix3d rot = eye.view.topLeftCorner<3, 3>();
   const Vec3 centre = eye.view.topRightCorner<3, 1>();  // the sphere's centre in eye space
   const double inner = ProbeScene::kRadius - 1.5 * ProbeScene::kSpacing;
   const double outer = ProbeScene::kRadius + 0.5 * ProbeScene::kSpacing;
@@ -184,7 +185,6 @@ TEST_F(ToolRender, SteelWhereTheToolIsNearestTissueWhereItIsInFront) {
                  std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) +
                  ")";
     }
-  (void)rot;
   EXPECT_TRUE(wrong.empty()) << "pixels of the wrong kind:" << wrong;
   EXPECT_GT(tool_px, 300);
   EXPECT_GT(hidden_px, 40) << "the buried tip is hidden by the tissue in front of it";
@@ -274,6 +274,53 @@ TEST_F(ToolRender, WithoutToolsTheFrameIsUnchanged) {
   EXPECT_THROW(
       s.renderer->set_tools({{{ToolShape::Type::Sphere, 0.01, 0}, {Vec3::Zero(), Vec3(0, 0, 2)}}}),
       std::invalid_argument);
+}
+
+// A run's frames (FrameWriter, write_solver_frame) draw the tools at the poses they are given:
+// a probe sliding along its path above a block, at the start and at the end of the path.
+TEST_F(ToolRender, RunFramesDrawTheToolsAtThePosesTheyAreGiven) {
+  Scene scene = parse_scene(
+      R"({"simulation": {"dt": 2e-4, "steps": 25},
+    "objects": [{"name": "b", "shape": {"type": "box", "min": [-0.02, -0.01, 0],
+                 "max": [0.02, 0.01, 0.01]}, "spacing": 0.0025,
+                 "material": {"young": 3000, "poisson": 0.3, "density": 1000}}],
+    "render": {"mode": "mono", "width": 96, "height": 64}})",
+      test::test_out_dir() / "probe_block.json");
+  ToolDesc probe;
+  probe.name = "probe";
+  probe.shape = {ToolShape::Type::Capsule, 0.0025, 0.02};
+  const Vec3 axis = Vec3(0, -0.3, 1).normalized();
+  probe.path = {{0.0, Vec3(-0.014, -0.004, 0.013), axis},
+                {0.005, Vec3(0.014, -0.004, 0.013), axis}};
+  scene.tools = {probe};
+  const PhyxelSet set = sample_scene(scene);
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  const std::filesystem::path dir = test::test_out_dir() / "tool_frames";
+  std::filesystem::create_directories(dir);
+  FrameWriter writer(scene, set, {scene.render.mode, dir}, &ctx());
+  const FrameSetup& setup = writer.setup();
+  double previous_x = -1;
+  for (const int64_t step : {0, 25}) {
+    const std::vector<ToolDrawable> tools =
+        tool_drawables(scene.tools, double(step) * scene.simulation.dt);
+    const std::string name = write_solver_frame(writer, *solver, step, tools);
+    const RgbaImage image = load_image(dir / name, name);
+    double sx = 0, n = 0;
+    for (uint32_t y = 0; y < setup.height; ++y)
+      for (uint32_t x = 0; x < setup.eye_width; ++x)
+        if (tool_at_pixel(setup.eyes[0], setup.eye_width, setup.height, tools, x, y).tool >= 0) {
+          sx += x + 0.5;
+          n += 1;
+        }
+    const Eigen::Vector3d steel_at = test::centroid(image, steel);
+    ASSERT_GT(n, 40) << "step " << step;
+    EXPECT_NEAR(steel_at.z(), n, 0.1 * n) << "step " << step << ": the probe is in front";
+    EXPECT_NEAR(steel_at.x(), sx / n, 0.75) << "step " << step;
+    if (previous_x >= 0) {
+      EXPECT_GT(steel_at.x() - previous_x, 10) << "it moved along its path";
+    }
+    previous_x = steel_at.x();
+  }
 }
 
 }  // namespace
