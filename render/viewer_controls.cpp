@@ -72,6 +72,23 @@ Vec3 push_along_view(const Camera& camera, const Vec3& point, double fraction) {
   return point + fraction * (point - camera.position);
 }
 
+std::vector<HapticTarget> haptic_targets(const std::vector<ToolDesc>& tools) {
+  std::vector<HapticTarget> out;
+  for (size_t k = 0; k < tools.size(); ++k)
+    if (tools[k].control == ToolDesc::Control::Haptic)
+      out.push_back({k, pose_at(tools[k].path, tools[k].path.empty() ? 0.0 : tools[k].path[0].t)});
+  return out;
+}
+
+std::vector<ToolDrawable> viewer_tools(
+    const std::vector<ToolDesc>& tools, double t, const std::vector<HapticTarget>& haptic,
+    const std::function<ToolPose(size_t tool, const ToolPose& target)>& haptic_pose) {
+  std::vector<ToolDrawable> out = tool_drawables(tools, t);
+  for (const HapticTarget& h : haptic)
+    if (h.tool < out.size()) out[h.tool].pose = haptic_pose ? haptic_pose(h.tool, h.pose) : h.pose;
+  return out;
+}
+
 void ViewerControls::set_haptic_tools(std::vector<HapticTarget> tools) {
   tools_ = std::move(tools);
   moved_.clear();

@@ -22,11 +22,13 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "engine/surgery/tool.h"
 #include "render/camera.h"
+#include "render/tool_raycast.h"
 
 namespace phyxel::render {
 
@@ -66,6 +68,15 @@ struct HapticTarget {
   size_t tool = 0;
   ToolPose pose;
 };
+
+// The scene's haptic tools ("control": "haptic"), each at the first key of its path.
+std::vector<HapticTarget> haptic_targets(const std::vector<ToolDesc>& tools);
+
+// What the viewer draws at simulated time t: path tools at pose_at(path, t), haptic tools at
+// haptic_pose(tool, target) when given, else at their target.
+std::vector<ToolDrawable> viewer_tools(
+    const std::vector<ToolDesc>& tools, double t, const std::vector<HapticTarget>& haptic,
+    const std::function<ToolPose(size_t tool, const ToolPose& target)>& haptic_pose = {});
 
 class ViewerControls {
  public:

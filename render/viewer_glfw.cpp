@@ -69,17 +69,6 @@ void on_scroll(GLFWwindow* w, double, double dy) {
   controls_of(w).scroll(dy, shift);
 }
 
-// The scene's tools to draw at step `step`: path tools at pose_at(path, step x dt), haptic
-// tools where the options say (at their mouse target unless haptic_pose is set).
-std::vector<ToolDrawable> tools_to_draw(const Scene& scene, const ViewerOptions& options,
-                                        const ViewerControls& controls, int64_t step) {
-  std::vector<ToolDrawable> tools = tool_drawables(scene.tools, double(step) * scene.simulation.dt);
-  for (const HapticTarget& h : controls.haptic_tools()) {
-    tools[h.tool].pose = options.haptic_pose ? options.haptic_pose(h.tool, h.pose) : h.pose;
-  }
-  return tools;
-}
-
 // Empty while the state is finite and no phyxel outruns its material's wave speed; else what
 // happened (also printed once to standard error, with what to try).
 std::string stability_problem(const PhyxelSet& set, Solver& solver, int64_t step) {
@@ -164,13 +153,9 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   } destroy{window};
   Presenter presenter(window);
   ViewerControls controls(writer.camera());
-  std::vector<HapticTarget> haptic;
-  for (size_t k = 0; k < scene.tools.size(); ++k) {
-    if (scene.tools[k].control == ToolDesc::Control::Haptic) {
-      haptic.push_back({k, pose_at(scene.tools[k].path, 0.0)});
-      if (options.on_tool_drag) options.on_tool_drag(k, haptic.back().pose);
-    }
-  }
+  const std::vector<HapticTarget> haptic = haptic_targets(scene.tools);
+  if (options.on_tool_drag)
+    for (const HapticTarget& h : haptic) options.on_tool_drag(h.tool, h.pose);
   controls.set_haptic_tools(haptic);
   glfwSetWindowUserPointer(window, &controls);
   glfwSetKeyCallback(window, on_key);
@@ -222,7 +207,10 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
       if (options.on_tool_drag) options.on_tool_drag(h.tool, h.pose);
     }
     writer.set_setup(make_frame_setup(controls.orbit().camera(writer.camera()), r, mode));
-    if (!scene.tools.empty()) writer.set_tools(tools_to_draw(scene, options, controls, step));
+    if (!scene.tools.empty()) {
+      writer.set_tools(viewer_tools(scene.tools, double(step) * scene.simulation.dt,
+                                    controls.haptic_tools(), options.haptic_pose));
+    }
     if (on_gpu) {
       presenter.present(writer.render(gpu_solver->buffers()));
     } else {

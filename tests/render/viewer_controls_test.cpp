@@ -207,6 +207,36 @@ TEST(ViewerToolControls, WithoutHapticToolsShiftDragOrbitsAndRightDragDoesNothin
   EXPECT_TRUE(v.take_moved_tools().empty());
 }
 
+TEST(ViewerToolControls, PathToolsFollowTheirPathsHapticToolsTheirTargets) {
+  ToolDesc path, haptic;
+  path.shape = {ToolShape::Type::Capsule, 0.002, 0.03};
+  path.path = {{0.0, Vec3(0, 0, 0), Vec3::UnitZ()}, {1.0, Vec3(0.1, 0, 0), Vec3::UnitZ()}};
+  haptic.shape = {ToolShape::Type::Sphere, 0.004, 0};
+  haptic.control = ToolDesc::Control::Haptic;
+  haptic.path = {{0.5, Vec3(0, 0.02, 0.01), Vec3::UnitY()}};
+  const std::vector<ToolDesc> tools = {path, haptic};
+  const std::vector<HapticTarget> targets = haptic_targets(tools);
+  ASSERT_EQ(targets.size(), 1u);
+  EXPECT_EQ(targets[0].tool, 1u);
+  EXPECT_EQ(targets[0].pose.position, Vec3(0, 0.02, 0.01));
+  EXPECT_EQ(targets[0].pose.axis, Vec3::UnitY());
+  std::vector<HapticTarget> moved = targets;
+  moved[0].pose.position = Vec3(0.05, 0.05, 0.05);
+  const std::vector<ToolDrawable> drawn = viewer_tools(tools, 0.25, moved);
+  ASSERT_EQ(drawn.size(), 2u);
+  EXPECT_LT((drawn[0].pose.position - Vec3(0.025, 0, 0)).norm(), 1e-15) << "pose_at(path, t)";
+  EXPECT_EQ(drawn[0].shape.length, 0.03);
+  EXPECT_EQ(drawn[1].pose.position, Vec3(0.05, 0.05, 0.05)) << "at the mouse's target";
+  EXPECT_EQ(drawn[1].shape.radius, 0.004);
+  // With haptic_pose the viewer draws where it says (the coupled tool), given the target.
+  const std::vector<ToolDrawable> coupled =
+      viewer_tools(tools, 0.25, moved, [](size_t tool, const ToolPose& target) {
+        EXPECT_EQ(tool, 1u);
+        return ToolPose{target.position - Vec3(0, 0, 0.01), target.axis};
+      });
+  EXPECT_EQ(coupled[1].pose.position, Vec3(0.05, 0.05, 0.04));
+}
+
 TEST(ViewerControls, TheTitleSaysStepPauseModeAndRate) {
   EXPECT_EQ(viewer_title("scenes/beam.json", 120, true, true, 29.96),
             "phyxel view scenes/beam.json  step 120 (paused)  stereo  30.0 fps");
