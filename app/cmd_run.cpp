@@ -178,10 +178,14 @@ int run_command(const Args& args) {
           gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
-      render::write_solver_frame(*frames, *solver, 0, buffers);
+      // The tools at the frame's simulated time (steps of simulation.dt).
+      auto tools_at = [&scene](int64_t step) {
+        return render::tool_drawables(scene.tools, double(step) * scene.simulation.dt);
+      };
+      render::write_solver_frame(*frames, *solver, 0, tools_at(0), buffers);
       options.frame_every = scene.render.every;
-      options.on_frame = [&frames, buffers](int64_t step, Solver& s) {
-        render::write_solver_frame(*frames, s, step, buffers);
+      options.on_frame = [&frames, buffers, tools_at](int64_t step, Solver& s) {
+        render::write_solver_frame(*frames, s, step, tools_at(step), buffers);
       };
     }
     // Tools: DIR/tools.csv, a row per step and tool.

@@ -59,6 +59,10 @@ RgbaImage FrameWriter::render(const RenderInputs& inputs) {
   return renderer_->render(inputs, setup_);
 }
 
+void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
+  renderer_->set_tools(std::move(tools));
+}
+
 std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
   const RgbaImage image = render(inputs);
   const std::string name = frame_name(step);
@@ -75,7 +79,9 @@ std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displaceme
 }
 
 std::string write_solver_frame(FrameWriter& writer, Solver& solver, int64_t step,
+                               const std::vector<ToolDrawable>& tools,
                                const std::function<RenderInputs()>& gpu_inputs) {
+  writer.set_tools(tools);
   if (gpu_inputs) return writer.write(step, gpu_inputs());
   return writer.write(step, solver.read_state(false).displacement, solver.neighbours());
 }

@@ -3,9 +3,10 @@
 //
 //   FrameWriter     the renderer of one scene: surfel table, texture (the scene's
 //                   render.texture or the procedural tissue texture), camera, frame setup
-//   write_solver_frame  one frame of a solver's current state: from the GPU solver's buffers,
-//                   or (CPU solver) from read_state through HostInputs. The run loop calls
-//                   it at step 0, every render.every steps and at the end (RunOptions::on_frame).
+//   write_solver_frame  one frame of a solver's current state and the tools' poses: from the
+//                   GPU solver's buffers, or (CPU solver) from read_state through HostInputs.
+//                   The run loop calls it at step 0, every render.every steps and at the end
+//                   (RunOptions::on_frame), with tool_drawables(scene.tools, step x dt).
 #pragma once
 
 #include <cstdint>
@@ -46,6 +47,8 @@ class FrameWriter {
                     const NeighbourLists& neighbours);
   // Renders without writing (for the viewer and tests).
   RgbaImage render(const RenderInputs& inputs);
+  // The tools of the frames from now on (SplatRenderer::set_tools; none at first).
+  void set_tools(std::vector<ToolDrawable> tools);
 
   gpu::Context& context() { return *ctx_; }
   const FrameSetup& setup() const { return setup_; }
@@ -66,9 +69,11 @@ class FrameWriter {
   std::vector<std::string> written_;
 };
 
-// Renders the frame of `step` from `solver`: from `gpu_inputs` (a GPU solver's buffers on the
+// Renders the frame of `step` from `solver` with the tools at `tools` (their poses at the
+// step's simulated time; empty: none): from `gpu_inputs` (a GPU solver's buffers on the
 // writer's context) when given, else from the solver's displacement. Returns the file name.
 std::string write_solver_frame(FrameWriter& writer, Solver& solver, int64_t step,
+                               const std::vector<ToolDrawable>& tools,
                                const std::function<RenderInputs()>& gpu_inputs = {});
 
 }  // namespace phyxel::render

@@ -1,6 +1,7 @@
 #include "render/splat_renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,7 @@
 #include "phyxel_spv/splat_accumulate.spv.h"
 #include "phyxel_spv/splat_shade.spv.h"
 #include "phyxel_spv/splat_visibility.spv.h"
+#include "phyxel_spv/tool_visibility.spv.h"
 
 namespace phyxel::render {
 namespace {
@@ -36,6 +38,23 @@ layout::RasterPush raster_push(const EyeView& eye, float epsilon, uint32_t width
   p.depth = {float(eye.frustum.near), float(eye.frustum.far), epsilon, 0.0f};
   p.target = {width, height, count, 0};
   return p;
+}
+
+layout::ToolPush tool_push(const EyeView& eye, uint32_t width, uint32_t height, uint32_t count) {
+  layout::ToolPush p{};
+  p.view = to_mat4(eye.view);
+  p.frustum = frustum_of(eye);
+  p.depth = {float(eye.frustum.near), float(eye.frustum.far), 0.0f, 0.0f};
+  p.target = {width, height, count, 0};
+  return p;
+}
+
+layout::RenderTool render_tool(const ToolDrawable& t) {
+  const Vec3& p = t.pose.position;
+  const Vec3& a = t.pose.axis;
+  const double len = t.shape.type == ToolShape::Type::Capsule ? t.shape.length : 0.0;
+  return {{float(p.x()), float(p.y()), float(p.z()), float(t.shape.radius)},
+          {float(a.x()), float(a.y()), float(a.z()), float(len)}};
 }
 
 uint32_t shade_layout(FrameLayout layout) {
@@ -83,7 +102,11 @@ struct SplatRenderer::Impl {
   Images images;
   RendererOptions options;
   VkPhysicalDeviceLimits limits{};
-  gpu::Pipeline deform, visibility, accumulate, shade;
+  gpu::Pipeline deform, visibility, accumulate, shade, tool_pass;
+  // The tools of the next frames; their GPU copy (mapped staging, device) grows as needed.
+  std::vector<ToolDrawable> tools;
+  gpu::Buffer tool_staging, tool_buffer;
+  size_t tool_capacity = 0;
   uint32_t count = 0, table_phyxels = 0;
   gpu::Buffer surfels, splats;
   Texture texture;
@@ -188,6 +211,7 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.accumulate = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_accumulate), 3, sizeof(layout::RasterPush),
                                m.texture_layout);
   m.shade = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 2, sizeof(layout::ShadePush));
+  m.tool_pass = gpu::Pipeline(ctx, PHYXEL_SHADER(tool_visibility), 3, sizeof(layout::ToolPush));
   m.count = static_cast<uint32_t>(table.surfels.size());
   m.table_phyxels = table.phyxels;
   const size_t slots = std::max<size_t>(table.surfels.size(), 1);
@@ -225,6 +249,25 @@ std::string SplatRenderer::frame_error(const FrameSetup& setup) const {
   return {};
 }
 
+void SplatRenderer::set_tools(std::vector<ToolDrawable> tools) {
+  for (size_t k = 0; k < tools.size(); ++k) {
+    const ToolDrawable& t = tools[k];
+    const bool capsule = t.shape.type == ToolShape::Type::Capsule;
+    if (!(t.shape.radius > 0) || !std::isfinite(t.shape.radius) ||
+        (capsule && !(t.shape.length >= 0 && std::isfinite(t.shape.length))) ||
+        !t.pose.position.allFinite() || !(std::abs(t.pose.axis.norm() - 1) < 1e-6)) {
+      throw std::invalid_argument("SplatRenderer::set_tools: tool " + std::to_string(k) +
+                                  " needs a finite radius > 0, length >= 0, a finite position "
+                                  "and a unit axis");
+    }
+  }
+  impl_->tools = std::move(tools);
+}
+
+const std::vector<ToolDrawable>& SplatRenderer::tools() const {
+  return impl_->tools;
+}
+
 uint32_t SplatRenderer::surfel_count() const {
   return impl_->count;
 }
@@ -259,11 +302,27 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   const VkDeviceSize depth_range = VkDeviceSize{m.eye_stride} * sizeof(uint32_t);
   const VkDeviceSize accum_range = depth_range * layout::kAccumChannels;
 
+  const auto tool_count = static_cast<uint32_t>(m.tools.size());
+  if (tool_count > m.tool_capacity) {
+    const size_t capacity = std::max<size_t>(tool_count, 2 * m.tool_capacity);
+    const VkDeviceSize bytes = capacity * sizeof(layout::RenderTool);
+    m.tool_staging = gpu::Buffer(m.ctx, bytes, gpu::MemoryIntent::Upload, "render tools staging");
+    m.tool_buffer = gpu::Buffer(m.ctx, bytes, gpu::MemoryIntent::Device, "render tools");
+    m.tool_capacity = capacity;
+  }
+  if (tool_count > 0) {
+    auto* dst = static_cast<layout::RenderTool*>(m.tool_staging.mapped());
+    for (uint32_t k = 0; k < tool_count; ++k) dst[k] = render_tool(m.tools[k]);
+  }
+
   // The solver's writes, and the last frame's reads of every buffer here, come first.
   rec.barrier();
   begin("render clear");
   rec.fill(m.depth, layout::kDepthClear, 0, eyes * depth_range);
   rec.fill(m.accum, 0, 0, eyes * accum_range);
+  if (tool_count > 0) {
+    rec.copy(m.tool_staging, m.tool_buffer, VkDeviceSize{tool_count} * sizeof(layout::RenderTool));
+  }
   end();
   begin("render deform");
   gpu::dispatch(
@@ -274,6 +333,18 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   end();
   rec.barrier();
   // The eyes write disjoint ranges: their dispatches need no barrier between them.
+  if (tool_count > 0) {
+    begin("render tools");
+    for (uint32_t e = 0; e < eyes; ++e) {
+      gpu::dispatch(rec, m.tool_pass,
+                    tool_push(setup.eyes[e], setup.eye_width, setup.height, tool_count),
+                    {m.tool_buffer, gpu::BufferRef(m.depth, e * depth_range, depth_range),
+                     gpu::BufferRef(m.accum, e * accum_range, accum_range)},
+                    setup.eye_width * setup.height);
+    }
+    end();
+    rec.barrier();
+  }
   begin("render visibility");
   for (uint32_t e = 0; e < eyes; ++e) {
     gpu::dispatch(

@@ -6,11 +6,15 @@
 //
 //   clear              depth to far, accumulators to 0
 //   deform             centre x0 + u, normal (I + grad u)^-T n, texture gradients, radius
+//   per eye, with tools only (set_tools), one invocation per pixel:
+//     0 tools          ray cast of every tool (ball or capsule); the nearest writes its exact
+//                      depth (atomicMin, the splats' encoding) and its normal
 //   per eye, one invocation per splat over the pixels its disc may cover:
 //     1 visibility     atomicMin of the nearest disc's depth + epsilon (ray-disc per pixel)
 //     2 accumulation   fixed-point atomicAdd of colour x w, w, normal x w of the discs within
 //                      epsilon (exact integer sums: the image does not depend on their order)
-//   3 shading          per frame pixel: normalisation, deferred Phong, the frame layout
+//   3 shading          per frame pixel: normalisation, deferred Phong, the frame layout;
+//                      steel where a tool won the depth test and no splat is in front of it
 //   then the frame is copied to a host-visible buffer.
 //
 // Mono: one eye, width x height. Side by side: the two eyes next to each other in one image
@@ -22,12 +26,14 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "compute/pipeline.h"
 #include "compute/timing.h"
 #include "render/camera.h"
 #include "render/image.h"
 #include "render/surfels.h"
+#include "render/tool_raycast.h"
 
 namespace phyxel::render {
 
@@ -73,6 +79,13 @@ class SplatRenderer {
   ~SplatRenderer();
   SplatRenderer(const SplatRenderer&) = delete;
   SplatRenderer& operator=(const SplatRenderer&) = delete;
+
+  // The tools drawn by the frames recorded from now on (none by default: then the tool pass
+  // records nothing and frames are as without tools). Each needs radius > 0 and a unit axis;
+  // throws std::invalid_argument otherwise. record() copies them into a mapped buffer, so, as
+  // for the frame itself, the previous frame must have finished before the next is recorded.
+  void set_tools(std::vector<ToolDrawable> tools);
+  const std::vector<ToolDrawable>& tools() const;
 
   // Renders one frame of the current state of `inputs` and returns it (waits for the GPU).
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
@@ -50,11 +51,12 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
   if (c.quit()) glfwSetWindowShouldClose(w, GLFW_TRUE);
 }
 
-void on_button(GLFWwindow* w, int button, int action, int) {
-  if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+void on_button(GLFWwindow* w, int button, int action, int mods) {
+  if (button != GLFW_MOUSE_BUTTON_LEFT && button != GLFW_MOUSE_BUTTON_RIGHT) return;
   double x = 0, y = 0;
   glfwGetCursorPos(w, &x, &y);
-  controls_of(w).button(action == GLFW_PRESS, x, y);
+  controls_of(w).button(button == GLFW_MOUSE_BUTTON_LEFT ? ViewerButton::Left : ViewerButton::Right,
+                        action == GLFW_PRESS, x, y, (mods & GLFW_MOD_SHIFT) != 0);
 }
 
 void on_cursor(GLFWwindow* w, double x, double y) {
@@ -62,7 +64,9 @@ void on_cursor(GLFWwindow* w, double x, double y) {
 }
 
 void on_scroll(GLFWwindow* w, double, double dy) {
-  controls_of(w).scroll(dy);
+  const bool shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                     glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+  controls_of(w).scroll(dy, shift);
 }
 
 // Empty while the state is finite and no phyxel outruns its material's wave speed; else what
@@ -149,6 +153,10 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   } destroy{window};
   Presenter presenter(window);
   ViewerControls controls(writer.camera());
+  const std::vector<HapticTarget> haptic = haptic_targets(scene.tools);
+  if (options.on_tool_drag)
+    for (const HapticTarget& h : haptic) options.on_tool_drag(h.tool, h.pose);
+  controls.set_haptic_tools(haptic);
   glfwSetWindowUserPointer(window, &controls);
   glfwSetKeyCallback(window, on_key);
   glfwSetMouseButtonCallback(window, on_button);
@@ -156,9 +164,13 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   glfwSetScrollCallback(window, on_scroll);
   std::printf(
       "phyxel view: %s, %zu phyxels, simulating on %s, rendering on %s, showing on %s\n"
-      "  drag: orbit, wheel: zoom, space: pause, n: one step, s: mono/stereo, q: quit\n",
+      "  drag: orbit, wheel: zoom, space: pause, n: one step, s: mono/stereo, q: quit\n"
+      "%s",
       file.c_str(), set.size(), solver.device().c_str(), ctx.info().name.c_str(),
-      presenter.device_name().c_str());
+      presenter.device_name().c_str(),
+      haptic.empty() ? ""
+                     : "  haptic tools: right drag (or shift + drag): move in the view plane, "
+                       "shift + wheel: push along the view\n");
   std::fflush(stdout);
 
   int64_t step = 0;
@@ -187,7 +199,18 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
                               r.stereo.layout == StereoSettings::Layout::SideBySide;
     r.width = std::max(1, side_by_side ? fw / 2 : fw);
     r.height = fh;
+    int ww = 0, wh = 0;  // the cursor's units (differ from the framebuffer's on HiDPI)
+    glfwGetWindowSize(window, &ww, &wh);
+    controls.set_view_size(side_by_side ? ww / 2.0 : ww, wh);
+    for (const size_t k : controls.take_moved_tools()) {
+      const HapticTarget& h = controls.haptic_tools()[k];
+      if (options.on_tool_drag) options.on_tool_drag(h.tool, h.pose);
+    }
     writer.set_setup(make_frame_setup(controls.orbit().camera(writer.camera()), r, mode));
+    if (!scene.tools.empty()) {
+      writer.set_tools(viewer_tools(scene.tools, double(step) * scene.simulation.dt,
+                                    controls.haptic_tools(), options.haptic_pose));
+    }
     if (on_gpu) {
       presenter.present(writer.render(gpu_solver->buffers()));
     } else {

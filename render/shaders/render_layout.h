@@ -70,9 +70,15 @@ PHYXEL_CONST uint kRasterBindingDepth = 1;   // uint per pixel: bits of the visi
 PHYXEL_CONST uint kRasterBindingAccum = 2;   // accumulation only: kAccumChannels ints per pixel
 PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, binding 0, the texture
 // Accumulated per pixel, in fixed point (kAccumScale = 1.0), so that sums are exact and the
-// same in any order: colour x w (3), w, normal x w (3), unused. 2^16 leaves room for sums of
+// same in any order: colour x w (3), w, normal x w (3), and in the last channel the nearest
+// tool's hit (kAccumTool, written by tool_visibility.comp). 2^16 leaves room for sums of
 // 32768 full-weight discs before a 32-bit int overflows.
 PHYXEL_CONST uint kAccumChannels = 8;
+// Channel of the tool hit: 0 for none, else kToolHitFlag | the eye-space unit normal of the
+// hit in octahedral coordinates, (u, v) in [-1, 1] to 15 bits each (u in bits 0-14, v in
+// bits 15-29).
+PHYXEL_CONST uint kAccumTool = 7;
+PHYXEL_CONST uint kToolHitFlag = 0x80000000u;
 PHYXEL_CONST float kAccumScale = 65536.0;
 // The depth buffer's clear value: the bits of 1.0f (the far plane in linear depth).
 PHYXEL_CONST uint kDepthClear = 0x3f800000u;
@@ -86,8 +92,31 @@ struct RasterPush {
 };
 PHYXEL_ASSERT_SIZE(RasterPush, 112);
 
+// tool_visibility.comp: the tools ray-cast per pixel of one eye, one invocation per pixel
+// (every tool against the pixel's ray; the nearest hit between near and far counts). Writes
+// the hit's exact linear depth with the splats' atomicMin encoding (no epsilon) and its
+// normal into the kAccumTool channel of the eye's accumulation range.
+PHYXEL_CONST uint kToolBindingTools = 0;  // RenderTool[]
+PHYXEL_CONST uint kToolBindingDepth = 1;  // as kRasterBindingDepth
+PHYXEL_CONST uint kToolBindingAccum = 2;  // as kRasterBindingAccum
+// One tool (render/tool_raycast.h, engine/surgery/tool.h): a sphere of radius r around the
+// tip, or a capsule, the segment from the tip along the axis swept by r.
+struct RenderTool {
+  vec4 tip;   // xyz: the tip, world, m; w: radius, m
+  vec4 axis;  // xyz: unit axis, world; w: capsule length, m (0: a sphere)
+};
+PHYXEL_ASSERT_SIZE(RenderTool, 32);
+struct ToolPush {
+  mat4 view;     // world -> eye space, as RasterPush
+  vec4 frustum;  // left, right, bottom, top of the view frustum at the near plane, m
+  vec4 depth;    // near, far, 0, 0
+  uvec4 target;  // width, height of the eye in pixels, tool count, 0
+};
+PHYXEL_ASSERT_SIZE(ToolPush, 112);
+
 // splat_shade.comp: normalisation and Phong shading of the accumulated attributes of both
-// eyes (the accumulation buffer holds eye 1 at `eye_stride` pixels after eye 0) into the frame.
+// eyes (the accumulation buffer holds eye 1 at `eye_stride` pixels after eye 0) into the frame;
+// a pixel that no splat reached but a tool did shows the tool (steel).
 PHYXEL_CONST uint kShadeBindingAccum = 0;  // kAccumChannels ints per pixel
 PHYXEL_CONST uint kShadeBindingFrame = 1;  // RGBA8 per pixel of the frame, one uint
 PHYXEL_CONST uint kShadeLayoutMono = 0;

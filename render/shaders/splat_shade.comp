@@ -1,11 +1,14 @@
 // Pass 3 of 3, normalisation and deferred Phong shading, one invocation per frame pixel:
 // colour = sum(c w) / sum(w), normal = normalize(sum(n w)); a key light above left of the
-// camera and a head light, eye space. Writes the frame in its layout: one eye, both side by
+// camera and a head light, eye space. A pixel where no splat was accumulated but a tool was
+// hit (tool_visibility.comp) shows the tool: polished steel, Phong with a sharp highlight and
+// a reflected sky/floor gradient. Writes the frame in its layout: one eye, both side by
 // side, or the red/cyan anaglyph of the two.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
 #include "splat_common.glsl"
+#include "tool_common.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
@@ -20,14 +23,41 @@ const float kHeadDiffuse = 0.35;
 const float kSpecular = 0.25;
 const float kShininess = 32.0;
 
+// Steel: a dark, slightly blue grey base that mirrors a studio (eye space): a bright sky
+// above a sharp horizon and a dark floor below, a soft box around the key light and a dimmer
+// one to the right, which give a rod the bands of a polished instrument at any orientation;
+// a sharp highlight of the key light and a streak of the head light.
+const vec3 kSteel = vec3(0.30, 0.32, 0.36);
+const vec3 kSky = vec3(0.95, 0.97, 1.0);
+const vec3 kHorizonSky = vec3(0.70, 0.73, 0.78);
+const vec3 kHorizonFloor = vec3(0.38, 0.38, 0.40);
+const vec3 kFloor = vec3(0.24, 0.24, 0.26);
+const vec3 kFillBox = vec3(0.7071, -0.1414, 0.6928);  // normalize(0.5, -0.1, 0.49)
+
+vec3 shade_tool(vec3 n, vec3 view) {
+  const float key = max(dot(n, kKeyLight), 0.0);
+  const vec3 r = reflect(-view, n);
+  const float key_spec = pow(max(dot(reflect(-kKeyLight, n), view), 0.0), 24.0);
+  const float head_spec = pow(max(dot(n, view), 0.0), 8.0);
+  const vec3 env = r.y >= 0.0 ? mix(kHorizonSky, kSky, smoothstep(0.0, 0.6, r.y))
+                              : mix(kHorizonFloor, kFloor, smoothstep(0.0, 0.4, -r.y));
+  const float boxes = 0.35 * smoothstep(0.55, 0.85, dot(r, kKeyLight)) +
+                      0.20 * smoothstep(0.6, 0.9, dot(r, kFillBox));
+  const vec3 colour = kSteel * (0.12 + 0.25 * key) + 0.55 * env +
+                      vec3(boxes + 0.8 * key_spec + 0.35 * head_spec);
+  return min(colour, vec3(1.0));
+}
+
 vec3 shade(uint eye, uint x, uint y) {
   const uint at = (eye * p.frame.w + y * p.frame.x + x) * kAccumChannels;
   const float w = float(accum[at + 3]);
-  if (!(w > 0.0)) return kBackground;
-  const vec3 albedo = vec3(accum[at], accum[at + 1], accum[at + 2]) / w;
+  const uint tool = uint(accum[at + kAccumTool]);
+  if (!(w > 0.0) && tool == 0u) return kBackground;
   const vec4 frustum = eye == 0 ? p.frustum0 : p.frustum1;
   const float near = eye == 0 ? p.near.x : p.near.y;
   const vec3 view = -normalize(pixel_ray(frustum, near, vec2(p.frame.xy), vec2(x, y)));
+  if (!(w > 0.0)) return shade_tool(unpack_tool_normal(tool), view);
+  const vec3 albedo = vec3(accum[at], accum[at + 1], accum[at + 2]) / w;
   const vec3 sum_n = vec3(accum[at + 4], accum[at + 5], accum[at + 6]);
   const float len = length(sum_n);
   const vec3 n = len > 0.0 ? sum_n / len : view;

@@ -44,11 +44,11 @@ TEST_F(RenderFrames, RunWritesAFrameEveryRenderEveryStepsAndAtTheEnd) {
   auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
   const std::filesystem::path dir = fresh_dir("frames_mono");
   FrameWriter writer(scene, set, {scene.render.mode, dir}, &ctx());
-  write_solver_frame(writer, *solver, 0);
+  write_solver_frame(writer, *solver, 0, {});
   RunOptions options;
   options.steps = 25;
   options.frame_every = scene.render.every;
-  options.on_frame = [&](int64_t step, Solver& s) { write_solver_frame(writer, s, step); };
+  options.on_frame = [&](int64_t step, Solver& s) { write_solver_frame(writer, s, step, {}); };
   run_simulation(scene, set, *solver, options);
   const std::vector<std::string> expected = {"frame_000000.png", "frame_000010.png",
                                              "frame_000020.png", "frame_000025.png"};

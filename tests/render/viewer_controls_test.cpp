@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "render/viewer_controls.h"
 
@@ -113,6 +114,127 @@ TEST(ViewerControls, STogglesStereoAndQOrEscapeQuit) {
   ViewerControls w(oblique_camera());
   w.key(ViewerKey::Q);
   EXPECT_TRUE(w.quit());
+}
+
+TEST(ViewerToolControls, ADragOfNPixelsMovesTheTipByThePixelSizeAtItsDepth) {
+  Camera c = oblique_camera();
+  c.fov_y_deg = 40;
+  const double width = 640, height = 400;
+  const Vec3 tip = c.target + Vec3(0.02, -0.03, 0.01);
+  const double depth = (tip - c.position).dot(c.forward());
+  const double pixel = 2 * depth * std::tan(20 * M_PI / 180) / height;
+  const Vec3 right = drag_in_view_plane(c, height, tip, 50, 0);
+  EXPECT_NEAR(right.norm(), 50 * pixel, 1e-12);
+  EXPECT_NEAR(right.normalized().dot(c.right()), 1.0, 1e-12);
+  const Vec3 down = drag_in_view_plane(c, height, tip, 0, 30);
+  EXPECT_NEAR(down.norm(), 30 * pixel, 1e-12);
+  EXPECT_NEAR(down.normalized().dot(c.true_up()), -1.0, 1e-12) << "y grows downwards";
+  // The tip stays at its depth and its image follows the cursor exactly.
+  const Vec3 moved = tip + drag_in_view_plane(c, height, tip, 37, -21);
+  EXPECT_NEAR((moved - c.position).dot(c.forward()), depth, 1e-12);
+  const Eigen::Vector2d before = view_pixel(c, width, height, tip);
+  const Eigen::Vector2d after = view_pixel(c, width, height, moved);
+  EXPECT_NEAR(after.x() - before.x(), 37, 1e-9);
+  EXPECT_NEAR(after.y() - before.y(), -21, 1e-9);
+  // Twice as deep: twice as far per pixel.
+  const Vec3 deep = c.position + 2 * (tip - c.position);
+  EXPECT_NEAR(drag_in_view_plane(c, height, deep, 50, 0).norm(), 100 * pixel, 1e-12);
+}
+
+TEST(ViewerToolControls, TheWheelMovesTheTipAlongTheViewRay) {
+  const Camera c = oblique_camera();
+  const Vec3 tip = c.target + Vec3(0.02, -0.03, 0.01);
+  const Vec3 pushed = push_along_view(c, tip, 0.1);
+  EXPECT_NEAR((pushed - c.position).norm(), 1.1 * (tip - c.position).norm(), 1e-12);
+  EXPECT_LT((pushed - c.position).normalized().cross((tip - c.position).normalized()).norm(), 1e-12)
+      << "on the ray from the eye through the tip";
+  const Eigen::Vector2d a = view_pixel(c, 320, 200, tip), b = view_pixel(c, 320, 200, pushed);
+  EXPECT_LT((a - b).norm(), 1e-9) << "its image does not move";
+}
+
+TEST(ViewerToolControls, RightOrShiftDragMovesTheNearestHapticToolShiftWheelPushesIt) {
+  const Camera c = oblique_camera();
+  ViewerControls v(c);
+  v.set_view_size(320, 200);
+  const Vec3 a = c.target + 0.03 * c.right(), b = c.target - 0.03 * c.right();
+  v.set_haptic_tools({{2, {a, Vec3::UnitZ()}}, {5, {b, Vec3::UnitX()}}});
+  const Eigen::Vector2d at_b = view_pixel(c, 320, 200, b);
+  // A right drag that starts near b's tip moves b only, by the drag, and not the camera.
+  v.button(ViewerButton::Right, true, at_b.x() + 3, at_b.y() - 2, false);
+  v.cursor(at_b.x() + 23, at_b.y() + 8);
+  v.button(ViewerButton::Right, false, at_b.x() + 23, at_b.y() + 8, false);
+  EXPECT_EQ(v.take_moved_tools(), std::vector<size_t>{1});
+  EXPECT_TRUE(v.take_moved_tools().empty()) << "reported once";
+  const HapticTarget& moved = v.haptic_tools()[1];
+  EXPECT_EQ(moved.tool, 5u);
+  EXPECT_LT((moved.pose.position - (b + drag_in_view_plane(c, 200, b, 20, 10))).norm(), 1e-12);
+  EXPECT_EQ(moved.pose.axis, Vec3::UnitX());
+  EXPECT_EQ(v.haptic_tools()[0].pose.position, a);
+  EXPECT_LT((v.orbit().position() - c.position).norm(), 1e-12) << "the camera stays";
+  // Shift + left drag near a, in the right half of a side-by-side window (x + eye width).
+  const Eigen::Vector2d at_a = view_pixel(c, 320, 200, a);
+  v.button(ViewerButton::Left, true, at_a.x() + 320, at_a.y(), true);
+  v.cursor(at_a.x() + 320, at_a.y() + 15);
+  v.button(ViewerButton::Left, false, at_a.x() + 320, at_a.y() + 15, true);
+  EXPECT_EQ(v.take_moved_tools(), std::vector<size_t>{0});
+  EXPECT_NEAR(view_pixel(c, 320, 200, v.haptic_tools()[0].pose.position).y() - at_a.y(), 15, 1e-9);
+  // Shift + wheel pushes the last moved tool (a) along the view; the zoom stays.
+  const Vec3 before = v.haptic_tools()[0].pose.position;
+  v.scroll(2, true);
+  EXPECT_EQ(v.take_moved_tools(), std::vector<size_t>{0});
+  EXPECT_LT((v.haptic_tools()[0].pose.position -
+             push_along_view(c, before, 2 * ViewerControls::kToolPushPerNotch))
+                .norm(),
+            1e-12);
+  EXPECT_NEAR(v.orbit().distance, (c.position - c.target).norm(), 1e-12);
+  v.scroll(1);  // no shift: zoom
+  EXPECT_NEAR(v.orbit().distance, 0.9 * (c.position - c.target).norm(), 1e-12);
+  EXPECT_TRUE(v.take_moved_tools().empty());
+}
+
+TEST(ViewerToolControls, WithoutHapticToolsShiftDragOrbitsAndRightDragDoesNothing) {
+  const Camera c = oblique_camera();
+  ViewerControls v(c);
+  v.button(ViewerButton::Right, true, 100, 100, false);
+  v.cursor(150, 100);
+  v.button(ViewerButton::Right, false, 150, 100, false);
+  EXPECT_LT((v.orbit().position() - c.position).norm(), 1e-15);
+  v.button(ViewerButton::Left, true, 100, 100, true);
+  v.cursor(150, 100);
+  EXPECT_NEAR(v.orbit().yaw, -50 * ViewerControls::kRadiansPerPixel, 1e-12);
+  v.scroll(1, true);
+  EXPECT_NEAR(v.orbit().distance, 0.9 * (c.position - c.target).norm(), 1e-12);
+  EXPECT_TRUE(v.take_moved_tools().empty());
+}
+
+TEST(ViewerToolControls, PathToolsFollowTheirPathsHapticToolsTheirTargets) {
+  ToolDesc path, haptic;
+  path.shape = {ToolShape::Type::Capsule, 0.002, 0.03};
+  path.path = {{0.0, Vec3(0, 0, 0), Vec3::UnitZ()}, {1.0, Vec3(0.1, 0, 0), Vec3::UnitZ()}};
+  haptic.shape = {ToolShape::Type::Sphere, 0.004, 0};
+  haptic.control = ToolDesc::Control::Haptic;
+  haptic.path = {{0.5, Vec3(0, 0.02, 0.01), Vec3::UnitY()}};
+  const std::vector<ToolDesc> tools = {path, haptic};
+  const std::vector<HapticTarget> targets = haptic_targets(tools);
+  ASSERT_EQ(targets.size(), 1u);
+  EXPECT_EQ(targets[0].tool, 1u);
+  EXPECT_EQ(targets[0].pose.position, Vec3(0, 0.02, 0.01));
+  EXPECT_EQ(targets[0].pose.axis, Vec3::UnitY());
+  std::vector<HapticTarget> moved = targets;
+  moved[0].pose.position = Vec3(0.05, 0.05, 0.05);
+  const std::vector<ToolDrawable> drawn = viewer_tools(tools, 0.25, moved);
+  ASSERT_EQ(drawn.size(), 2u);
+  EXPECT_LT((drawn[0].pose.position - Vec3(0.025, 0, 0)).norm(), 1e-15) << "pose_at(path, t)";
+  EXPECT_EQ(drawn[0].shape.length, 0.03);
+  EXPECT_EQ(drawn[1].pose.position, Vec3(0.05, 0.05, 0.05)) << "at the mouse's target";
+  EXPECT_EQ(drawn[1].shape.radius, 0.004);
+  // With haptic_pose the viewer draws where it says (the coupled tool), given the target.
+  const std::vector<ToolDrawable> coupled =
+      viewer_tools(tools, 0.25, moved, [](size_t tool, const ToolPose& target) {
+        EXPECT_EQ(tool, 1u);
+        return ToolPose{target.position - Vec3(0, 0, 0.01), target.axis};
+      });
+  EXPECT_EQ(coupled[1].pose.position, Vec3(0.05, 0.05, 0.04));
 }
 
 TEST(ViewerControls, TheTitleSaysStepPauseModeAndRate) {

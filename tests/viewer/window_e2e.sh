@@ -3,8 +3,9 @@
 # on) and presenting, key presses sent through the X server with xdotool, and the viewer's
 # state read back from its window title (step, "(paused)", mono/stereo, "halted: ..."). Checks
 # that the simulation runs, space pauses it (the step stops), n advances exactly one step, s
-# switches to stereo, a drag is taken, q quits with status 0 and validation said nothing; the
-# same with the GPU solver; and that a runaway simulation is halted with a message.
+# switches to stereo, a drag (and the tool controls' right drag and shift + wheel) is taken,
+# q quits with status 0 and validation said nothing; the same with the GPU solver; and that a
+# runaway simulation is halted with a message.
 # Registered with ctest by tests/CMakeLists.txt when the viewer is built.
 #
 #   window_e2e.sh PHYXEL SOURCE_DIR OUT_DIR
@@ -91,6 +92,9 @@ sleep 1.5
 xdotool key --window "$win" s
 wait_for ' stereo ' 30
 xdotool mousemove --window "$win" 200 200 mousedown 1 mousemove --window "$win" 320 240 mouseup 1
+# The tool controls in a scene without haptic tools: a right drag and shift + wheel are taken.
+xdotool mousemove --window "$win" 200 200 mousedown 3 mousemove --window "$win" 260 230 mouseup 3
+xdotool keydown --window "$win" shift click --window "$win" 4 keyup --window "$win" shift
 xdotool key --window "$win" space
 wait_for " step [0-9]+  stereo " 30
 quit_viewer
