@@ -168,6 +168,25 @@ int run_command(const Args& args) {
     }
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
+    // Tools: DIR/tools.csv, a row per step and tool; haptic tools get a 1 kHz loop each and the
+    // run is paced to the wall clock. `tool_poses` holds where the physics had each tool at the
+    // end of the last step, for the frames.
+    std::vector<render::ToolDrawable> tool_poses = render::tool_drawables(scene.tools, 0.0);
+    std::unique_ptr<ToolTraceWriter> trace;
+    HapticSession haptics(scene, haptic_device);
+    if (!scene.tools.empty()) {
+      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools);
+      options.on_tool_step = [&](int64_t step, double t,
+                                 const std::vector<ToolStepRecord>& records) {
+        if (!haptics.empty()) haptics.publish(t, records);
+        trace->write(step, t, records);
+        for (size_t k = 0; k < records.size(); ++k) tool_poses[k].pose = records[k].pose;
+      };
+    }
+    if (!haptics.empty()) {
+      options.tool_pose = haptics.pose_source();
+      options.real_time = true;
+    }
     // Frames: from the GPU solver's buffers on its context, or from the CPU solver's state;
     // at step 0, then scheduled by the run loop every render.every steps and at the end.
     std::unique_ptr<render::FrameWriter> frames;
@@ -178,37 +197,13 @@ int run_command(const Args& args) {
           gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
-      // The tools at the frame's simulated time (steps of simulation.dt).
-      auto tools_at = [&scene](int64_t step) {
-        return render::tool_drawables(scene.tools, double(step) * scene.simulation.dt);
-      };
-      render::write_solver_frame(*frames, *solver, 0, tools_at(0), buffers);
+      render::write_solver_frame(*frames, *solver, 0, tool_poses, buffers);
       options.frame_every = scene.render.every;
-      options.on_frame = [&frames, buffers, tools_at](int64_t step, Solver& s) {
-        render::write_solver_frame(*frames, s, step, tools_at(step), buffers);
+      options.on_frame = [&frames, &tool_poses, buffers](int64_t step, Solver& s) {
+        render::write_solver_frame(*frames, s, step, tool_poses, buffers);
       };
     }
-    // Tools: DIR/tools.csv, a row per step and tool.
-    std::unique_ptr<ToolTraceWriter> trace;
-    if (!scene.tools.empty()) {
-      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools);
-      options.on_tool_step = [&trace](int64_t step, double t,
-                                      const std::vector<ToolStepRecord>& records) {
-        trace->write(step, t, records);
-      };
-    }
-    // Haptic tools: a 1 kHz loop each, the run paced to the wall clock.
-    HapticSession haptics(scene, haptic_device);
-    if (!haptics.empty()) {
-      options.tool_pose = haptics.pose_source();
-      options.real_time = true;
-      options.on_tool_step = [&trace, &haptics](int64_t step, double t,
-                                                const std::vector<ToolStepRecord>& records) {
-        haptics.publish(t, records);
-        trace->write(step, t, records);
-      };
-      haptics.start();
-    }
+    haptics.start();
     RunResult result = run_simulation(scene, set, *solver, options);
     haptics.stop();
     if (trace) {
