@@ -172,11 +172,14 @@ bool ViewerControls::take_stereo_toggle() {
 }
 
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,
-                         double fps, const std::string& note) {
-  char title[512];
-  std::snprintf(title, sizeof title, "phyxel view %s  step %lld%s  %s  %.1f fps%s%s", file.c_str(),
-                static_cast<long long>(step), paused ? " (paused)" : "", stereo ? "stereo" : "mono",
-                fps, note.empty() ? "" : "  ", note.c_str());
+                         double fps, const std::string& note, double real_time) {
+  char title[512], factor[64] = "";
+  if (real_time >= 0)
+    std::snprintf(factor, sizeof factor, "  %.2fx real time%s", real_time,
+                  real_time < 0.95 ? " (behind)" : "");
+  std::snprintf(title, sizeof title, "phyxel view %s  step %lld%s  %s  %.1f fps%s%s%s",
+                file.c_str(), static_cast<long long>(step), paused ? " (paused)" : "",
+                stereo ? "stereo" : "mono", fps, factor, note.empty() ? "" : "  ", note.c_str());
   return title;
 }
 

@@ -130,9 +130,10 @@ class ViewerControls {
   double eye_width_ = 1, height_ = 1;
 };
 
-// The window title: scene, step, pause state, render mode, frame rate and a note (empty, or
-// why the simulation was halted).
+// The window title: scene, step, pause state, render mode, frame rate, a note (empty, or why
+// the simulation was halted) and, when not negative, the real-time factor (simulated seconds
+// per wall second).
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,
-                         double fps, const std::string& note = {});
+                         double fps, const std::string& note = {}, double real_time = -1);
 
 }  // namespace phyxel::render

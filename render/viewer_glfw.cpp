@@ -12,8 +12,10 @@
 
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
+#include "engine/surgery/haptic_session.h"
 #include "render/frame_output.h"
 #include "render/present_glfw.h"
+#include "render/real_time_pacer.h"
 #include "render/viewer.h"
 #include "render/viewer_controls.h"
 
@@ -154,8 +156,23 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   Presenter presenter(window);
   ViewerControls controls(writer.camera());
   const std::vector<HapticTarget> haptic = haptic_targets(scene.tools);
-  if (options.on_tool_drag)
-    for (const HapticTarget& h : haptic) options.on_tool_drag(h.tool, h.pose);
+  // Haptic tools follow the mouse: each has a device whose pose the drags set, and a 1 kHz
+  // haptic loop couples the simulated tool to it (engine/surgery/haptic_session.h).
+  std::vector<std::shared_ptr<SharedPoseDevice>> mice(scene.tools.size());
+  for (size_t t = 0; t < scene.tools.size(); ++t) mice[t] = std::make_shared<SharedPoseDevice>();
+  HapticSession haptics(scene, [&mice](size_t tool) { return mice[tool]; });
+  auto drag = [&](size_t tool, const ToolPose& target) {
+    mice[tool]->set_pose(target);
+    if (options.on_tool_drag) options.on_tool_drag(tool, target);
+  };
+  for (const HapticTarget& h : haptic) drag(h.tool, h.pose);
+  auto haptic_pose = [&](size_t tool, const ToolPose& target) {
+    if (options.haptic_pose) return options.haptic_pose(tool, target);
+    return haptics.pose_source()(tool, 0.0);
+  };
+  ToolTrack track(scene.tools, haptics.empty() ? ToolTrack::PoseSource{} : haptics.pose_source());
+  if (!scene.tools.empty()) solver.set_tools(contact_tools(scene.tools));
+  haptics.start();
   controls.set_haptic_tools(haptic);
   glfwSetWindowUserPointer(window, &controls);
   glfwSetKeyCallback(window, on_key);
@@ -174,6 +191,15 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   std::fflush(stdout);
 
   int64_t step = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto wall = [&start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  // Simulated time follows the wall clock, at most 1/30 s of it per frame.
+  const double step_time = scene.simulation.dt;
+  RealTimePacer pacer(
+      step_time, std::max<int64_t>(scene.render.every, static_cast<int64_t>(1.0 / 30 / step_time)));
+  double real_time = 0;
   auto last_title = std::chrono::steady_clock::now();
   int frames = 0;
   std::string halted;  // why the simulation stopped (non-finite or runaway), empty while fine
@@ -183,10 +209,18 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
       mode = mode == RenderSettings::Mode::Stereo ? RenderSettings::Mode::Mono
                                                   : RenderSettings::Mode::Stereo;
     }
-    const int64_t advance = controls.steps_for_frame(scene.render.every);
+    const int64_t due = pacer.steps_due(wall(), !controls.paused() && halted.empty());
+    const int64_t advance = controls.paused() ? controls.steps_for_frame(1) : due;
+    if (!controls.paused()) controls.steps_for_frame(1);  // consumes a stray n
     if (advance > 0 && halted.empty()) {
-      solver.advance(advance * plan.substeps, plan.dt_used);
+      const std::vector<ToolStepRecord> records =
+          advance_with_tools(solver, track, step, advance, plan.substeps, plan.dt_used);
       step += advance;
+      pacer.advanced(advance);
+      if (!haptics.empty() && !records.empty())
+        haptics.publish(
+            double(step) * step_time,
+            std::vector<ToolStepRecord>(records.end() - scene.tools.size(), records.end()));
     }
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);
@@ -204,12 +238,12 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     controls.set_view_size(side_by_side ? ww / 2.0 : ww, wh);
     for (const size_t k : controls.take_moved_tools()) {
       const HapticTarget& h = controls.haptic_tools()[k];
-      if (options.on_tool_drag) options.on_tool_drag(h.tool, h.pose);
+      drag(h.tool, h.pose);
     }
     writer.set_setup(make_frame_setup(controls.orbit().camera(writer.camera()), r, mode));
     if (!scene.tools.empty()) {
       writer.set_tools(viewer_tools(scene.tools, double(step) * scene.simulation.dt,
-                                    controls.haptic_tools(), options.haptic_pose));
+                                    controls.haptic_tools(), haptic_pose));
     }
     if (on_gpu) {
       presenter.present(writer.render(gpu_solver->buffers()));
@@ -222,9 +256,10 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     const double seconds = std::chrono::duration<double>(now - last_title).count();
     if (seconds > 0.5) {
       if (halted.empty()) halted = stability_problem(set, solver, step);
+      real_time = pacer.factor();
       glfwSetWindowTitle(
           window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
-                               frames / seconds, halted)
+                               frames / seconds, halted, controls.paused() ? -1 : real_time)
                       .c_str());
       frames = 0;
       last_title = now;

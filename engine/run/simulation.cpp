@@ -84,18 +84,11 @@ int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleep
 }
 
 // A sleeping object wakes when a tool comes near it: some phyxel of it (at its displacement
-// when it went to sleep, which has not changed since) within the tools' swept bounds of the
+// when it went to sleep, which has not changed since) within the tools' swept bounds over the
 // next advance, grown by the object's spacing.
-void wake_touched_objects(const PhyxelSet& set, const ToolTrack& tools,
-                          const std::vector<ToolMotion>& motion, const std::vector<Vec3>& last_u,
-                          std::vector<uint8_t>& awake, std::vector<int64_t>& below_since,
-                          Solver& solver, RunResult& result) {
-  Bounds bounds;
-  for (size_t k = 0; k < motion.size(); ++k) {
-    const ToolShape& shape = tools.shape(k % tools.size());
-    bounds.extend(tool_bounds(shape, motion[k].from));
-    bounds.extend(tool_bounds(shape, motion[k].to));
-  }
+void wake_touched_objects(const PhyxelSet& set, const Bounds& bounds,
+                          const std::vector<Vec3>& last_u, std::vector<uint8_t>& awake,
+                          std::vector<int64_t>& below_since, Solver& solver, RunResult& result) {
   for (size_t o = 0; o < set.objects.size(); ++o) {
     if (awake[o]) continue;
     const ObjectRange& obj = set.objects[o];
@@ -183,23 +176,16 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     if (options.frame_every > 0) next = std::min(next, next_multiple(step, options.frame_every));
     if (next_event < events.size()) next = std::min(next, events[next_event]);
     if (tool_chunk > 0) next = std::min(next, step + tool_chunk);
-    const int64_t substeps = (next - step) * result.plan.substeps;
-    if (!tools.empty()) {
-      const std::vector<ToolMotion> motion =
-          tools.motions(step * result.plan.substeps, substeps, result.plan.dt_used);
-      wake_touched_objects(set, tools, motion, last_u, awake, object_below_since, solver, result);
-      solver.set_tool_motion(motion);
-    }
-    solver.advance(substeps, result.plan.dt_used);
-    if (!tools.empty()) {
-      const std::vector<ToolStepRecord> records =
-          tools.fold(solver.tool_samples(), next - step, result.plan.substeps);
-      for (int64_t s = step; options.on_tool_step && s < next; ++s)
-        options.on_tool_step(
-            s + 1, double(s + 1) * step_time,
-            std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
-                                        records.begin() + (s - step + 1) * tools.size()));
-    }
+    if (!tools.empty())  // sleeping objects the tools are about to reach wake first
+      wake_touched_objects(set, tools.swept_bounds(step * step_time, next * step_time), last_u,
+                           awake, object_below_since, solver, result);
+    const std::vector<ToolStepRecord> records = advance_with_tools(
+        solver, tools, step, next - step, result.plan.substeps, result.plan.dt_used);
+    for (int64_t s = step; options.on_tool_step && !tools.empty() && s < next; ++s)
+      options.on_tool_step(
+          s + 1, double(s + 1) * step_time,
+          std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
+                                      records.begin() + (s - step + 1) * tools.size()));
     if (options.real_time) pace(start, double(next) * step_time, result);
     const int64_t previous = step;
     step = next;
@@ -359,6 +345,17 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
       rendering ? "" : "render passes (render.mode none), ",
       scene.tools.empty() ? "contact passes (no tool), " : "");
   return out.str();
+}
+
+std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools, int64_t first,
+                                               int64_t steps, int64_t substeps, double dt) {
+  if (tools.empty()) {
+    solver.advance(steps * substeps, dt);
+    return {};
+  }
+  solver.set_tool_motion(tools.motions(first * substeps, steps * substeps, dt));
+  solver.advance(steps * substeps, dt);
+  return tools.fold(solver.tool_samples(), steps, substeps);
 }
 
 Runaway find_runaway(const PhyxelSet& set, const std::vector<Vec3>& velocity) {

@@ -74,6 +74,13 @@ struct RunResult {
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
                          const RunOptions& options);
 
+// Advances `solver` by `steps` steps of `substeps` substeps of dt from step `first`, the tools
+// moving as `tools` says (ToolTrack::motions for the advance, then ToolTrack::fold of the
+// solver's samples). Returns the per-step records (steps x tools; empty without tools). The run
+// loop and the viewer step tools this way.
+std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools, int64_t first,
+                                               int64_t steps, int64_t substeps, double dt);
+
 // A finite state running away: the first phyxel faster than its material's p-wave speed
 // (which no elastic tissue is: it would mean a strain above one per step), or phyxel -1.
 struct Runaway {

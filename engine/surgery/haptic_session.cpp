@@ -44,10 +44,11 @@ HapticSession::HapticSession(const Scene& scene, const std::string& spec)
       add(scene, t, make_haptic_device(spec, scene.tools[t], index++));
 }
 
-HapticSession::HapticSession(const Scene& scene, std::shared_ptr<HapticDevice> device)
+HapticSession::HapticSession(
+    const Scene& scene, const std::function<std::shared_ptr<HapticDevice>(size_t tool)>& device_of)
     : loop_of_(scene.tools.size(), -1) {
   for (size_t t = 0; t < scene.tools.size(); ++t)
-    if (scene.tools[t].control == ToolDesc::Control::Haptic) add(scene, t, device);
+    if (scene.tools[t].control == ToolDesc::Control::Haptic) add(scene, t, device_of(t));
 }
 
 HapticSession::~HapticSession() {

@@ -4,6 +4,7 @@
 // (RunOptions::on_tool_step).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,8 +27,9 @@ class HapticSession {
   // Devices from `spec` (make_haptic_device; with udp and several haptic tools, the n-th
   // haptic tool listens on PORT + n). No haptic tool: an empty session.
   HapticSession(const Scene& scene, const std::string& spec);
-  // One given device for every haptic tool (the viewer's mouse).
-  HapticSession(const Scene& scene, std::shared_ptr<HapticDevice> device);
+  // A device per haptic tool from `device_of(tool)` (the viewer's mouse).
+  HapticSession(const Scene& scene,
+                const std::function<std::shared_ptr<HapticDevice>(size_t tool)>& device_of);
   ~HapticSession();
 
   bool empty() const { return loops_.empty(); }

@@ -47,6 +47,22 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
   return motions_;
 }
 
+Bounds ToolTrack::swept_bounds(double from, double to) const {
+  Bounds b;
+  for (size_t t = 0; t < tools_.size(); ++t) {
+    const ToolDesc& tool = tools_[t];
+    b.extend(tool_bounds(tool.shape, last_[t]));
+    if (tool.control == ToolDesc::Control::Haptic) {
+      b.extend(tool_bounds(tool.shape, source_(t, to)));
+      continue;
+    }
+    b.extend(tool_bounds(tool.shape, pose_at(tool.path, to)));
+    for (const ToolKey& k : tool.path)
+      if (k.t > from && k.t < to) b.extend(tool_bounds(tool.shape, {k.position, k.axis}));
+  }
+  return b;
+}
+
 std::vector<ToolStepRecord> ToolTrack::fold(const std::vector<ToolContactSample>& samples,
                                             int64_t steps, int64_t substeps) {
   const size_t nt = tools_.size();

@@ -48,6 +48,10 @@ class ToolTrack {
   // Live tools: from the pose the last chunk ended at to the source's pose now, linearly.
   std::vector<ToolMotion> motions(int64_t first, int64_t count, double dt);
 
+  // Bounds of every tool over simulated time [from, to]: its pose now, its path's keys in
+  // between and its pose at `to` (a live tool: its source's pose now).
+  Bounds swept_bounds(double from, double to) const;
+
   // Folds an advance of `steps` steps of `substeps` substeps each (samples: steps x substeps
   // x tools) into per-step records; returns them (steps x tools) and updates the statistics.
   std::vector<ToolStepRecord> fold(const std::vector<ToolContactSample>& samples, int64_t steps,
