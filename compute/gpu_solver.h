@@ -249,7 +249,7 @@ class GpuSolver final : public Solver {
   Buffer tool_shapes_;                         // ContactToolShape per tool
   Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
   Buffer candidate_list_;     // uint[capacity]; candidate_upload_ stages it
-  Buffer candidate_force_;    // vec4[tools][capacity]: m dx / dt^2 and 1 per contact
+  Buffer candidate_force_;    // vec4[tools][capacity]: m dv / dt and 1 per contact
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)

@@ -279,8 +279,8 @@ struct ContactMotion {
 PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 
 // tool_contact: over the candidate list, after a drift: the correction of every tool in turn
-// (u += dx, v += dx / dt on the displacement buffer that holds the new u), the contact force
-// m dx / dt^2 per candidate and tool into force[tool * capacity + slot] (xyz; w = 1 where the
+// (u += dx, v += dv on the displacement buffer that holds the new u), the contact force
+// m dv / dt per candidate and tool into force[tool * capacity + slot] (xyz; w = 1 where the
 // tool touched, else 0), and the per-phyxel contact flag (1 touched, 0 not).
 struct ContactPush {
   vec4 origin;    // xyz: the frame of the motion table (world, m), w unused

@@ -1,8 +1,8 @@
 // Tool contact after a drift, per candidate phyxel of the chunk's list (GpuSolver::
 // begin_contact, compute/gpu_solver_contact.cpp): every tool in turn, in the CPU's order
 // (CpuSolver::apply_contacts), corrects u and v of the phyxel in place on the displacement
-// buffer that holds the new u (u += dx, v += dx / dt), writes the contact force m dx / dt^2 of
-// each (candidate, tool) for tool_contact_reduce and sets the phyxel's contact flag. Fixed and
+// buffer that holds the new u (u += dx, v += dv), writes the contact force m dv / dt of each
+// (candidate, tool) for tool_contact_reduce and sets the phyxel's contact flag. Fixed and
 // removed phyxels take no contact (sleeping objects are not in the list). Each invocation reads
 // and writes only its own phyxel: no atomics.
 #version 450
@@ -37,11 +37,12 @@ void main() {
   for (uint t = 0u; t < p.tools; ++t) {
     vec4 felt = vec4(0.0);
     vec3 dx;
+    vec3 dv;
     if (takes && tool_contact_correction(tools[t], motion[p.motion * p.tools + t], p.hold != 0u,
-                                         x0 + u, p.dt * v, dx)) {
+                                         p.dt, x0 + u, v, dx, dv)) {
       u += dx;
-      v += dx / p.dt;
-      felt = vec4(mass * dx / (p.dt * p.dt), 1.0);
+      v += dv;
+      felt = vec4(mass * dv / p.dt, 1.0);
       touched = 1u;
     }
     contact_force[t * p.capacity + slot] = felt;

@@ -74,29 +74,45 @@ ToolHit tool_distance(ContactToolShape tool, vec3 position, vec3 axis, vec3 x) {
   return hit;
 }
 
-// contact_correction: x_new is the phyxel's position after the drift (relative to the origin),
-// step = x_new - x_prev = dt v. Returns false (dx untouched) when the phyxel is outside the tool
-// at the end pose; `hold`: the tool rests at the end pose (from = to).
-bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool hold, vec3 x_new,
-                             vec3 step, out vec3 dx) {
+// contact_correction over a substep of dt: x_new is the phyxel's position after the drift
+// (relative to the origin), v its velocity, so x_new - x_prev = dt v. Returns false (dx, dv
+// untouched) when the phyxel is outside the tool at the end pose; `hold`: the tool rests at
+// the end pose (from = to). Position: out along the normal, the tangential slip relative to the
+// tool surface removed within the friction cone of that; velocity: relative to the surface's,
+// the normal part into the tool removed and the tangential part within mu of that change.
+bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool hold, float dt,
+                             vec3 x_new, vec3 v, out vec3 dx, out vec3 dv) {
   dx = vec3(0.0);
+  dv = vec3(0.0);
   const vec3 to_p = motion.to_position.xyz;
   const vec3 to_a = motion.to_axis.xyz;
   const vec3 from_p = hold ? to_p : motion.from_position.xyz;
   const vec3 from_a = hold ? to_a : motion.from_axis.xyz;
   const ToolHit hit = tool_distance(tool, to_p, to_a, x_new);
   if (!(hit.distance < 0.0)) return false;
-  const vec3 dn = -hit.distance * hit.normal;
+  const vec3 n = hit.normal;
+  const float mu = tool.shape.z;
+  const vec3 dn = -hit.distance * n;
+  const vec3 step = dt * v;
   const vec3 x_prev = x_new - step;
   // carry_point(from, to, x_prev) - x_prev, without the cancellation of world coordinates.
   const vec3 carried = (to_p - from_p) + tool_rotation_offset(from_a, to_a, x_prev - from_p);
-  const vec3 rel = step + dn - carried;
-  const vec3 tangential = rel - dot(rel, hit.normal) * hit.normal;
-  const float slip = length(tangential);
-  const float limit = tool.shape.z * length(dn);
-  vec3 friction = vec3(0.0);
-  if (slip > 0.0) friction = slip <= limit ? -tangential : -tangential * (limit / slip);
-  dx = dn + friction;
+  const vec3 rel = step + dn - carried;  // x_new + dn - x_prev - carried
+  const vec3 slip = rel - dot(rel, n) * n;
+  const float slip_norm = length(slip);
+  const float slip_limit = mu * length(dn);
+  vec3 dx_t = vec3(0.0);
+  if (slip_norm > 0.0) dx_t = -slip * min(1.0, slip_limit / slip_norm);
+  const vec3 vr = v - carried / dt;
+  const float vn = dot(vr, n);
+  const vec3 dv_n = vn < 0.0 ? -vn * n : vec3(0.0);
+  const vec3 vt = vr - vn * n;
+  const float vt_norm = length(vt);
+  const float vt_limit = mu * length(dv_n);
+  vec3 dv_t = vec3(0.0);
+  if (vt_norm > 0.0) dv_t = -vt * min(1.0, vt_limit / vt_norm);
+  dx = dn + dx_t;
+  dv = dv_n + dv_t;
   return true;
 }
 
