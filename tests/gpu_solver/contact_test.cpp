@@ -270,7 +270,7 @@ TEST_F(GpuSolverTest, ContactToolThatTouchesNothingChangesNoBit) {
   const std::vector<std::string> without = names(plain.profile(3, dt));
   near.set_tool_motion(chunk(hover, 21, 3, dt));
   const std::vector<std::string> with = names(near.profile(3, dt));
-  if (!without.empty()) {
+  if (PassTimer(ctx()).supported()) {  // lavapipe has timestamps
     EXPECT_EQ(without, (std::vector<std::string>{"kick_drift", "stress", "force"}));
     EXPECT_EQ(with, (std::vector<std::string>{"kick_drift", "contact", "stress", "force"}));
   }
