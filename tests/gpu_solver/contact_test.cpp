@@ -57,12 +57,27 @@ Probe capsule_probe(const Scene& scene, double t1, double t2) {
   return p;
 }
 
-// Substeps [first, first + n) of a path: from and to pose of each.
-std::vector<ToolMotion> chunk(const Probe& p, int64_t first, int64_t n, double dt) {
-  std::vector<ToolMotion> m(n);
+Probe shifted(Probe p, const Vec3& by) {
+  for (ToolKey& k : p.path) k.position += by;
+  return p;
+}
+
+// Substeps [first, first + n) of the probes' paths: from and to pose of each (substeps x
+// probes, row-major).
+std::vector<ToolMotion> chunk(const std::vector<Probe>& probes, int64_t first, int64_t n,
+                              double dt) {
+  std::vector<ToolMotion> m;
   for (int64_t s = 0; s < n; ++s)
-    m[s] = {pose_at(p.path, double(first + s) * dt), pose_at(p.path, double(first + s + 1) * dt)};
+    for (const Probe& p : probes)
+      m.push_back(
+          {pose_at(p.path, double(first + s) * dt), pose_at(p.path, double(first + s + 1) * dt)});
   return m;
+}
+
+std::vector<ContactTool> tools_of(const std::vector<Probe>& probes) {
+  std::vector<ContactTool> t;
+  for (const Probe& p : probes) t.push_back(p.tool);
+  return t;
 }
 
 struct Trace {
@@ -75,10 +90,11 @@ struct Trace {
 
 constexpr int64_t kChunk = 12;  // substeps per advance (the last chunk is shorter)
 
-Trace run_cpu(const PhyxelSet& set, const Vec3& g, const Probe& p, double dt, int64_t steps) {
+Trace run_cpu(const PhyxelSet& set, const Vec3& g, const std::vector<Probe>& p, double dt,
+              int64_t steps) {
   CpuSolver<double> cpu(set, g);
   cpu.set_threads(1);
-  cpu.set_tools({p.tool});
+  cpu.set_tools(tools_of(p));
   Trace t;
   for (int64_t s = 0; s < steps; s += kChunk) {
     const int64_t n = std::min(kChunk, steps - s);
@@ -94,18 +110,18 @@ Trace run_cpu(const PhyxelSet& set, const Vec3& g, const Probe& p, double dt, in
   return t;
 }
 
-Trace run_gpu(Context& ctx, const PhyxelSet& set, const Vec3& g, const Probe& p, double dt,
-              int64_t steps) {
+Trace run_gpu(Context& ctx, const PhyxelSet& set, const Vec3& g, const std::vector<Probe>& p,
+              double dt, int64_t steps) {
   GpuSolver gpu(ctx, set, g);
   EXPECT_TRUE(gpu.supports_tools());
-  gpu.set_tools({p.tool});
+  gpu.set_tools(tools_of(p));
   Trace t;
   for (int64_t s = 0; s < steps; s += kChunk) {
     const int64_t n = std::min(kChunk, steps - s);
     gpu.set_tool_motion(chunk(p, s, n, dt));
     gpu.advance(n, dt);
     const std::vector<ToolContactSample> felt = gpu.tool_samples();
-    EXPECT_EQ(felt.size(), size_t(n));
+    EXPECT_EQ(felt.size(), size_t(n) * p.size());
     t.samples.insert(t.samples.end(), felt.begin(), felt.end());
     t.max_candidates = std::max(t.max_candidates, gpu.contact_candidates());
   }
@@ -117,9 +133,9 @@ Trace run_gpu(Context& ctx, const PhyxelSet& set, const Vec3& g, const Probe& p,
   return t;
 }
 
-// The CPU and GPU traces of one probe agree (bounds derived in the comments), and a second GPU
-// run is bit-identical. t2: the end of the path.
-void expect_parity(Context& ctx, const Probe& probe, double t2) {
+// The CPU and GPU traces of the probes agree (bounds derived in the comments), and a second GPU
+// run is bit-identical. t2: the end of the paths.
+void expect_parity(Context& ctx, const std::vector<Probe>& probe, double t2) {
   const Scene scene = block_scene();
   const PhyxelSet set = sample_scene(scene);
   const Vec3 g = scene.simulation.gravity;
@@ -139,6 +155,12 @@ void expect_parity(Context& ctx, const Probe& probe, double t2) {
     peak_contacts = std::max(peak_contacts, s.contacts);
   }
   ASSERT_GE(peak_contacts, 5u);
+  for (size_t t = 0; t < probe.size(); ++t) {  // every tool touches (samples: substep x tool)
+    uint32_t contacts = 0;
+    for (size_t k = t; k < cpu.samples.size(); k += probe.size())
+      contacts += cpu.samples[k].contacts;
+    EXPECT_GT(contacts, 0u) << "tool " << t;
+  }
   ASSERT_GT(peak, 0);
   EXPECT_GT(peak_tangential, 0.05 * peak);
 
@@ -163,8 +185,8 @@ void expect_parity(Context& ctx, const Probe& probe, double t2) {
   }
   mean_diff /= double(cpu.samples.size());
   std::printf(
-      "[ contact  ] %zu substeps, peak %.4g N (%u contacts), worst |dF| %.3g of the peak, "
-      "mean %.3g, drift of the summed impulse %.3g; %zu substeps with other counts\n",
+      "[ contact  ] %zu samples, peak %.4g N (%u contacts), worst |dF| %.3g of the peak, "
+      "mean %.3g, drift of the summed impulse %.3g; %zu samples with other counts\n",
       cpu.samples.size(), peak, peak_contacts, worst / peak, mean_diff / peak,
       sum_diff.norm() / (peak * double(cpu.samples.size())), count_mismatch);
   EXPECT_LE(worst, 2e-4 * peak);
@@ -182,7 +204,6 @@ void expect_parity(Context& ctx, const Probe& probe, double t2) {
   // Contact flags of the last substep: equal, except where the CPU's phyxel lies within the
   // solvers' disagreement of the tool's surface; every phyxel that the CPU pressed with more
   // than 1e-3 of the largest contact force is touched on the GPU too.
-  const ToolPose end = pose_at(probe.path, double(steps) * dt);
   double f_max = 0;
   for (const Vec3& f : cpu.cpu_contact_force) f_max = std::max(f_max, f.norm());
   size_t touched = 0, differ = 0;
@@ -190,7 +211,11 @@ void expect_parity(Context& ctx, const Probe& probe, double t2) {
     touched += cpu.contact[i];
     if (cpu.contact[i] == gpu.contact[i]) continue;
     ++differ;
-    const double phi = tool_distance(probe.tool.shape, end, set.rest[i] + cpu.u[i]).distance;
+    double phi = 1e300;  // to the nearest tool at its last end pose
+    for (const Probe& p : probe) {
+      const ToolPose end = pose_at(p.path, double(steps) * dt);
+      phi = std::min(phi, tool_distance(p.tool.shape, end, set.rest[i] + cpu.u[i]).distance);
+    }
     EXPECT_LE(std::abs(phi), std::max(du, 1e-9)) << "phyxel " << i;
     EXPECT_LE(cpu.cpu_contact_force[i].norm(), 1e-3 * f_max) << "phyxel " << i;
   }
@@ -216,11 +241,21 @@ void expect_parity(Context& ctx, const Probe& probe, double t2) {
 }
 
 TEST_F(GpuSolverTest, ContactSphereProbePressAndSlideMatchesTheCpu) {
-  expect_parity(ctx(), sphere_probe(block_scene(), 0.03, 0.06), 0.06);
+  expect_parity(ctx(), {sphere_probe(block_scene(), 0.03, 0.06)}, 0.06);
 }
 
 TEST_F(GpuSolverTest, ContactTurningCapsuleMatchesTheCpu) {
-  expect_parity(ctx(), capsule_probe(block_scene(), 0.025, 0.05), 0.05);
+  expect_parity(ctx(), {capsule_probe(block_scene(), 0.025, 0.05)}, 0.05);
+}
+
+// Two tools at once (the per-tool reduction and sample layout): the sphere 7 mm to the side of
+// the turning capsule, each feeling its own force.
+TEST_F(GpuSolverTest, ContactTwoToolsAtOnceMatchTheCpu) {
+  const Scene scene = block_scene();
+  expect_parity(ctx(),
+                {shifted(sphere_probe(scene, 0.025, 0.05), Vec3(-0.007, 0, 0)),
+                 capsule_probe(scene, 0.025, 0.05)},
+                0.05);
 }
 
 // A tool whose candidates it never touches (hovering 0.5 mm over the block), and one out of
@@ -241,7 +276,7 @@ TEST_F(GpuSolverTest, ContactToolThatTouchesNothingChangesNoBit) {
   for (int k = 0; k < 3; ++k) {
     plain.advance(7, dt);
     for (auto [solver, probe] : {std::pair{&near, &hover}, std::pair{&far, &away}}) {
-      solver->set_tool_motion(chunk(*probe, 7 * k, 7, dt));
+      solver->set_tool_motion(chunk({*probe}, 7 * k, 7, dt));
       solver->advance(7, dt);
       ASSERT_EQ(solver->tool_samples().size(), 7u);
       for (const ToolContactSample& s : solver->tool_samples()) {
@@ -268,7 +303,7 @@ TEST_F(GpuSolverTest, ContactToolThatTouchesNothingChangesNoBit) {
     return out;
   };
   const std::vector<std::string> without = names(plain.profile(3, dt));
-  near.set_tool_motion(chunk(hover, 21, 3, dt));
+  near.set_tool_motion(chunk({hover}, 21, 3, dt));
   const std::vector<std::string> with = names(near.profile(3, dt));
   if (PassTimer(ctx()).supported()) {  // lavapipe has timestamps
     EXPECT_EQ(without, (std::vector<std::string>{"kick_drift", "stress", "force"}));
@@ -292,7 +327,7 @@ TEST_F(GpuSolverTest, ContactLeavesASleepingObjectAlone) {
   EXPECT_TRUE(gpu.tool_samples().empty());
   gpu.set_object_awake(0, false);
   const PointState before = gpu.read_state(false);
-  gpu.set_tool_motion(chunk(deep, 0, 9, dt));
+  gpu.set_tool_motion(chunk({deep}, 0, 9, dt));
   gpu.advance(9, dt);
   EXPECT_EQ(gpu.contact_candidates(), 0u);
   ASSERT_EQ(gpu.tool_samples().size(), 9u);
@@ -305,7 +340,7 @@ TEST_F(GpuSolverTest, ContactLeavesASleepingObjectAlone) {
   CpuSolver<double> cpu(set, g);
   cpu.set_tools({deep.tool});
   cpu.set_object_awake(0, false);
-  cpu.set_tool_motion(chunk(deep, 0, 9, dt), dt);
+  cpu.set_tool_motion(chunk({deep}, 0, 9, dt), dt);
   EXPECT_EQ(cpu.contact_candidates(), 0u);
   // Woken, the chunk's candidates come back and the probe pushes the block out of itself; past
   // the chunk's motions it stays at the last end pose.
