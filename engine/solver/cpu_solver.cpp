@@ -261,11 +261,11 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
     for (size_t t = 0; t < nt; ++t) {
       const V3 x_new = rest_[i] + u_[i];
       const V3 x_prev = x_new - dt * v_[i];
-      V3 dx;
-      if (!contact_correction<Real>(tools_[t], now[t], x_prev, x_new, dx)) continue;
+      V3 dx, dv;
+      if (!contact_correction<Real>(tools_[t], now[t], dt, x_prev, x_new, v_[i], dx, dv)) continue;
       u_[i] += dx;
-      v_[i] += dx / dt;
-      const V3 f = mass_[i] * dx / (dt * dt);
+      v_[i] += dv;
+      const V3 f = mass_[i] * dv / dt;
       contact_force_[i] += f;
       contact_[i] = 1;
       felt[t].force -= f.template cast<double>();

@@ -14,32 +14,48 @@ std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools) {
 }
 
 template <class Real>
-bool contact_correction(const ContactTool& tool, const ToolMotion& motion,
+bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real dt,
                         const Eigen::Matrix<Real, 3, 1>& x_prev,
-                        const Eigen::Matrix<Real, 3, 1>& x_new, Eigen::Matrix<Real, 3, 1>& dx) {
-  // The geometry in double from the Real inputs (exact), the correction rounded to Real.
+                        const Eigen::Matrix<Real, 3, 1>& x_new, const Eigen::Matrix<Real, 3, 1>& v,
+                        Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv) {
+  // The geometry in double from the Real inputs (exact), the corrections rounded to Real.
   const Vec3 xn = x_new.template cast<double>();
   const ToolDistance d = tool_distance(tool.shape, motion.to, xn);
   if (!(d.distance < 0)) return false;
-  const Vec3 dn = -d.distance * d.normal;
+  const Vec3& n = d.normal;
+  const double mu = tool.friction;
+  // Position: out along the normal; the tangential slip relative to the tool surface (which
+  // carried the point from x_prev) removed within the friction cone of the normal correction.
+  const Vec3 dn = -d.distance * n;
   const Vec3 xp = x_prev.template cast<double>();
   const Vec3 carried = carry_point(motion.from, motion.to, xp) - xp;
   const Vec3 rel = xn + dn - xp - carried;
-  const Vec3 tangential = rel - rel.dot(d.normal) * d.normal;
-  const double slip = tangential.norm();
-  const double limit = tool.friction * dn.norm();
-  Vec3 dt_corr = Vec3::Zero();
-  if (slip > 0) dt_corr = slip <= limit ? Vec3(-tangential) : Vec3(-tangential * (limit / slip));
-  dx = (dn + dt_corr).template cast<Real>();
+  const Vec3 slip = rel - rel.dot(n) * n;
+  const double slip_norm = slip.norm(), slip_limit = mu * dn.norm();
+  Vec3 dx_t = Vec3::Zero();
+  if (slip_norm > 0) dx_t = -slip * std::min(1.0, slip_limit / slip_norm);
+  // Velocity: the normal velocity into the tool (relative to the tool's surface velocity)
+  // removed (inelastic), the tangential relative velocity removed within the friction cone
+  // of that normal impulse.
+  const Vec3 vr = v.template cast<double>() - carried / double(dt);
+  const double vn = vr.dot(n);
+  const Vec3 dv_n = vn < 0 ? Vec3(-vn * n) : Vec3::Zero();
+  const Vec3 vt = vr - vn * n;
+  const double vt_norm = vt.norm(), vt_limit = mu * dv_n.norm();
+  Vec3 dv_t = Vec3::Zero();
+  if (vt_norm > 0) dv_t = -vt * std::min(1.0, vt_limit / vt_norm);
+  dx = (dn + dx_t).template cast<Real>();
+  dv = (dv_n + dv_t).template cast<Real>();
   return true;
 }
 
-template bool contact_correction<double>(const ContactTool&, const ToolMotion&,
+template bool contact_correction<double>(const ContactTool&, const ToolMotion&, double,
                                          const Eigen::Vector3d&, const Eigen::Vector3d&,
+                                         const Eigen::Vector3d&, Eigen::Vector3d&,
                                          Eigen::Vector3d&);
-template bool contact_correction<float>(const ContactTool&, const ToolMotion&,
+template bool contact_correction<float>(const ContactTool&, const ToolMotion&, float,
                                         const Eigen::Vector3f&, const Eigen::Vector3f&,
-                                        Eigen::Vector3f&);
+                                        const Eigen::Vector3f&, Eigen::Vector3f&, Eigen::Vector3f&);
 
 ContactBroadPhase::ContactBroadPhase(const PhyxelSet& set) {
   std::vector<uint32_t> members;

@@ -3,14 +3,19 @@
 // a rest-space hash grid, and the narrow phase and response of one phyxel.
 //
 // Response: projection of position and velocity (docs/decisions.md, "Contact"). After the
-// drift of a substep, a phyxel inside a tool at the substep's end pose is moved to the tool's
-// surface along the outward normal (dn = -phi n), and Coulomb friction removes its tangential
-// motion relative to the tool surface (the tool's rigid motion carried the point from x_prev):
-// all of it while |d_t| <= mu |dn| (sticking), else mu |dn| of it (sliding). The correction dx
-// goes into u and dx/dt into v (so the velocity matches the new position, as the leapfrog's
-// drift would have produced it), and the contact force on the phyxel is m dx / dt^2 (its
-// momentum change over the substep, divided by dt). The tool feels the negative sum. Fixed and
-// removed phyxels take no contact.
+// drift of a substep, a phyxel inside a tool at the substep's end pose (signed distance
+// phi < 0, outward normal n) is corrected:
+//  - position: moved to the surface, dn = -phi n, and its tangential slip relative to the
+//    tool surface (whose rigid motion carried the point from x_prev) removed: all of it while
+//    |slip| <= mu |dn| (sticking), else mu |dn| of it (sliding);
+//  - velocity: relative to the tool surface's velocity, the normal part into the tool removed
+//    (inelastic contact), and the tangential part reduced the same way within mu times that
+//    normal change (Coulomb).
+// The position correction carries no momentum; the velocity change does: the contact force on
+// the phyxel is m dv / dt, and the tool feels the negative sum. A phyxel pushed deep into a
+// tool (squeezed by its neighbours) is put back on the surface without being thrown: its
+// speed after contact never exceeds the tool surface's by more than it had. Fixed and removed
+// phyxels take no contact.
 #pragma once
 
 #include <Eigen/Core>
@@ -41,12 +46,13 @@ struct ToolContactSample {
   uint32_t contacts = 0;
 };
 
-// The correction of one phyxel: x_new is its position after the drift, x_prev before it.
-// Returns false (dx untouched) when the phyxel is outside the tool.
+// The correction of one phyxel over a substep of dt: x_new is its position after the drift,
+// x_prev before it, v its velocity. Returns false (dx, dv untouched) outside the tool.
 template <class Real>
-bool contact_correction(const ContactTool& tool, const ToolMotion& motion,
+bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real dt,
                         const Eigen::Matrix<Real, 3, 1>& x_prev,
-                        const Eigen::Matrix<Real, 3, 1>& x_new, Eigen::Matrix<Real, 3, 1>& dx);
+                        const Eigen::Matrix<Real, 3, 1>& x_new, const Eigen::Matrix<Real, 3, 1>& v,
+                        Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv);
 
 // Broad phase: a counting-sort grid of the rest positions of every phyxel that can take
 // contact (not fixed, not removed), cell size the largest support radius.
