@@ -108,6 +108,8 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   mass_ = set.mass;
   objects_ = set.objects;
   awake_.assign(set.objects.size(), 1);
+  broad_ = std::make_unique<ContactBroadPhase>(set);
+  for (const ObjectRange& o : set.objects) reach_spacing_ = std::max(reach_spacing_, o.spacing);
 
   upload(ctx, classes_, host.classes);
   upload(ctx, rest_, host.rest);
@@ -166,7 +168,8 @@ void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffe
 // with the kick-drift pass; every step but the last closes with the force pass fused with the
 // next step's kick and drift, which writes u into the other buffer (its neighbours still read
 // the current one), and the last closes with the plain half kick. The opening pass writes
-// in place or into the other buffer so that the u of the last step lands in disp_[0].
+// in place or into the other buffer so that the u of the last step lands in disp_[0]. With
+// tools in reach, the contact passes follow every drift, on the buffer it wrote.
 void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt,
                              int& cur, PassTimer* timer) {
   auto timed = [&](const char* name, auto&& record) {
@@ -184,6 +187,7 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
                  {disp_[0], disp_[target], vel_, force_, ext_, flags_, classes_, force_list_}, n);
       });
       cur = target;
+      if (contact_recorded()) timed("contact", [&] { record_contact(rec, 0, dt, disp_[cur]); });
     }
     timed("stress", [&] { record_stress(rec, disp_[cur]); });
     if (step == total - 1) {
@@ -191,13 +195,23 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     } else {
       timed("force", [&] { record_force(rec, kForceKickDrift, dt, disp_[cur], disp_[1 - cur]); });
       cur = 1 - cur;
+      if (contact_recorded())
+        timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
     }
   }
 }
 
 void GpuSolver::advance(int64_t substeps, double dt) {
+  if (substeps <= 0) return;
+  if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
   // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
-  if (substeps <= 0 || force_count_ == 0) return;
+  if (force_count_ == 0) {
+    if (!tools_.empty()) {
+      rec_[0]->submit_and_wait();
+      finish_contact(substeps, false);
+    }
+    return;
+  }
   const float fdt = static_cast<float>(dt);
   int cur = 0;
   bool pending[2] = {false, false};
@@ -240,6 +254,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
   }
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
+  if (!tools_.empty()) finish_contact(substeps, true);
 }
 
 void GpuSolver::compute_forces() {

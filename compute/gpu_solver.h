@@ -9,6 +9,9 @@
 //                 the last); per step a stress pass (D_i) and a force pass (gather, half
 //                 kick, and fused with the next step's half kick and drift), each over its
 //                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp)
+//   contact       with tools (set_tools), after every drift: the tools' correction of u and v
+//                 over the chunk's candidate list, per-tool force samples by a fixed-order
+//                 reduction (gpu_solver_contact.cpp; CpuSolver's semantics)
 //   queries       energies (GPU pass + fixed-order reduction), first non-finite phyxel (GPU
 //                 check), state download, von Mises stress (GPU pass)
 //
@@ -21,6 +24,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compute/buffer.h"
@@ -109,6 +113,19 @@ class GpuSolver final : public Solver {
   // forces recomputed for the current u.
   bool supports_load_changes() const override { return true; }
   void set_external_forces(const std::vector<Vec3>& loads) override;
+  // Tools, with CpuSolver's semantics (engine/solver/cpu_solver.h, engine/surgery/contact.h):
+  // contact runs after every drift on the phyxels the broad phase found for the chunk of
+  // substeps whose motions set_tool_motion gave (kept for the next advance; a step past them
+  // keeps the last end pose). At the start of an advance with new motions: max |u| and |v| by a
+  // GPU reduction (16 bytes back), ContactBroadPhase on the host, the candidates of awake
+  // objects and the motion table uploaded. Sleeping (set_object_awake) refilters the list.
+  // tool_samples(): what each tool felt in each substep of the last advance (substeps x
+  // tools; read back once per advance). Without tools nothing is recorded.
+  bool supports_tools() const override { return true; }
+  void set_tools(const std::vector<ContactTool>& tools) override;
+  void set_tool_motion(const std::vector<ToolMotion>& motion) override;
+  std::vector<ToolContactSample> tool_samples() override { return samples_; }
+  size_t contact_candidates() const override { return candidates_.size(); }
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -135,7 +152,8 @@ class GpuSolver final : public Solver {
   void remove_phyxels(const std::vector<uint32_t>& ids);
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
-  // median time per pass name ("kick_drift" once, then "stress" and "force" per step). Empty
+  // median time per pass name ("kick_drift" once, then "stress" and "force" per step, and
+  // "contact" after every drift while tools touch the candidates' chunk). Empty
   // where the device has no timestamps. Advances the state like advance(steps, dt).
   std::vector<PassTime> profile(int64_t steps, double dt);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
@@ -159,6 +177,16 @@ class GpuSolver final : public Solver {
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
   // count: the phyxels the pass visits (its list's length, or all of them).
   layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0) const;
+  // Contact (gpu_solver_contact.cpp). begin_contact: at the start of an advance of `substeps`,
+  // the broad phase when new motions are pending; records the uploads into rec_[0] (not
+  // submitted). record_contact: the contact and reduction passes after the drift of `step`.
+  // finish_contact: the samples, once the advance's work is done (ran: the steps were run).
+  void begin_contact(int64_t substeps, double dt);
+  void record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp);
+  void finish_contact(int64_t substeps, bool ran);
+  void filter_candidates(Recorder& rec);  // awake objects' phyxels of broad_list_; uploads
+  std::pair<double, double> max_norms();  // max |u|, max |v| (GPU reduction)
+  bool contact_recorded() const { return contact_active_; }
 
   std::unique_ptr<Context> owned_ctx_;
   Context* ctx_;
@@ -203,6 +231,29 @@ class GpuSolver final : public Solver {
   bool select_ = true;
   size_t stress_count_ = 0, force_count_ = 0;
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
+
+  // Tools (gpu_solver_contact.cpp); every buffer below is allocated by set_tools or grown
+  // when a chunk needs more (never shrunk), so scenes without tools allocate none of it.
+  std::vector<ContactTool> tools_;
+  std::unique_ptr<ContactBroadPhase> broad_;   // over the set at construction
+  double reach_spacing_ = 0;                   // the largest object spacing (contact_reach)
+  std::vector<ToolMotion> pending_motion_;     // for the next advance
+  std::vector<ToolMotion> motion_;             // the chunk's motions (substeps x tools)
+  size_t motion_steps_ = 0, motion_step_ = 0;  // substeps in motion_, substeps consumed
+  layout::vec4 contact_origin_{};              // the motion table's frame (world, float)
+  std::vector<uint32_t> broad_list_;           // the broad phase's phyxels for the chunk
+  std::vector<uint32_t> candidates_;           // those of awake objects (uploaded)
+  std::vector<ToolContactSample> samples_;     // of the last advance
+  bool contact_active_ = false;                // contact passes recorded in this advance
+  uint32_t candidate_capacity_ = 0;            // elements of the candidate buffers
+  Buffer tool_shapes_;                         // ContactToolShape per tool
+  Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
+  Buffer candidate_list_;     // uint[capacity]; candidate_upload_ stages it
+  Buffer candidate_force_;    // vec4[tools][capacity]: m dv / dt and 1 per contact
+  Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
+  Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
+  Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
+  Buffer motion_upload_, candidate_upload_;
 
   std::unique_ptr<Recorder> rec_[2];
 };

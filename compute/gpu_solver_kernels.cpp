@@ -12,10 +12,13 @@
 #include "phyxel_spv/solver_energy.spv.h"
 #include "phyxel_spv/solver_force.spv.h"
 #include "phyxel_spv/solver_kick_drift.spv.h"
+#include "phyxel_spv/solver_max_norm.spv.h"
 #include "phyxel_spv/solver_precompute.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
 #include "phyxel_spv/solver_stress.spv.h"
 #include "phyxel_spv/solver_von_mises.spv.h"
+#include "phyxel_spv/tool_contact.spv.h"
+#include "phyxel_spv/tool_contact_reduce.spv.h"
 
 namespace phyxel::gpu {
 
@@ -34,7 +37,10 @@ SolverKernels::SolverKernels(Context& ctx)
       energy(ctx, PHYXEL_SHADER(solver_energy), 11, sizeof(StepPush)),
       reduce(ctx, PHYXEL_SHADER(solver_reduce), 2, sizeof(ReducePush)),
       check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
-      von_mises(ctx, PHYXEL_SHADER(solver_von_mises), 11, sizeof(StepPush)) {
+      von_mises(ctx, PHYXEL_SHADER(solver_von_mises), 11, sizeof(StepPush)),
+      max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
+      contact(ctx, PHYXEL_SHADER(tool_contact), 10, sizeof(ContactPush)),
+      contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 2, sizeof(ContactReducePush)) {
   if (ctx.float64())
     nbr_pairs_f64 = Pipeline(ctx, PHYXEL_SHADER(nbr_pairs_f64), 11, sizeof(NbrPush));
 }

@@ -1,4 +1,4 @@
-// The GPU solver's pipelines (one per shader of compute/shaders/{nbr,scan,solver}_*.comp) and
+// The GPU solver's pipelines (one per shader of compute/shaders/{nbr,scan,solver,tool}_*.comp) and
 // the exclusive prefix sum built from two of them. Private to compute/gpu_solver*.cpp.
 #pragma once
 
@@ -14,20 +14,23 @@ class SolverKernels {
  public:
   explicit SolverKernels(Context& ctx);
 
-  Pipeline nbr_cells;      // layout::NbrPush; kNbrCells* bindings
-  Pipeline nbr_scatter;    // layout::NbrPush; kNbrScatter* bindings
-  Pipeline nbr_pairs;      // layout::NbrPush; kNbrPairs* bindings; support test in float
-  Pipeline nbr_pairs_f64;  // the same in double; empty where the device has no shaderFloat64
-  Pipeline scan_block;     // layout::ScanPush; kScan* bindings
-  Pipeline scan_add;       // layout::ScanPush; kScanAdd* bindings
-  Pipeline precompute;     // layout::PrecomputePush; kPrecompute* bindings
-  Pipeline kick_drift;     // layout::StepPush; kKickDrift* bindings (over the force list)
-  Pipeline stress;         // layout::StepPush; kStress* bindings (over the stress list)
-  Pipeline force;          // layout::StepPush; kForce* bindings (over the force list)
-  Pipeline energy;         // layout::StepPush; kEnergy* bindings
-  Pipeline reduce;         // layout::ReducePush; kReduce* bindings
-  Pipeline check;          // layout::CheckPush; kCheck* bindings
-  Pipeline von_mises;      // layout::StepPush; kEnergy* bindings
+  Pipeline nbr_cells;       // layout::NbrPush; kNbrCells* bindings
+  Pipeline nbr_scatter;     // layout::NbrPush; kNbrScatter* bindings
+  Pipeline nbr_pairs;       // layout::NbrPush; kNbrPairs* bindings; support test in float
+  Pipeline nbr_pairs_f64;   // the same in double; empty where the device has no shaderFloat64
+  Pipeline scan_block;      // layout::ScanPush; kScan* bindings
+  Pipeline scan_add;        // layout::ScanPush; kScanAdd* bindings
+  Pipeline precompute;      // layout::PrecomputePush; kPrecompute* bindings
+  Pipeline kick_drift;      // layout::StepPush; kKickDrift* bindings (over the force list)
+  Pipeline stress;          // layout::StepPush; kStress* bindings (over the stress list)
+  Pipeline force;           // layout::StepPush; kForce* bindings (over the force list)
+  Pipeline energy;          // layout::StepPush; kEnergy* bindings
+  Pipeline reduce;          // layout::ReducePush; kReduce* bindings
+  Pipeline check;           // layout::CheckPush; kCheck* bindings
+  Pipeline von_mises;       // layout::StepPush; kEnergy* bindings
+  Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
+  Pipeline contact;         // layout::ContactPush; kContact* bindings (over the candidates)
+  Pipeline contact_reduce;  // layout::ContactReducePush; kContactReduce* bindings
 };
 
 // Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for

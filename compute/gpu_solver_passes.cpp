@@ -54,6 +54,11 @@ void GpuSolver::set_object_awake(uint32_t object, bool awake) {
   if (bool(awake_[object]) == awake) return;
   awake_[object] = awake;
   build_pass_lists();
+  // Sleeping objects take no contact: the chunk's candidates follow the awake objects.
+  if (!tools_.empty() && !broad_list_.empty()) {
+    filter_candidates(*rec_[0]);
+    rec_[0]->barrier();
+  }
   if (!awake && objects_[object].count > 0) {
     // An object's phyxels are one range of the per-phyxel buffers.
     Recorder& rec = *rec_[0];

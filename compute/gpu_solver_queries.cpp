@@ -81,6 +81,11 @@ PointState GpuSolver::read_state(bool with_stress) {
     const std::vector<float> vm = download<float>(*ctx_, von_mises_, count_);
     s.von_mises.assign(vm.begin(), vm.end());
   }
+  s.contact.assign(count_, 0);  // as the CPU's: 1 where a tool touched the phyxel
+  if (contact_flag_) {
+    const std::vector<uint32_t> flags = download<uint32_t>(*ctx_, contact_flag_, count_);
+    for (size_t i = 0; i < count_; ++i) s.contact[i] = flags[i] != 0 ? 1 : 0;
+  }
   return s;
 }
 
@@ -106,12 +111,14 @@ std::vector<float> GpuSolver::pair_weights() {
 
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
-  PassTimer timer(*ctx_, static_cast<uint32_t>(1 + 2 * steps));
+  PassTimer timer(*ctx_, static_cast<uint32_t>(2 + 3 * steps));
   Recorder& rec = *rec_[0];
+  if (!tools_.empty()) begin_contact(steps, dt);  // its uploads go first
   timer.reset(rec);
   int cur = 0;
   record_steps(rec, 0, steps, steps, static_cast<float>(dt), cur, &timer);
   rec.submit_and_wait();
+  if (!tools_.empty()) finish_contact(steps, true);
   std::map<std::string, std::vector<double>> by_name;
   std::vector<std::string> order;
   for (const PassTime& t : timer.results()) {

@@ -254,6 +254,83 @@ struct CheckPush {
 };
 PHYXEL_ASSERT_SIZE(CheckPush, 8);
 
+// ---------------------------------------------------------------------------------------
+// Tool contact (compute/gpu_solver_contact.cpp; shaders/tool_contact*.comp, solver_max_norm.comp;
+// the math in shaders/tool_contact.glsl mirrors engine/surgery/tool.cpp and contact.cpp).
+
+// A tool's shape and friction (engine ContactTool), one per tool.
+PHYXEL_CONST uint kToolSphere = 0u;
+PHYXEL_CONST uint kToolCapsule = 1u;
+struct ContactToolShape {
+  vec4 shape;  // radius (m), length (m; 0 for a sphere), Coulomb friction mu, 0
+  uvec4 kind;  // kToolSphere or kToolCapsule, 0, 0, 0
+};
+PHYXEL_ASSERT_SIZE(ContactToolShape, 32);
+
+// One substep's motion of one tool (engine ToolMotion), row-major [substep][tool]. Positions
+// are relative to ContactPush.origin (a point near the tools, so the small per-substep motion
+// keeps its precision in float); axes are unit vectors (w unused).
+struct ContactMotion {
+  vec4 from_position;
+  vec4 from_axis;
+  vec4 to_position;
+  vec4 to_axis;
+};
+PHYXEL_ASSERT_SIZE(ContactMotion, 64);
+
+// tool_contact: over the candidate list, after a drift: the correction of every tool in turn
+// (u += dx, v += dv on the displacement buffer that holds the new u), the contact force
+// m dv / dt per candidate and tool into force[tool * capacity + slot] (xyz; w = 1 where the
+// tool touched, else 0), and the per-phyxel contact flag (1 touched, 0 not).
+struct ContactPush {
+  vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
+  uint count;     // candidates
+  float dt;       // s
+  uint tools;     // tools
+  uint motion;    // row of the motion table (substep of the chunk, clamped to its last)
+  uint hold;      // 1 past the chunk's motions: the tools stay at the row's end pose
+  uint capacity;  // stride of the per-candidate force buffer (>= count)
+  uint pad0;
+  uint pad1;
+};
+PHYXEL_ASSERT_SIZE(ContactPush, 48);
+// tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact}
+PHYXEL_CONST uint kContactBindingList = 0;  // candidate phyxels, ascending
+PHYXEL_CONST uint kContactBindingRest = 1;
+PHYXEL_CONST uint kContactBindingDisp = 2;
+PHYXEL_CONST uint kContactBindingVel = 3;
+PHYXEL_CONST uint kContactBindingExt = 4;
+PHYXEL_CONST uint kContactBindingFlags = 5;
+PHYXEL_CONST uint kContactBindingTools = 6;
+PHYXEL_CONST uint kContactBindingMotion = 7;
+PHYXEL_CONST uint kContactBindingForce = 8;
+PHYXEL_CONST uint kContactBindingContact = 9;
+
+// tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k], k < count, in a
+// fixed order (thread t takes k = t, t + workgroup, ...; then a fixed tree) and writes
+// samples[sample * tools + tool] = (minus the summed force: the force on the tool, contacts).
+struct ContactReducePush {
+  uint count;
+  uint tools;
+  uint capacity;
+  uint substep;  // of the advance: the row of the samples
+};
+PHYXEL_ASSERT_SIZE(ContactReducePush, 16);
+PHYXEL_CONST uint kContactReduceBindingForce = 0;
+PHYXEL_CONST uint kContactReduceBindingSamples = 1;
+
+// solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
+// of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).
+struct MaxNormPush {
+  uint count;  // input elements
+  uint level;  // 0: read disp and vel; else src
+};
+PHYXEL_ASSERT_SIZE(MaxNormPush, 8);
+PHYXEL_CONST uint kMaxNormBindingDisp = 0;
+PHYXEL_CONST uint kMaxNormBindingVel = 1;
+PHYXEL_CONST uint kMaxNormBindingSrc = 2;
+PHYXEL_CONST uint kMaxNormBindingOut = 3;
+
 #ifdef __cplusplus
 }  // namespace phyxel::gpu::layout
 #else

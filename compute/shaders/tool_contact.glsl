@@ -1,0 +1,119 @@
+// Tool-tissue contact of one phyxel in float: the GLSL twin of engine/surgery/tool.cpp
+// (perpendicular, rotation_between, tool_distance, carry_point) and of contact_correction in
+// engine/surgery/contact.cpp (see contact.h for the response). Positions are relative to the
+// chunk's origin (ContactPush.origin), which the caller subtracts from the phyxel's position.
+// Include after layout.h.
+#ifndef PHYXEL_TOOL_CONTACT_GLSL
+#define PHYXEL_TOOL_CONTACT_GLSL
+
+// Cross product written out and `precise`, so that cross(a, a) is exactly 0 (a fused
+// multiply-add would leave the rounding of one product) and the rotation of an unchanged axis
+// is exactly the identity, as on the CPU.
+vec3 tool_cross(vec3 a, vec3 b) {
+  precise vec3 c = vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+  return c;
+}
+
+// A unit vector perpendicular to the unit vector a by the CPU's fixed rule: the basis vector
+// least aligned with a, crossed with a.
+vec3 tool_perpendicular(vec3 a) {
+  const vec3 m = abs(a);
+  const vec3 e = (m.x <= m.y && m.x <= m.z) ? vec3(1.0, 0.0, 0.0)
+                 : (m.y <= m.z)             ? vec3(0.0, 1.0, 0.0)
+                                            : vec3(0.0, 0.0, 1.0);
+  return normalize(tool_cross(a, e));
+}
+
+// R y - y for the shortest rotation R taking unit a to unit b (the CPU's rotation_between:
+// about a x b by atan2(|a x b|, a.b); half a turn about tool_perpendicular(a) for opposite
+// axes), by Rodrigues' formula with 1 - cos written as 2 sin^2(theta / 2).
+vec3 tool_rotation_offset(vec3 a, vec3 b, vec3 y) {
+  const float c = clamp(dot(a, b), -1.0, 1.0);
+  const vec3 k = tool_cross(a, b);
+  const float s = length(k);
+  vec3 axis;
+  float sin_t;
+  float one_minus_cos;
+  if (s < 1e-12) {
+    if (c > 0.0) return vec3(0.0);
+    axis = tool_perpendicular(a);
+    sin_t = 0.0;
+    one_minus_cos = 2.0;
+  } else {
+    axis = k / s;
+    const float theta = atan(s, c);
+    const float h = sin(0.5 * theta);
+    sin_t = sin(theta);
+    one_minus_cos = 2.0 * h * h;
+  }
+  return sin_t * tool_cross(axis, y) + one_minus_cos * (axis * dot(axis, y) - y);
+}
+
+// Signed distance from x to the tool's surface at a pose and the outward unit normal
+// (tool_distance): a fixed perpendicular to the axis for a point on the capsule's segment,
+// minus the axis at a sphere's centre.
+struct ToolHit {
+  float distance;
+  vec3 normal;
+};
+
+ToolHit tool_distance(ContactToolShape tool, vec3 position, vec3 axis, vec3 x) {
+  const float radius = tool.shape.x;
+  const float len = tool.kind.x == kToolCapsule ? tool.shape.y : 0.0;
+  const vec3 d = x - position;
+  const float along = clamp(dot(d, axis), 0.0, len);
+  const vec3 off = d - along * axis;
+  const float r = length(off);
+  ToolHit hit;
+  hit.distance = r - radius;
+  if (r > 1e-12 * radius) {
+    hit.normal = off / r;
+  } else {
+    hit.normal = len > 0.0 ? tool_perpendicular(axis) : -axis;
+  }
+  return hit;
+}
+
+// contact_correction over a substep of dt: x_new is the phyxel's position after the drift
+// (relative to the origin), v its velocity, so x_new - x_prev = dt v. Returns false (dx, dv
+// untouched) when the phyxel is outside the tool at the end pose; `hold`: the tool rests at
+// the end pose (from = to). Position: out along the normal, the tangential slip relative to the
+// tool surface removed within the friction cone of that; velocity: relative to the surface's,
+// the normal part into the tool removed and the tangential part within mu of that change.
+bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool hold, float dt,
+                             vec3 x_new, vec3 v, out vec3 dx, out vec3 dv) {
+  dx = vec3(0.0);
+  dv = vec3(0.0);
+  const vec3 to_p = motion.to_position.xyz;
+  const vec3 to_a = motion.to_axis.xyz;
+  const vec3 from_p = hold ? to_p : motion.from_position.xyz;
+  const vec3 from_a = hold ? to_a : motion.from_axis.xyz;
+  const ToolHit hit = tool_distance(tool, to_p, to_a, x_new);
+  if (!(hit.distance < 0.0)) return false;
+  const vec3 n = hit.normal;
+  const float mu = tool.shape.z;
+  const vec3 dn = -hit.distance * n;
+  const vec3 step = dt * v;
+  const vec3 x_prev = x_new - step;
+  // carry_point(from, to, x_prev) - x_prev, without the cancellation of world coordinates.
+  const vec3 carried = (to_p - from_p) + tool_rotation_offset(from_a, to_a, x_prev - from_p);
+  const vec3 rel = step + dn - carried;  // x_new + dn - x_prev - carried
+  const vec3 slip = rel - dot(rel, n) * n;
+  const float slip_norm = length(slip);
+  const float slip_limit = mu * length(dn);
+  vec3 dx_t = vec3(0.0);
+  if (slip_norm > 0.0) dx_t = -slip * min(1.0, slip_limit / slip_norm);
+  const vec3 vr = v - carried / dt;
+  const float vn = dot(vr, n);
+  const vec3 dv_n = vn < 0.0 ? -vn * n : vec3(0.0);
+  const vec3 vt = vr - vn * n;
+  const float vt_norm = length(vt);
+  const float vt_limit = mu * length(dv_n);
+  vec3 dv_t = vec3(0.0);
+  if (vt_norm > 0.0) dv_t = -vt * min(1.0, vt_limit / vt_norm);
+  dx = dn + dx_t;
+  dv = dv_n + dv_t;
+  return true;
+}
+
+#endif  // PHYXEL_TOOL_CONTACT_GLSL

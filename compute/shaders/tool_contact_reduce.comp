@@ -1,0 +1,37 @@
+// The contact forces of one substep per tool, in a fixed order (no float atomics: the samples
+// are the same bits on every run): one workgroup per tool; thread t sums the candidates
+// t, t + workgroup, ... in order, then a fixed tree over the workgroup. The sample is the force
+// on the tool (minus the sum of the forces on the phyxels) and the number of contacts (exact in
+// float below 2^24).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { ContactReducePush p; };
+layout(std430, binding = kContactReduceBindingForce) readonly buffer Force {
+  vec4 contact_force[];
+};
+layout(std430, binding = kContactReduceBindingSamples) writeonly buffer Samples {
+  vec4 samples[];
+};
+
+shared vec4 partial[PHYXEL_WORKGROUP_SIZE];
+
+void main() {
+  const uint tool = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  if (tool >= p.tools) return;  // whole workgroups only, before any barrier
+  const uint t = gl_LocalInvocationID.x;
+  vec4 sum = vec4(0.0);
+  for (uint k = t; k < p.count; k += PHYXEL_WORKGROUP_SIZE) {
+    sum += contact_force[tool * p.capacity + k];
+  }
+  partial[t] = sum;
+  barrier();
+  for (uint half_size = PHYXEL_WORKGROUP_SIZE / 2u; half_size > 0u; half_size >>= 1u) {
+    if (t < half_size) partial[t] += partial[t + half_size];
+    barrier();
+  }
+  if (t == 0u) samples[p.substep * p.tools + tool] = vec4(-partial[0].xyz, partial[0].w);
+}
