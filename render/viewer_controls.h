@@ -94,6 +94,9 @@ class ViewerControls {
   }
   void button(ViewerButton b, bool pressed, double x, double y, bool shift);
   void cursor(double x, double y);
+  // The cursor as the events so far left it (a button press is taken where the events put
+  // the cursor, not where the pointer is by the time it is processed).
+  Eigen::Vector2d cursor_position() const { return {last_x_, last_y_}; }
   void scroll(double notches, bool shift = false);
 
   // The haptic tools and their starting targets; the window's size per eye in the cursor's

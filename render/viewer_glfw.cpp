@@ -55,10 +55,12 @@ void on_key(GLFWwindow* w, int key, int, int action, int) {
 
 void on_button(GLFWwindow* w, int button, int action, int mods) {
   if (button != GLFW_MOUSE_BUTTON_LEFT && button != GLFW_MOUSE_BUTTON_RIGHT) return;
-  double x = 0, y = 0;
-  glfwGetCursorPos(w, &x, &y);
-  controls_of(w).button(button == GLFW_MOUSE_BUTTON_LEFT ? ViewerButton::Left : ViewerButton::Right,
-                        action == GLFW_PRESS, x, y, (mods & GLFW_MOD_SHIFT) != 0);
+  // Where the cursor events processed so far put the cursor: glfwGetCursorPos would ask the X
+  // server for the pointer now, past motion events still queued behind this press.
+  ViewerControls& controls = controls_of(w);
+  const Eigen::Vector2d at = controls.cursor_position();
+  controls.button(button == GLFW_MOUSE_BUTTON_LEFT ? ViewerButton::Left : ViewerButton::Right,
+                  action == GLFW_PRESS, at.x(), at.y(), (mods & GLFW_MOD_SHIFT) != 0);
 }
 
 void on_cursor(GLFWwindow* w, double x, double y) {
@@ -195,11 +197,13 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   auto wall = [&start] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  // Simulated time follows the wall clock, at most 1/30 s of it per frame.
+  // Simulated time follows the wall clock, at most 0.1 s of it per frame (so frame rates down
+  // to 10 per second keep up).
   const double step_time = scene.simulation.dt;
-  RealTimePacer pacer(
-      step_time, std::max<int64_t>(scene.render.every, static_cast<int64_t>(1.0 / 30 / step_time)));
+  RealTimePacer pacer(step_time,
+                      std::max<int64_t>(scene.render.every, static_cast<int64_t>(0.1 / step_time)));
   double real_time = 0;
+  std::vector<ToolStepRecord> felt;  // what each tool felt in the last step
   auto last_title = std::chrono::steady_clock::now();
   int frames = 0;
   std::string halted;  // why the simulation stopped (non-finite or runaway), empty while fine
@@ -217,10 +221,10 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
           advance_with_tools(solver, track, step, advance, plan.substeps, plan.dt_used);
       step += advance;
       pacer.advanced(advance);
-      if (!haptics.empty() && !records.empty())
-        haptics.publish(
-            double(step) * step_time,
-            std::vector<ToolStepRecord>(records.end() - scene.tools.size(), records.end()));
+      if (!records.empty()) {
+        felt.assign(records.end() - scene.tools.size(), records.end());
+        if (!haptics.empty()) haptics.publish(double(step) * step_time, felt);
+      }
     }
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);
@@ -257,9 +261,16 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     if (seconds > 0.5) {
       if (halted.empty()) halted = stability_problem(set, solver, step);
       real_time = pacer.factor();
+      std::string note = halted;
+      for (size_t t = 0; t < felt.size() && halted.empty(); ++t) {
+        char text[128];
+        std::snprintf(text, sizeof text, "%s%s %.3f N (%u contacts)", note.empty() ? "" : ", ",
+                      scene.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
+        note += text;
+      }
       glfwSetWindowTitle(
           window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
-                               frames / seconds, halted, controls.paused() ? -1 : real_time)
+                               frames / seconds, note, controls.paused() ? -1 : real_time)
                       .c_str());
       frames = 0;
       last_title = now;
