@@ -52,33 +52,19 @@ constexpr const char* kHapticsHelp =
     "  --out DIR         write DIR/haptics.csv and DIR/haptics.json";
 
 // The CSV's columns: every row of either part, empty where a column does not apply.
-const std::vector<std::string> kColumns = {"part",
-                                           "scene",
-                                           "device",
-                                           "phyxels",
-                                           "refine",
-                                           "seconds",
-                                           "ticks",
-                                           "period_mean_ms",
-                                           "period_p99_ms",
-                                           "period_max_ms",
-                                           "overruns",
-                                           "max_force_jump_n",
-                                           "max_hand_force_n",
-                                           "snapshots",
-                                           "real_time_factor",
-                                           "physics_steps_per_s",
-                                           "max_contacts",
-                                           "steps",
-                                           "step_ms_no_tool",
-                                           "step_ms_tool",
-                                           "contact_share_percent",
-                                           "candidates",
-                                           "contacts",
-                                           "gpu_step_us_no_tool",
-                                           "gpu_step_us_tool",
-                                           "gpu_contact_us",
-                                           "gpu_contact_share_percent"};
+constexpr const char* kHeader =
+    "part,scene,device,phyxels,refine,seconds,ticks,period_mean_ms,period_p99_ms,"
+    "period_max_ms,overruns,max_force_jump_n,max_hand_force_n,snapshots,"
+    "real_time_factor,physics_steps_per_s,max_contacts,steps,step_ms_no_tool,"
+    "step_ms_tool,contact_share_percent,candidates,contacts,gpu_step_us_no_tool,"
+    "gpu_step_us_tool,gpu_contact_us,gpu_contact_share_percent,path_slowdown,finite";
+
+std::vector<std::string> columns() {
+  std::vector<std::string> out;
+  std::stringstream ss(kHeader);
+  for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+  return out;
+}
 
 double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -365,12 +351,11 @@ void write_outputs(const std::filesystem::path& dir, const nlohmann::json& loop_
     throw std::runtime_error("phyxel bench --haptics: --out " + dir.string() +
                              ": cannot create the folder (" + ec.message() + ")");
   std::ofstream csv(dir / "haptics.csv");
-  for (size_t c = 0; c < kColumns.size(); ++c) csv << (c ? "," : "") << kColumns[c];
-  csv << "\n";
+  const std::vector<std::string> cols = columns();
+  csv << kHeader << "\n";
   for (const nlohmann::json* rows : {&loop_rows, &contact_rows})
     for (const nlohmann::json& row : *rows) {
-      for (size_t c = 0; c < kColumns.size(); ++c)
-        csv << (c ? "," : "") << csv_cell(row, kColumns[c]);
+      for (size_t c = 0; c < cols.size(); ++c) csv << (c ? "," : "") << csv_cell(row, cols[c]);
       csv << "\n";
     }
   std::ofstream json(dir / "haptics.json");
