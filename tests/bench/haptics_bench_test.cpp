@@ -85,7 +85,6 @@ TEST(BenchHaptics, ShortCpuRunWritesFiniteCsvAndJson) {
   EXPECT_GT(finite_number(rows[1], "phyxels"), 1000);
   EXPECT_GT(finite_number(rows[1], "physics_steps_per_s"), 0);
   EXPECT_GT(finite_number(rows[1], "real_time_factor"), 0);
-  EXPECT_EQ(rows[1].at("finite"), "true");
   for (const char* c :
        {"phyxels", "step_ms_no_tool", "step_ms_tool", "contact_share_percent", "candidates"})
     finite_number(rows[2], c);
