@@ -193,7 +193,8 @@ nlohmann::json solver_loop(Scene scene, const PhyxelSet& set, const std::string&
               set.size(), solver->device().c_str());
   std::fflush(stdout);
   std::atomic<double> sim_time{0};
-  const std::vector<ToolKey> path = bench_path(scene.tools[0], set, seconds);
+  scene.tools[0].path = bench_path(scene.tools[0], set, seconds);  // also the loop's start
+  const std::vector<ToolKey> path = scene.tools[0].path;
   HapticSession haptics(scene,
                         [&](size_t) { return std::make_shared<SimClockDevice>(path, sim_time); });
   RunOptions options;
@@ -377,7 +378,7 @@ void write_outputs(const std::filesystem::path& dir, const nlohmann::json& loop_
 
 void print_loop_row(const nlohmann::json& r) {
   const bool solver = r["part"] == "loop_solver";
-  std::printf("%-34.34s %8lld %7llu %8.3f %8.3f %8.3f %8llu %9.3f %9.3f",
+  std::printf("%-40.40s %8lld %7llu %8.3f %8.3f %8.3f %8llu %9.3f %9.3f",
               r["device"].get<std::string>().c_str(), r["phyxels"].get<long long>(),
               r["ticks"].get<unsigned long long>(), r["period_mean_ms"].get<double>(),
               r["period_p99_ms"].get<double>(), r["period_max_ms"].get<double>(),
@@ -392,7 +393,7 @@ void print_loop_row(const nlohmann::json& r) {
 }
 
 void print_contact_row(const nlohmann::json& r) {
-  std::printf("%-34.34s %9lld %10.4g %10.4g %9.1f%% %10llu %9u",
+  std::printf("%-40.40s %9lld %10.4g %10.4g %9.1f%% %10llu %9u",
               r["device"].get<std::string>().c_str(), r["phyxels"].get<long long>(),
               r["step_ms_no_tool"].get<double>(), r["step_ms_tool"].get<double>(),
               r["contact_share_percent"].get<double>(), r["candidates"].get<unsigned long long>(),
@@ -448,7 +449,7 @@ int bench_haptics(const Args& args) {
     const PhyxelSet set = sample_scene(scene);
     std::printf("haptic loop (1 kHz, overrun > 2 ms), %s, %.3g s per run\n", scene_file.c_str(),
                 seconds);
-    std::printf("%-34s %8s %7s %8s %8s %8s %8s %9s %9s %6s %9s %8s\n", "solver", "phyxels", "ticks",
+    std::printf("%-40s %8s %7s %8s %8s %8s %8s %9s %9s %6s %9s %8s\n", "solver", "phyxels", "ticks",
                 "mean ms", "p99 ms", "max ms", "overruns", "jump N", "hand N", "RTF", "steps/s",
                 "contacts");
     loop_rows.push_back(idle_loop(scene, set, scene_file, refine, seconds));
@@ -462,7 +463,7 @@ int bench_haptics(const Args& args) {
   if (contact) {
     std::printf("\ncontact cost: probe r = %.0f mm pressed %.0f mm into an elastic box\n",
                 kProbeRadius * 1e3, kProbeDepth * 1e3);
-    std::printf("%-34s %9s %10s %10s %10s %10s %9s", "device", "phyxels", "ms/step", "+tool ms",
+    std::printf("%-40s %9s %10s %10s %10s %10s %9s", "device", "phyxels", "ms/step", "+tool ms",
                 "contact", "candidates", "contacts");
     if (device != "cpu")
       std::printf(" %10s %10s %9s %9s", "GPU us", "+tool us", "contact", "share");
