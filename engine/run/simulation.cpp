@@ -163,7 +163,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
 
   auto write_points = [&](int64_t step) {
     if (options.out_dir.empty()) return;
-    const PointState state = solver.read_state(true);
+    PointState state = solver.read_state(true);
+    // The solvers always report a contact flag per phyxel (all 0 without tools); the .vtp
+    // files carry the `contact` array for scenes with tools only.
+    if (scene.tools.empty()) state.contact.clear();
     const std::string name = points_name(step);
     write_points_vtp(options.out_dir / name, set, state, scene.output.binary);
     result.outputs.push_back(name);
