@@ -7,6 +7,14 @@
 
 namespace phyxel::app {
 
+nlohmann::json wall_split_json(const RunResult::WallSplit& split) {
+  return {{"advance", split.advance},
+          {"checks", split.checks},
+          {"callbacks", split.callbacks},
+          {"pacing", split.pacing},
+          {"outputs", split.outputs}};
+}
+
 void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
                        Solver& solver, const RunOptions& options, const RunResult& result,
                        const HapticSession* haptics) {
@@ -61,6 +69,7 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       {"real_time_factor", result.real_time_factor},
   };
   if (options.real_time) j["max_lag_seconds"] = result.max_lag;
+  j["wall_split_seconds"] = wall_split_json(result.split);
   if (!result.tools.empty()) {
     json tools = json::array();
     for (const ToolRunStats& t : result.tools)
