@@ -167,7 +167,8 @@ nlohmann::json loop_row(const std::string& part, const std::string& scene, size_
           {"overruns", s.overruns},
           {"max_force_jump_n", s.max_force_jump},
           {"max_hand_force_n", s.max_hand_force},
-          {"snapshots", s.snapshots}};
+          {"snapshots", s.snapshots},
+          {"realtime_priority", s.realtime_priority}};
 }
 
 // The loop alone: the scene's haptic tool on its scripted device, nothing published.
@@ -388,6 +389,8 @@ void print_loop_row(const nlohmann::json& r) {
     std::printf(" %6.3f %9.1f %8u%s", r["real_time_factor"].get<double>(),
                 r["physics_steps_per_s"].get<double>(), r["max_contacts"].get<uint32_t>(),
                 r["finite"].get<bool>() ? "" : "  (stopped: unstable or non-finite)");
+  if (r.contains("realtime_priority") && !r["realtime_priority"].get<bool>())
+    std::printf("  (normal priority: SCHED_FIFO refused)");
   std::printf("\n");
   std::fflush(stdout);
 }
