@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -35,18 +37,20 @@ std::string read_file(const std::filesystem::path& p) {
   return ss.str();
 }
 
-// The demo beam (41 x 9 x 9 phyxels) that never comes to rest early and writes its points every
-// `every` steps: the first points file says the run loop is going.
-std::filesystem::path long_beam_scene(const std::filesystem::path& dir, int every) {
+// scenes/NAME as a run that never comes to rest early and writes ASCII points every `every`
+// steps: the first points file says the run loop is going.
+std::filesystem::path long_scene(const std::filesystem::path& dir, const std::string& name,
+                                 int every) {
   nlohmann::json scene =
-      nlohmann::json::parse(read_file(std::string(PHYXEL_SOURCE_DIR) + "/scenes/beam.json"));
+      nlohmann::json::parse(read_file(std::string(PHYXEL_SOURCE_DIR) + "/scenes/" + name));
   scene["simulation"].erase("until_rest");
   scene["output"]["every"] = every;
-  const auto file = dir / "long_beam.json";
+  scene["output"]["format"] = "ascii";
+  scene.erase("render");
+  const auto file = dir / ("long_" + name);
   std::ofstream(file) << scene.dump(2);
   return file;
 }
-constexpr size_t kBeamPhyxels = 41 * 9 * 9;
 
 // `phyxel run SCENE --steps 10000000 --out DIR ...` as a child, its output in DIR/../log.txt.
 class Child {
@@ -82,6 +86,7 @@ class Child {
     }
   }
   bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   void send(int sig) const { kill(pid_, sig); }
   // Whether it is still running.
   bool running() {
@@ -148,34 +153,67 @@ void random_pause() {
   std::this_thread::sleep_for(std::chrono::milliseconds(ms(seed)));
 }
 
-// A whole ASCII .vtp of the scene's points: well-formed (every element closed, in order), the
-// point count, every array, 3 finite coordinates per point.
+// The value of attribute `name` in the tag `tag` ("" if none).
+std::string attribute(const std::string& tag, const std::string& name) {
+  const size_t at = tag.find(' ' + name + "=\"");
+  if (at == std::string::npos) return "";
+  const size_t begin = at + name.size() + 3;
+  return tag.substr(begin, tag.find('"', begin) - begin);
+}
+
+// A whole ASCII .vtp of `points` points, parsed: well-formed (every element closed, in order),
+// the point count, every DataArray with points x components finite values (Verts: 0..n-1 and
+// 1..n), the arrays the format documents, and positions = rest_position + displacement.
 void expect_whole_vtp(const std::filesystem::path& file, size_t points) {
   const std::string text = read_file(file);
   ASSERT_EQ(text.rfind("<?xml", 0), 0u) << file;
   const std::string end = "</VTKFile>\n";
   ASSERT_GE(text.size(), end.size()) << file;
-  EXPECT_EQ(text.substr(text.size() - end.size()), end) << file;
-  EXPECT_NE(text.find("NumberOfPoints=\"" + std::to_string(points) + "\""), std::string::npos)
-      << file;
-  for (const std::string tag : {"VTKFile ", "PolyData>", "Piece ", "Points>", "PointData "}) {
+  ASSERT_EQ(text.substr(text.size() - end.size()), end) << file;
+  for (const std::string tag :
+       {"VTKFile ", "PolyData>", "Piece ", "Points>", "PointData ", "Verts>"}) {
     const size_t open = text.find('<' + tag);
     const size_t close = text.find("</" + tag.substr(0, tag.size() - 1) + '>');
-    EXPECT_NE(open, std::string::npos) << tag;
-    EXPECT_NE(close, std::string::npos) << tag;
-    EXPECT_LT(open, close) << tag;
+    ASSERT_NE(open, std::string::npos) << file << ": " << tag;
+    ASSERT_NE(close, std::string::npos) << file << ": " << tag;
+    EXPECT_LT(open, close) << file << ": " << tag;
   }
-  size_t opened = 0, closed = 0;
-  for (size_t at = 0; (at = text.find("<DataArray", at)) != std::string::npos; ++at) ++opened;
-  for (size_t at = 0; (at = text.find("</DataArray>", at)) != std::string::npos; ++at) ++closed;
-  EXPECT_EQ(opened, closed);
-  for (const char* name : {"rest_position", "displacement", "velocity", "von_mises", "flags"})
-    EXPECT_NE(text.find("Name=\"" + std::string(name) + "\""), std::string::npos) << name;
-  const size_t begin = text.find('>', text.find("<DataArray", text.find("<Points>"))) + 1;
-  std::istringstream values(text.substr(begin, text.find("</DataArray>", begin) - begin));
-  size_t count = 0;
-  for (double v; values >> v; ++count) ASSERT_TRUE(std::isfinite(v)) << file;
-  EXPECT_EQ(count, 3 * points) << file;
+  const size_t piece = text.find("<Piece ");
+  const std::string piece_tag = text.substr(piece, text.find('>', piece) - piece);
+  EXPECT_EQ(attribute(piece_tag, "NumberOfPoints"), std::to_string(points)) << file;
+  EXPECT_EQ(attribute(piece_tag, "NumberOfVerts"), std::to_string(points)) << file;
+  std::map<std::string, std::vector<double>> arrays;  // by Name ("" for the points)
+  for (size_t at = 0; (at = text.find("<DataArray", at)) != std::string::npos;) {
+    const size_t tag_end = text.find('>', at);
+    const size_t close = text.find("</DataArray>", tag_end);
+    ASSERT_NE(tag_end, std::string::npos) << file;
+    ASSERT_NE(close, std::string::npos) << file << ": a DataArray is not closed";
+    const std::string tag = text.substr(at, tag_end - at);
+    ASSERT_EQ(attribute(tag, "format"), "ascii") << file;
+    const size_t components = std::stoul(attribute(tag, "NumberOfComponents"));
+    std::istringstream in(text.substr(tag_end + 1, close - tag_end - 1));
+    std::vector<double>& values = arrays[attribute(tag, "Name")];
+    for (double v; in >> v;) values.push_back(v);
+    EXPECT_TRUE(in.eof()) << file << ": not a number in " << tag;
+    EXPECT_EQ(values.size(), points * components) << file << ": " << tag;
+    for (double v : values) ASSERT_TRUE(std::isfinite(v)) << file << ": " << tag;
+    at = close;
+  }
+  for (const char* name : {"", "rest_position", "displacement", "velocity", "von_mises", "flags",
+                           "connectivity", "offsets"})
+    ASSERT_TRUE(arrays.count(name)) << file << ": no array '" << name << "'";
+  const auto& x = arrays[""];
+  const auto& rest = arrays["rest_position"];
+  const auto& u = arrays["displacement"];
+  ASSERT_EQ(x.size(), 3 * points);
+  ASSERT_EQ(rest.size(), x.size());
+  ASSERT_EQ(u.size(), x.size());
+  for (size_t i = 0; i < x.size(); ++i)
+    ASSERT_NEAR(x[i], rest[i] + u[i], 1e-6 * (1 + std::abs(x[i]))) << file << ": value " << i;
+  for (size_t i = 0; i < points; ++i) {
+    ASSERT_EQ(arrays["connectivity"][i], static_cast<double>(i)) << file;
+    ASSERT_EQ(arrays["offsets"][i], static_cast<double>(i + 1)) << file;
+  }
 }
 
 void expect_no_temporary_files(const std::filesystem::path& dir) {
@@ -189,11 +227,12 @@ struct Interrupted {
 
 // One signal: the run ends with 128 + sig and a whole output folder.
 Interrupted interrupt_once(const std::string& name, int sig, int expected_status,
-                           const std::vector<std::string>& extra = {}) {
+                           const std::vector<std::string>& extra = {},
+                           const std::string& scene = "beam.json") {
   const auto dir = test::test_output_dir(name);
   const auto out = dir / "out";
   std::filesystem::create_directories(out);
-  Child child(long_beam_scene(dir, 50), out, extra);
+  Child child(long_scene(dir, scene, 50), out, extra);
   EXPECT_TRUE(child.started());
   if (!wait_until_simulating(child, out)) {
     ADD_FAILURE() << "the run did not start simulating:\n" << child.log();
@@ -218,9 +257,12 @@ Interrupted interrupt_once(const std::string& name, int sig, int expected_status
   char last[64];
   std::snprintf(last, sizeof last, "points_%06lld.vtp", static_cast<long long>(steps));
   EXPECT_TRUE(std::filesystem::exists(out / last)) << last;
-  EXPECT_EQ(s["outputs"].back(), last);
+  std::string last_listed;  // the last points file in "outputs" (tools.csv may follow it)
+  for (const auto& o : s["outputs"])
+    if (o.get<std::string>().rfind("points_", 0) == 0) last_listed = o.get<std::string>();
+  EXPECT_EQ(last_listed, last);
   EXPECT_EQ(files_matching(out, "points_", ".vtp").back().filename().string(), std::string(last));
-  expect_whole_vtp(out / last, kBeamPhyxels);
+  expect_whole_vtp(out / last, s["phyxels"].get<size_t>());
   return {s, out};
 }
 
@@ -248,26 +290,75 @@ TEST(PhyxelRunInterrupt, RenderingRunWritesTheLastFrame) {
   EXPECT_EQ(png.substr(1, 3), "PNG");
 }
 
+TEST(PhyxelRunInterrupt, ToolsCsvIsCompleteUpToTheLastStep) {
+  const Interrupted r = interrupt_once("interrupt_tools", SIGINT, 130, {}, "probe_indent.json");
+  ASSERT_TRUE(r.summary.contains("steps_done"));
+  EXPECT_TRUE(r.summary.contains("tools"));
+  const std::string csv = read_file(r.out / "tools.csv");
+  ASSERT_FALSE(csv.empty());
+  EXPECT_EQ(csv.back(), '\n');
+  std::istringstream lines(csv);
+  std::string line, last;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts");
+  int64_t rows = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 12) << line;
+    last = line;
+    ++rows;
+  }
+  const int64_t steps = r.summary["steps_done"].get<int64_t>();
+  EXPECT_EQ(rows, steps);  // one tool: a row per step
+  EXPECT_EQ(last.substr(0, last.find(',')), std::to_string(steps));
+}
+
+// Waits (at most 30 s) until `sig` sent to process `pid` is no longer pending: it has been
+// delivered, so a second one is a second signal (two pending ones of a kind merge into one).
+bool wait_delivered(pid_t pid, int sig) {
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  while (Clock::now() < deadline) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    bool pending = false;
+    while (std::getline(status, line))
+      if (line.rfind("ShdPnd:", 0) == 0 || line.rfind("SigPnd:", 0) == 0)
+        pending = pending || ((std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1) != 0;
+    if (!status.eof() && !status.good()) return true;  // no such process any more
+    if (!pending) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
+}
+
 TEST(PhyxelRunInterrupt, SecondSigintExitsAtOnce) {
   const auto dir = test::test_output_dir("interrupt_twice");
   const auto out = dir / "out";
   std::filesystem::create_directories(out);
-  Child child(long_beam_scene(dir, 50), out, {});
+  // summary.json is written through summary.json.tmp; a FIFO there with no reader blocks the
+  // clean stop for good before it writes the summary: the child can then only end through the
+  // second signal.
+  ASSERT_EQ(mkfifo((out / "summary.json.tmp").c_str(), 0644), 0);
+  Child child(long_scene(dir, "beam.json", 50), out, {});
   ASSERT_TRUE(child.started());
   ASSERT_TRUE(wait_until_simulating(child, out)) << child.log();
   random_pause();
+  const pid_t pid = child.pid();
   child.send(SIGINT);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  child.send(SIGINT);  // (or the first one already ended it: 130 as well)
-  const auto sent = Clock::now();
-  ASSERT_TRUE(child.wait(std::chrono::seconds(60))) << "still running 60 s after two SIGINTs";
-  EXPECT_LT(Clock::now() - sent, std::chrono::seconds(10));
+  ASSERT_TRUE(wait_delivered(pid, SIGINT)) << "the first SIGINT stayed pending for 30 s";
+  EXPECT_TRUE(child.running()) << "the first SIGINT ended the run before its summary:\n"
+                               << child.log();
+  child.send(SIGINT);
+  ASSERT_TRUE(child.wait(std::chrono::seconds(60)))
+      << "the second SIGINT did not end the run (killed after 60 s):\n"
+      << child.log();
   EXPECT_TRUE(WIFEXITED(child.status())) << "ended by signal " << WTERMSIG(child.status());
   EXPECT_EQ(WEXITSTATUS(child.status()), 130) << child.log();
+  EXPECT_FALSE(std::filesystem::exists(out / "summary.json"));
   // Whatever was written before is whole: every points file that is there (a write cut short
   // leaves at most its .tmp).
-  for (const auto& file : files_matching(out, "points_", ".vtp"))
-    expect_whole_vtp(file, kBeamPhyxels);
+  const auto written = files_matching(out, "points_", ".vtp");
+  EXPECT_FALSE(written.empty());
+  for (const auto& file : written) expect_whole_vtp(file, 41 * 9 * 9);  // the demo beam
 }
 
 }  // namespace
