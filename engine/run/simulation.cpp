@@ -125,6 +125,18 @@ void pace(std::chrono::steady_clock::time_point start, double simulated, RunResu
     result.max_lag = std::max(result.max_lag, wall - simulated);
 }
 
+// The steps that take about `seconds` of wall time at the rate of the advance of `steps` steps
+// that began at `since`: at least one, at most four times `previous` (a first short advance
+// can be unrepresentatively fast).
+int64_t steps_within(double seconds, int64_t steps, std::chrono::steady_clock::time_point since,
+                     int64_t previous) {
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+  const double fit = seconds * double(steps) / std::max(took, 1e-9);
+  return std::clamp<int64_t>(static_cast<int64_t>(std::min(fit, 4.0 * double(previous))), 1,
+                             std::max<int64_t>(1, 4 * previous));
+}
+
 }  // namespace
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
@@ -175,6 +187,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   };
   auto next_multiple = [](int64_t step, int64_t n) { return (step / n + 1) * n; };
 
+  // Advances without tools split exactly, so they can be cut short to see a stop promptly.
+  const bool polled = options.stop_requested && tools.empty();
+  int64_t poll_steps = 1;  // steps per advance while polled, from the measured rate
+
   const auto start = std::chrono::steady_clock::now();
   int64_t step = 0;
   size_t next_event = 0;
@@ -188,6 +204,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     // Real time: advance what the wall clock owes (at least a step, at most a tool chunk), so
     // a live tool's pose reaches the physics every few milliseconds of wall time.
     if (options.real_time) next = std::min(next, step + steps_owed(start, step, step_time));
+    // A stop can be asked for: advance no more than about stop_poll_seconds of wall time.
+    if (polled) next = std::min(next, step + poll_steps);
     if (!tools.empty())  // sleeping objects the tools are about to reach wake first
       wake_touched_objects(set, tools.swept_bounds(step * step_time, next * step_time), last_u,
                            awake, object_below_since, solver, result);
@@ -197,8 +215,11 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       into += std::chrono::duration<double>(now - mark).count();
       mark = now;
     };
+    const auto advance_start = mark;
     const std::vector<ToolStepRecord> records = advance_with_tools(
         solver, tools, step, next - step, result.plan.substeps, result.plan.dt_used);
+    if (polled)
+      poll_steps = steps_within(options.stop_poll_seconds, next - step, advance_start, poll_steps);
     lap(result.split.advance);
     for (int64_t s = step; options.on_tool_step && !tools.empty() && s < next; ++s)
       options.on_tool_step(
@@ -281,13 +302,14 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       }
     }
     lap(result.split.checks);
-    const bool last = step == total || result.stopped_at_rest;
+    result.stopped = step < total && !result.stopped_at_rest && options.stop_requested &&
+                     options.stop_requested();
+    const bool last = step == total || result.stopped_at_rest || result.stopped;
     if (every > 0 && step % every == 0 && !last) write_points(step);
     if (options.on_frame && options.frame_every > 0 && (step % options.frame_every == 0 || last))
       options.on_frame(step, solver);
     lap(result.split.outputs);
-    if (result.stopped_at_rest) break;
-    if (options.stop_requested && options.stop_requested()) break;
+    if (result.stopped_at_rest || result.stopped) break;
   }
   result.steps_done = step;
   result.wall_seconds =
