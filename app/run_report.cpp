@@ -1,5 +1,7 @@
 #include "app/run_report.h"
 
+#include "engine/run/atomic_file.h"
+
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -103,9 +105,7 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
     j["potential_energy"] = result.energies.potential;
     j["max_displacement"] = result.max_displacement;
   }
-  std::ofstream out(file);
-  out << j.dump(2) << "\n";
-  if (!out) throw std::runtime_error("cannot write " + file.string() + "; check the output folder");
+  write_file_atomically(file, j.dump(2) + "\n");
 }
 
 }  // namespace phyxel::app

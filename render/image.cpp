@@ -11,6 +11,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "engine/run/atomic_file.h"
 #include "engine/scene/scene.h"
 
 namespace phyxel::render {
@@ -121,13 +122,15 @@ void write_png(const std::filesystem::path& file, const RgbaImage& image) {
   if (image.width == 0 || image.height == 0) {
     throw std::runtime_error(file.string() + ": cannot write an empty image");
   }
-  const int ok =
-      stbi_write_png(file.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 4,
-                     image.pixels.data(), static_cast<int>(image.width * 4));
-  if (ok == 0) {
-    throw std::runtime_error(file.string() + ": cannot write the PNG file (" +
-                             std::strerror(errno) + "); check the folder and free space");
-  }
+  std::string png;
+  const int ok = stbi_write_png_to_func(
+      [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+      },
+      &png, static_cast<int>(image.width), static_cast<int>(image.height), 4, image.pixels.data(),
+      static_cast<int>(image.width * 4));
+  if (ok == 0) throw std::runtime_error(file.string() + ": cannot encode the PNG image");
+  write_file_atomically(file, png);
 }
 
 }  // namespace phyxel::render
