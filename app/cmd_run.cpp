@@ -143,6 +143,10 @@ int run_command(const Args& args) {
   // SIGINT and SIGTERM from here on stop the run cleanly (app/interrupt.h); the previous
   // handlers come back when the command returns.
   const InterruptGuard interrupts;
+  // For a failure's message: the last step the run loop completed (-1: before the run loop,
+  // while setting up) and the last points file this run wrote.
+  int64_t step_reached = -1, steps_total = 0;
+  std::string last_points;
   try {
     Scene scene = load_scene(positional[0]);
     if (!render_mode.empty())
@@ -172,13 +176,17 @@ int run_command(const Args& args) {
     options.steps = steps_override >= 0 ? steps_override : scene.simulation.steps;
     options.out_dir = out_dir;
     options.pass_selection = !no_skip;
+    options.on_points_written = [&last_points](const std::string& name) { last_points = name; };
     if (explain) {
       std::fputs(explain_passes(scene, set, *solver, options).c_str(), stdout);
       return 0;
     }
     options.stop_requested = [] { return InterruptGuard::received() != 0; };
     ProgressBar bar(!quiet);
-    options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
+    options.progress = [&](int64_t s, int64_t t) {
+      step_reached = s;
+      bar.update(s, t);
+    };
     // Tools: DIR/tools.csv, a row per step and tool; haptic tools get a 1 kHz loop each and the
     // run is paced to the wall clock. `tool_poses` holds where the physics had each tool at the
     // end of the last step, for the frames.
@@ -215,6 +223,8 @@ int run_command(const Args& args) {
       };
     }
     haptics.start();
+    step_reached = 0;
+    steps_total = options.steps;
     RunResult result = run_simulation(scene, set, *solver, options);
     haptics.stop();
     if (trace) {
@@ -283,12 +293,18 @@ int run_command(const Args& args) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
   } catch (const VulkanError& e) {
-    // No loader or driver, no such device, not enough GPU memory, a lost device: one line.
-    // Output files written before a failure stay whole (the writers replace files atomically).
-    std::fprintf(stderr, "phyxel run: %s%s\n", e.what(),
-                 e.result() == VK_ERROR_DEVICE_LOST
-                     ? " (the GPU was lost; the .vtp files written so far are intact)"
-                     : "");
+    // No loader or driver, no such device, not enough GPU memory, a lost device: one line with
+    // the step reached. Output files written before a failure stay whole (the writers replace
+    // files atomically).
+    std::string when = "while setting up";
+    if (step_reached >= 0)
+      when = "after step " + std::to_string(step_reached) + " of " + std::to_string(steps_total);
+    std::fprintf(
+        stderr, "phyxel run: %s %s: %s%s; %s\n", positional[0].c_str(), when.c_str(), e.what(),
+        e.result() == VK_ERROR_DEVICE_LOST ? " (the GPU was lost; the run stopped)" : "",
+        last_points.empty()
+            ? "no points file was written"
+            : ("the outputs written before are intact (the last: " + last_points + ")").c_str());
     return 1;
   }
 }

@@ -1,5 +1,7 @@
 #include "app/run_report.h"
 
+#include "engine/run/atomic_file.h"
+
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -114,20 +116,7 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
     j["potential_energy"] = result.energies.potential;
     j["max_displacement"] = result.max_displacement;
   }
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    out.close();
-    if (!out)
-      throw std::runtime_error("cannot write " + tmp.string() + "; check the output folder");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec)
-    throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " +
-                             ec.message());
+  write_file_atomically(file, j.dump(2) + "\n");
 }
 
 }  // namespace phyxel::app

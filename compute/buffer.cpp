@@ -35,6 +35,20 @@ void check_range(const Buffer& buffer, VkDeviceSize bytes, VkDeviceSize offset, 
   }
 }
 
+// One line: the device, the buffer, its size, the cause and what to do.
+VulkanError allocation_failure(const Context& ctx, const std::string& name, MemoryIntent intent,
+                               VkDeviceSize size, VkResult result) {
+  const bool host = result == VK_ERROR_OUT_OF_HOST_MEMORY;
+  return VulkanError(
+      std::string(host ? "out of host memory" : "out of GPU memory") + " on " + ctx.info().name +
+          ": allocating " + format_bytes(size) + " of " + intent_name(intent) +
+          " memory for buffer '" + name + "' failed with " + vk_result_name(result) + " (" +
+          format_bytes(ctx.allocated_bytes()) +
+          " already allocated); use a larger spacing or a smaller scene, close other programs "
+          "using the GPU, or run with --device cpu",
+      result);
+}
+
 }  // namespace
 
 const char* intent_name(MemoryIntent intent) {
@@ -105,7 +119,11 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, MemoryIntent intent, const std::
     auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
     alloc.allocationSize = needs.size;
     alloc.memoryTypeIndex = type;
-    VK_CHECK(fn.vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_));
+    // The allocation test hook (context.h) fails it as a full device would.
+    const VkResult allocated = ctx.test_allocation_fails()
+                                   ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                                   : fn.vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_);
+    if (allocated != VK_SUCCESS) throw allocation_failure(ctx, name, intent, needs.size, allocated);
     allocated_ = needs.size;
     ctx.track_allocation(static_cast<int64_t>(allocated_));
     VK_CHECK(fn.vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));

@@ -2,6 +2,7 @@
 
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 namespace phyxel::gpu {
@@ -23,6 +24,23 @@ std::string format_bytes(uint64_t bytes) {
     std::snprintf(text, sizeof text, "%" PRIu64 " B", bytes);
   }
   return text;
+}
+
+namespace {
+
+// A test hook's count from the environment (context.h); -1 when unset or not a number.
+int64_t hook_from_env(const char* name) {
+  const char* text = std::getenv(name);
+  if (text == nullptr || *text == '\0') return -1;
+  char* end = nullptr;
+  const long long n = std::strtoll(text, &end, 10);
+  return (*end == '\0' && n >= 0) ? n : -1;
+}
+
+}  // namespace
+
+void Context::set_test_fail_allocation_after(int64_t n) {
+  test_fail_alloc_after_ = n < 0 ? UINT64_MAX : allocations_ + static_cast<uint64_t>(n);
 }
 
 Context::Context(const ContextOptions& options)
@@ -75,6 +93,9 @@ Context::Context(const ContextOptions& options)
     }
     set_name(VK_OBJECT_TYPE_DEVICE, reinterpret_cast<uint64_t>(device_), "phyxel device");
     set_name(VK_OBJECT_TYPE_QUEUE, reinterpret_cast<uint64_t>(queue_), "phyxel compute queue");
+    set_test_fail_allocation_after(hook_from_env("PHYXEL_TEST_FAIL_ALLOC_AFTER"));
+    if (const int64_t n = hook_from_env("PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP"); n >= 0)
+      test_lost_at_substep_ = n;
   } catch (...) {
     destroy();
     throw;

@@ -69,6 +69,28 @@ class Context {
   // when `bytes` more device memory does not fit. Call it before allocating a scene.
   void check_fits(uint64_t bytes) const;
 
+  // Test hooks of the GPU error paths (tests/vulkan/gpu_failure_test.cpp, tests/run), off
+  // unless set. Read from the environment when the context is created; each costs a counter:
+  //   PHYXEL_TEST_FAIL_ALLOC_AFTER=N        the first N buffer allocations of this context
+  //                                         succeed, every later one fails as
+  //                                         VK_ERROR_OUT_OF_DEVICE_MEMORY (Buffer's constructor).
+  //   PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP=N  the GPU solver's submission that would run its N-th
+  //                                         substep (counted from 1 over the solver's life) and
+  //                                         every submission after it fail as
+  //                                         VK_ERROR_DEVICE_LOST (Recorder::submit).
+  // Buffer allocations made so far (counting those the hook failed).
+  uint64_t allocation_count() const { return allocations_; }
+  // Whether this allocation is to fail (the hook); counts it. Called by Buffer.
+  bool test_allocation_fails() { return ++allocations_ > test_fail_alloc_after_; }
+  // The hook, set in code: allocations after the next `n` fail; a negative `n` turns it off.
+  void set_test_fail_allocation_after(int64_t n);
+  // The GPU solver is about to submit work up to its substep `last` (counted from 1).
+  void test_note_substeps(int64_t last) {
+    if (last >= test_lost_at_substep_) test_device_lost_ = true;
+  }
+  // Whether submissions are to fail as VK_ERROR_DEVICE_LOST (the hook). Called by Recorder.
+  bool test_device_lost() const { return test_device_lost_; }
+
   // Debug name for RenderDoc and validation messages (VK_EXT_debug_utils; no-op without).
   void set_name(VkObjectType type, uint64_t handle, const std::string& name) const;
 
@@ -87,6 +109,10 @@ class Context {
   bool push_descriptors_ = false;
   bool memory_budget_ = false;
   std::atomic<uint64_t> allocated_{0};
+  uint64_t allocations_ = 0;
+  uint64_t test_fail_alloc_after_ = UINT64_MAX;
+  int64_t test_lost_at_substep_ = INT64_MAX;
+  bool test_device_lost_ = false;
 };
 
 // "1.5 MiB", "12.0 GiB".

@@ -223,6 +223,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
       Recorder& rec = *rec_[which];
       rec.barrier();  // the previous submission's writes (same queue, submission order)
       record_steps(rec, done, next, substeps, fdt, cur, nullptr);
+      ctx_->test_note_substeps(substeps_run_ + next);
       rec.submit();
       pending[which] = true;
       // Keep at most two command buffers in flight: wait for the older one, then record the
@@ -253,6 +254,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
     }
     throw;
   }
+  substeps_run_ += substeps;
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
   if (!tools_.empty()) finish_contact(substeps, true);

@@ -232,6 +232,7 @@ class GpuSolver final : public Solver {
   std::vector<uint8_t> awake_;  // per object
   bool select_ = true;
   size_t stress_count_ = 0, force_count_ = 0;
+  int64_t substeps_run_ = 0;         // by advance(), over the solver's life (the device-loss hook)
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
 
   // Tools (gpu_solver_contact.cpp); every buffer below is allocated by set_tools or grown

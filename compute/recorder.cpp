@@ -120,7 +120,9 @@ void Recorder::submit() {
   auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd_;
-  VK_CHECK(fn.vkQueueSubmit(ctx_->queue(), 1, &submit, fence_));
+  // The device-loss test hook (context.h) fails the submission as a lost device would.
+  VK_CHECK(ctx_->test_device_lost() ? VK_ERROR_DEVICE_LOST
+                                    : fn.vkQueueSubmit(ctx_->queue(), 1, &submit, fence_));
   pending_ = true;
 }
 

@@ -184,6 +184,7 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     const std::string name = points_name(step);
     write_points_vtp(options.out_dir / name, set, state, scene.output.binary);
     result.outputs.push_back(name);
+    if (options.on_points_written) options.on_points_written(name);
   };
   auto next_multiple = [](int64_t step, int64_t n) { return (step / n + 1) * n; };
 

@@ -28,6 +28,8 @@ struct RunOptions {
   int64_t steps = 0;              // requested steps (scene's unless overridden)
   std::filesystem::path out_dir;  // empty: write nothing
   std::function<void(int64_t step, int64_t total)> progress;  // may be empty
+  // After each points file is whole on disk: its name, relative to out_dir (may be empty).
+  std::function<void(const std::string& name)> on_points_written;
   bool pass_selection = true;  // false: --no-skip (every pass over every phyxel, no sleep)
   int64_t check_every = 0;     // steps between energy/finiteness checks; 0: automatic
   // Frames: on_frame(step, solver) every frame_every steps and at the end (0: never).

@@ -7,11 +7,9 @@ namespace phyxel {
 
 ToolTraceWriter::ToolTraceWriter(const std::filesystem::path& file,
                                  const std::vector<ToolDesc>& tools)
-    : file_(file), out_(file) {
+    : out_(file) {
   for (const ToolDesc& t : tools) names_.push_back(t.name);
-  out_ << "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts\n";
-  if (!out_)
-    throw std::runtime_error("cannot write " + file_.string() + "; check the output folder");
+  out_.append("step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts\n");
 }
 
 void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRecord>& records) {
@@ -22,15 +20,12 @@ void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRe
                   static_cast<long long>(step), t, names_[k].c_str(), r.pose.position.x(),
                   r.pose.position.y(), r.pose.position.z(), r.pose.axis.x(), r.pose.axis.y(),
                   r.pose.axis.z(), r.force.x(), r.force.y(), r.force.z(), r.contacts);
-    out_ << row;
+    out_.append(row);
   }
-  if (!out_)
-    throw std::runtime_error("cannot write " + file_.string() + " (disk full?); the run stopped");
 }
 
 void ToolTraceWriter::close() {
-  out_.close();
-  if (out_.fail()) throw std::runtime_error("cannot finish " + file_.string() + " (disk full?)");
+  out_.commit();
 }
 
 }  // namespace phyxel

@@ -1,12 +1,12 @@
 #include "engine/run/vtp_writer.h"
 
-#include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "engine/run/atomic_file.h"
 
 namespace phyxel {
 namespace {
@@ -132,22 +132,7 @@ void write_points_vtp(const std::filesystem::path& file, const PhyxelSet& set,
   }
   xml << "</VTKFile>\n";
 
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    const std::string text = xml.str();
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    if (!out) {
-      throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno) +
-                               "; check that the output folder is writable and has space");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec)
-    throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " +
-                             ec.message());
+  write_file_atomically(file, xml.str());
 }
 
 }  // namespace phyxel

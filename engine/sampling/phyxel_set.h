@@ -55,8 +55,16 @@ struct PhyxelSet {
 // Sum of the loads active at simulated time t, per phyxel.
 std::vector<Vec3> external_forces_at(const PhyxelSet& set, double t);
 
+struct SamplingOptions {
+  // Refuse an object unless every phyxel has kMinMlsNeighbours neighbours within the support
+  // radius, not all in one plane (scene.h). Off only in tests of how the solvers cope with
+  // degenerate sets (a lone phyxel, a line, a plate).
+  bool require_usable_fit = true;
+};
+
 // Samples every object of the scene on its lattice (corners included). Throws SceneError
-// when an object has no phyxel or would not fit in memory.
-PhyxelSet sample_scene(const Scene& scene);
+// when an object has no phyxel, too few for a usable MLS fit (one line naming the object,
+// what it sampled to and the spacing it needs), or would not fit in memory.
+PhyxelSet sample_scene(const Scene& scene, const SamplingOptions& options = {});
 
 }  // namespace phyxel

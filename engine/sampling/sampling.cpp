@@ -244,7 +244,111 @@ void add_outside_parts(const Occupancy& occ, const Region& shape, double eps, si
   }
 }
 
-void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base, PhyxelSet& out) {
+// "box 0.1 mm across", "box 100 x 100 x 0.1 mm", "sphere of radius 1 mm", ...
+std::string describe_size(const Shape& shape) {
+  const auto mm = [](double metres) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", metres * 1e3);
+    return std::string(text);
+  };
+  const Vec3 size = shape_bounds(shape).sizes();
+  switch (shape.type) {
+    case Shape::Type::Sphere:
+      return "sphere of radius " + mm(shape.radius) + " mm";
+    case Shape::Type::Ellipsoid:
+      return "ellipsoid of radii " + mm(shape.radii.x()) + " x " + mm(shape.radii.y()) + " x " +
+             mm(shape.radii.z()) + " mm";
+    case Shape::Type::Box:
+      if (size.x() == size.y() && size.y() == size.z()) return "box " + mm(size.x()) + " mm across";
+      return "box " + mm(size.x()) + " x " + mm(size.y()) + " x " + mm(size.z()) + " mm";
+    case Shape::Type::Mesh:
+      break;
+  }
+  return "mesh of bounds " + mm(size.x()) + " x " + mm(size.y()) + " x " + mm(size.z()) + " mm";
+}
+
+// The spacing at which the shape samples to a usable MLS fit: a box's lattice then has at least
+// 2 sites along every side (8 phyxels, each with 6 or more neighbours); a sphere's or an
+// ellipsoid's has its centre and the 6 sites around it. A mesh has no such rule: half its
+// thinnest bound is a guess, so the message says "about".
+double spacing_needed(const Shape& shape, double s) {
+  double needed = shape_bounds(shape).sizes().minCoeff() / 2;
+  if (shape.type == Shape::Type::Box) needed = 2 * needed;
+  if (shape.type == Shape::Type::Sphere) needed = shape.radius;
+  if (shape.type == Shape::Type::Ellipsoid) needed = shape.radii.minCoeff();
+  return needed < s ? needed : s / 2;
+}
+
+// Refuses an object whose MLS fit is unusable: every phyxel needs kMinMlsNeighbours neighbours
+// of its object within the support radius h (|offset| < h, the kernel's support), not all in
+// one plane, so that its moment matrix is invertible with room to spare; hence an object needs
+// at least kMinMlsNeighbours + 1 phyxels. A body thinner than the spacing along some axis is
+// one plane of phyxels: the regularised inverse keeps it finite, but it has no stiffness
+// across, and a lone phyxel has no fit at all (the run turned non-finite at once).
+void check_mls_fit(const Occupancy& occ, const ObjectDesc& object, double h,
+                   const std::string& path, const Errors& errors) {
+  const Lattice& lattice = occ.lattice;
+  const double s = lattice.s;
+  std::vector<std::array<int, 3>> stencil;  // offsets with |k| s < h, nearest first
+  const int reach = static_cast<int>(std::ceil(h / s));
+  for (int k = -reach; k <= reach; ++k)
+    for (int j = -reach; j <= reach; ++j)
+      for (int i = -reach; i <= reach; ++i)
+        if ((i || j || k) && std::sqrt(double(i * i + j * j + k * k)) * s < h)
+          stencil.push_back({i, j, k});
+  std::stable_sort(stencil.begin(), stencil.end(), [](const auto& a, const auto& b) {
+    return a[0] * a[0] + a[1] * a[1] + a[2] * a[2] < b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+  });
+  // Neighbours and whether they span space (stops once both hold).
+  const auto fit = [&](size_t n) {
+    const auto [i, j, k] = occ.coords(occ.linear[n]);
+    Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();  // sum of k k^T: whole numbers
+    int count = 0;
+    for (const auto& [di, dj, dk] : stencil) {
+      if (!occ.is_phyxel(i + di, j + dj, k + dk)) continue;
+      const Vec3 d(di, dj, dk);
+      moment += d * d.transpose();
+      if (++count >= kMinMlsNeighbours && moment.determinant() > 0.5) return std::pair{count, true};
+    }
+    return std::pair{count, moment.determinant() > 0.5};
+  };
+  const auto count = static_cast<int64_t>(occ.linear.size());
+  int64_t first_bad = count;
+  if (count >= kMinMlsNeighbours + 1) {
+#pragma omp parallel for schedule(dynamic, 1024) reduction(min : first_bad)
+    for (int64_t n = 0; n < count; ++n)
+      if (!fit(size_t(n)).second) first_bad = std::min(first_bad, n);
+    if (first_bad == count) return;
+  }
+  const std::string needed = length(spacing_needed(object.shape, s));
+  const std::string rule = std::to_string(kMinMlsNeighbours) +
+                           " neighbours within the support radius (" + length(h) +
+                           ") not all in one plane";
+  const std::string what = path + " \"" + object.name + "\" (" + describe_size(object.shape) + ")";
+  const std::string samples = "samples to " + std::to_string(count) +
+                              (count == 1 ? " phyxel" : " phyxels") + " with spacing " + length(s);
+  const std::string fix = ": use a spacing of at most " +
+                          std::string(object.shape.type == Shape::Type::Mesh ? "about " : "") +
+                          needed + " (" + path + ".spacing)";
+  if (first_bad == count)
+    errors.fail(what, samples + "; it needs at least " + std::to_string(kMinMlsNeighbours + 1) +
+                          " phyxels, each with " + rule +
+                          ", for its MLS moment matrix to be invertible" + fix);
+  const auto [neighbours, spans] = fit(size_t(first_bad));
+  const auto [i, j, k] = occ.coords(occ.linear[first_bad]);
+  const Vec3 x = lattice.point(i, j, k);
+  char at[96];
+  std::snprintf(at, sizeof at, "(%g, %g, %g) m", x.x(), x.y(), x.z());
+  errors.fail(what, samples + ", but the phyxel at " + at + " has " + std::to_string(neighbours) +
+                        (neighbours == 1 ? " neighbour" : " neighbours") +
+                        (spans || neighbours < 3 ? "" : ", all in one plane") +
+                        " (the object is about one phyxel thin there, so it has no stiffness "
+                        "across); every phyxel needs " +
+                        rule + " for its MLS moment matrix to be invertible" + fix);
+}
+
+void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
+                   const SamplingOptions& options, PhyxelSet& out) {
   const ObjectDesc& object = scene.objects[oi];
   const Errors errors(scene);
   const std::string path = object_path(oi);
@@ -278,6 +382,8 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base, Phyxe
                 "no lattice point of spacing " + length(s) +
                     " lies inside the shape; make the shape larger than the spacing or lower " +
                     path + ".spacing");
+  const double h = object.support_radius > 0 ? object.support_radius : 2 * s;
+  if (options.require_usable_fit) check_mls_fit(occ, object, h, path, errors);
   const size_t first = out.size();
   if (first + occ.linear.size() > UINT32_MAX)
     errors.fail(path + ".spacing",
@@ -374,13 +480,13 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base, Phyxe
   range.first = static_cast<uint32_t>(first);
   range.count = static_cast<uint32_t>(count);
   range.spacing = s;
-  range.support_radius = object.support_radius > 0 ? object.support_radius : 2 * s;
+  range.support_radius = h;
   out.objects.push_back(range);
 }
 
 }  // namespace
 
-PhyxelSet sample_scene(const Scene& scene) {
+PhyxelSet sample_scene(const Scene& scene, const SamplingOptions& options) {
   PhyxelSet out;
   // materials: [0, objects) holds object k's material at index k; then come the inclusions,
   // object by object and in their order within an object, so inclusion c of object k is at
@@ -392,7 +498,8 @@ PhyxelSet sample_scene(const Scene& scene) {
     for (const Inclusion& inclusion : scene.objects[k].inclusions)
       out.materials.push_back(inclusion.material);
   }
-  for (size_t k = 0; k < scene.objects.size(); ++k) sample_object(scene, k, inclusion_base[k], out);
+  for (size_t k = 0; k < scene.objects.size(); ++k)
+    sample_object(scene, k, inclusion_base[k], options, out);
   return out;
 }
 

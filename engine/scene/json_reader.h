@@ -40,8 +40,19 @@ std::string format_number(double x);
 // Six significant digits, for derived values ("0.00353553").
 std::string format_approx(double x);
 
-// Throws SceneError("FILE: PATH: problem; allowed"). An empty path reads "(top level)".
-// Line breaks in any part are replaced so that the message stays on one line.
+// Deepest nesting of arrays and objects a document may have: scene files need fewer than 10
+// levels; the limit keeps messages and memory small for hostile or broken files.
+constexpr size_t kMaxNesting = 64;
+// Paths in messages keep their first and last kPathEndSegments segments, with the count of
+// those left out between ("a.b.c...(199994 more levels)...[0][0][0]"), and at most
+// kMaxPathSegmentChars characters of each segment (a key can be long).
+constexpr size_t kPathEndSegments = 3;
+constexpr size_t kMaxPathSegmentChars = 40;
+std::string shorten_path(std::string_view path);
+
+// Throws SceneError("FILE: PATH: problem; allowed"). PATH is shortened by shorten_path. An empty
+// path reads "(top level)". Line breaks in any part are replaced so that the message stays on one
+// line.
 [[noreturn]] void fail(const std::string& file, std::string_view path, std::string_view problem,
                        std::string_view allowed);
 

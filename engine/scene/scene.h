@@ -65,6 +65,12 @@ struct Load {
   double until = std::numeric_limits<double>::infinity();  // s
 };
 
+// Neighbours (within the support radius, not all in one plane) every phyxel needs for a usable
+// MLS fit: 3 make its moment matrix invertible, the fourth leaves room to spare. So an object
+// needs at least kMinMlsNeighbours + 1 phyxels; the scene reader checks the support radius
+// against it and sampling checks every phyxel (docs/scene-format.md).
+inline constexpr int kMinMlsNeighbours = 4;
+
 struct ObjectDesc {
   std::string name;
   Shape shape;

@@ -28,7 +28,7 @@ constexpr std::string_view kShapeExpected =
 constexpr std::string_view kMaterialExpected =
     "a material object {\"young\": Pa, \"poisson\": 1, \"density\": kg/m^3, ...}";
 // A phyxel at a convex lattice corner needs this many neighbours for a usable MLS fit.
-constexpr int kMinCornerNeighbours = 4;
+constexpr int kMinCornerNeighbours = kMinMlsNeighbours;
 // Memory estimate per phyxel (state, neighbour lists, solver buffers), bytes.
 constexpr double kBytesPerPhyxel = 1024;
 

@@ -54,9 +54,40 @@ std::string allowed_number(std::string_view name, const Limits& limits, std::str
   return s;
 }
 
+namespace {
+// At most kMaxPathSegmentChars characters of a key or path segment.
+std::string clip(std::string_view segment) {
+  return segment.size() <= kMaxPathSegmentChars
+             ? std::string(segment)
+             : std::string(segment.substr(0, kMaxPathSegmentChars)) + "...";
+}
+}  // namespace
+
+std::string shorten_path(std::string_view path) {
+  // Segments start at '.' or '[': "objects", ".material", "[0]".
+  std::vector<std::string_view> segments;
+  size_t start = 0;
+  for (size_t i = 1; i <= path.size(); ++i) {
+    if (i == path.size() || path[i] == '.' || path[i] == '[') {
+      segments.push_back(path.substr(start, i - start));
+      start = i;
+    }
+  }
+  std::string out;
+  if (segments.size() <= 2 * kPathEndSegments + 1) {
+    for (std::string_view segment : segments) out += clip(segment);
+    return out;
+  }
+  for (size_t i = 0; i < kPathEndSegments; ++i) out += clip(segments[i]);
+  out += "...(" + std::to_string(segments.size() - 2 * kPathEndSegments) + " more levels)...";
+  for (size_t i = segments.size() - kPathEndSegments; i < segments.size(); ++i)
+    out += clip(segments[i]);
+  return out;
+}
+
 void fail(const std::string& file, std::string_view path, std::string_view problem,
           std::string_view allowed) {
-  std::string msg = file + ": " + (path.empty() ? std::string("(top level)") : std::string(path)) +
+  std::string msg = file + ": " + (path.empty() ? std::string("(top level)") : shorten_path(path)) +
                     ": " + std::string(problem) + "; " + std::string(allowed);
   std::replace_if(
       msg.begin(), msg.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
@@ -128,13 +159,20 @@ class PathTracker {
     switch (event) {
       case json::parse_event_t::object_start:
       case json::parse_event_t::array_start:
+        if (frames_.size() >= kMaxNesting) {
+          fail(file_, path(),
+               "the document nests arrays and objects more than " + std::to_string(kMaxNesting) +
+                   " levels deep",
+               "allowed at most " + std::to_string(kMaxNesting) +
+                   " levels of nesting (a scene file needs fewer than 10)");
+        }
         frames_.push_back({event == json::parse_event_t::array_start, {}, 0, {}});
         break;
       case json::parse_event_t::key: {
         Frame& top = frames_.back();
         top.key = parsed.get<std::string>();
         if (!top.keys.insert(top.key).second) {
-          fail(file_, path(), "duplicate key \"" + top.key + "\"",
+          fail(file_, path(), "duplicate key \"" + clip(top.key) + "\"",
                "each key may appear only once in an object");
         }
         break;
@@ -229,14 +267,15 @@ void Node::fail_type(std::string_view expected, std::string_view allowed) const 
 
 void Node::expect_object(std::string_view expected,
                          std::initializer_list<std::string_view> allowed) const {
-  const std::string where = path_.empty() ? "at the top level" : "in " + path_;
+  const std::string where = path_.empty() ? "at the top level" : "in " + shorten_path(path_);
   const std::string allowed_keys = "allowed keys " + where + ": " + join(allowed);
   if (!value_->is_object()) fail_type(expected, allowed_keys);
   for (const auto& item : value_->items()) {
     const std::string& key = item.key();
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       json_reader::fail(*file_, child_path(key),
-                        "unknown key \"" + key + "\"" + suggestion(key, allowed), allowed_keys);
+                        "unknown key \"" + clip(key) + "\"" + suggestion(key, allowed),
+                        allowed_keys);
     }
   }
 }

@@ -32,7 +32,8 @@ inline Scene lattice_scene(int nx, int ny, int nz, const Material& m = tissue(),
 
 inline PhyxelSet lattice(int nx, int ny, int nz, const Material& m = tissue(),
                          double h_factor = 2.0) {
-  return sample_scene(lattice_scene(nx, ny, nz, m, h_factor));
+  // Lines, plates and lone phyxels too: the tests of degenerate sets need them.
+  return sample_scene(lattice_scene(nx, ny, nz, m, h_factor), SamplingOptions{false});
 }
 
 inline double max_norm(const std::vector<Vec3>& x) {
