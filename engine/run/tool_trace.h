@@ -17,9 +17,14 @@ namespace phyxel {
 class ToolTraceWriter {
  public:
   // Creates the file and writes the header. Throws std::runtime_error naming the file.
-  ToolTraceWriter(const std::filesystem::path& file, const std::vector<ToolDesc>& tools);
+  // resume_after >= 0 (a resumed run): keeps the header and the rows of steps up to
+  // resume_after of the existing file and appends after them.
+  ToolTraceWriter(const std::filesystem::path& file, const std::vector<ToolDesc>& tools,
+                  int64_t resume_after = -1);
   // One row per tool. Throws std::runtime_error when the write fails (a full disk).
   void write(int64_t step, double t, const std::vector<ToolStepRecord>& records);
+  // Writes the buffered rows out (before a checkpoint: the file then holds every row up to it).
+  void flush();
   void close();
 
  private:

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,14 @@ class Solver {
   virtual PointState read_state(bool with_stress) = 0;
   virtual size_t regularised_count() const = 0;  // ill-conditioned moment matrices
   virtual const NeighbourLists& neighbours() const = 0;
+  // Replaces u and v (converted to the solver's precision: values read_state gave convert back
+  // exactly) and recomputes the forces for the new u, so the next advance continues exactly
+  // as the solver that read them would (checkpoint resume). Throws where unsupported.
+  virtual void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity) {
+    (void)displacement;
+    (void)velocity;
+    throw std::logic_error(device() + " cannot restore a state");
+  }
 
   // Optional abilities; a solver without one says so and the run loop does without it.
   // Pass selection (skip fixed-only regions and sleeping objects): see CpuSolver.
