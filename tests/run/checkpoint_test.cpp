@@ -18,6 +18,9 @@
 
 #include "compute/test_env.h"
 #include "engine/run/checkpoint.h"
+#include "engine/run/simulation.h"
+#include "engine/scene/scene.h"
+#include "engine/solver/solver.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {
@@ -161,6 +164,47 @@ TEST(Checkpoint, CpuResumeIsBitIdenticalAcrossLoadsAndSleep) {
   r = run(scene, "--threads 2 --resume " + mixed.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
   expect_same_file(dir / "at150" / "plain" / "points_000400.vtp", mixed / "points_000400.vtp");
+}
+
+// An interrupted run (stop_requested, as the viewer's close and signals stop it) leaves a
+// checkpoint at the step it stopped at, from which the run goes on bit-identically.
+TEST(Checkpoint, InterruptedRunResumesBitIdentically) {
+  const fs::path dir = test::test_output_dir("checkpoint_interrupted");
+  const Scene scene = load_scene(write_scene(dir, "beams.json", kBeams));
+  const PhyxelSet set = sample_scene(scene);
+  auto run_to = [&](const fs::path& out, int64_t checkpoint_every, int64_t stop_after,
+                    const Checkpoint* resume) {
+    fs::create_directories(out);
+    auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+    RunOptions options;
+    options.steps = 400;
+    options.out_dir = out;
+    options.checkpoint_every = checkpoint_every;
+    options.resume = resume;
+    int64_t seen = 0;
+    options.progress = [&seen](int64_t step, int64_t) { seen = step; };
+    options.stop_requested = [&seen, stop_after] { return seen >= stop_after; };
+    const RunResult r = run_simulation(scene, set, *solver, options);
+    return std::make_pair(r, solver->read_state(false));
+  };
+  const auto [plain, plain_state] = run_to(dir / "plain", 0, 400, nullptr);
+  ASSERT_EQ(plain.steps_done, 400);
+  const auto [cut, cut_state] = run_to(dir / "cut", 50, 173, nullptr);
+  ASSERT_GE(cut.steps_done, 173);
+  ASSERT_LT(cut.steps_done, 400);
+  const Checkpoint c = read_checkpoint(dir / "cut" / kCheckpointFile);
+  EXPECT_EQ(c.step, cut.steps_done);
+  EXPECT_NE(c.step % 50, 0);  // written for the interruption, not by the schedule
+  const auto [resumed, state] = run_to(dir / "cut", 50, 400, &c);
+  EXPECT_EQ(resumed.steps_done, 400);
+  EXPECT_EQ(resumed.resumed_from, c.step);
+  EXPECT_EQ(resumed.sleeps, plain.sleeps);
+  EXPECT_EQ(resumed.wakes, plain.wakes);
+  ASSERT_EQ(state.displacement.size(), plain_state.displacement.size());
+  EXPECT_EQ(0, std::memcmp(state.displacement.data(), plain_state.displacement.data(),
+                           state.displacement.size() * sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(state.velocity.data(), plain_state.velocity.data(),
+                           state.velocity.size() * sizeof(Vec3)));
 }
 
 TEST(Checkpoint, GpuResumeIsBitIdentical) {
