@@ -52,6 +52,11 @@ constexpr const char* kRunHelp =
     "                      path, replayed on the wall clock; default), udp:PORT or\n"
     "                      udp:ADDRESS:PORT (an external device driver, docs/haptics.md); such\n"
     "                      runs are paced to the wall clock and a 1 kHz haptic loop runs\n"
+    "  --checkpoint-every N  write DIR/checkpoint.phx (atomically) every N steps and at the\n"
+    "                      end, from which --resume continues\n"
+    "  --resume DIR        continue the run checkpointed in DIR/checkpoint.phx (same scene,\n"
+    "                      device and precision) to the scene's or --steps total, writing into\n"
+    "                      DIR; bit-identical to the uninterrupted run (docs/checkpoint.md)\n"
     "  --quiet             no progress bar\n"
     "  --help              this text\n"
     "\n"
@@ -101,7 +106,10 @@ int run_command(const Args& args) {
     return 0;
   }
   const std::string device = opts.value("--device", "cpu");
-  const std::filesystem::path out_dir = opts.value("--out", "out");
+  const std::string resume_dir = opts.value("--resume", "");
+  const std::filesystem::path out_dir =
+      opts.value("--out", resume_dir.empty() ? "out" : resume_dir);
+  const int64_t checkpoint_every = opts.integer("--checkpoint-every", 0, 0, int64_t(1) << 40);
   const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
   const bool gpu = device != "cpu";
   const bool validate = opts.flag("--validate");
@@ -134,6 +142,12 @@ int run_command(const Args& args) {
                  precision.c_str());
     return 1;
   }
+  if (!resume_dir.empty() &&
+      std::filesystem::path(resume_dir).lexically_normal() != out_dir.lexically_normal()) {
+    std::fprintf(stderr, "phyxel run: --resume %s writes into that folder; leave out --out\n",
+                 resume_dir.c_str());
+    return 1;
+  }
   if (!render_mode.empty() && render_mode != "none" && render_mode != "mono" &&
       render_mode != "stereo") {
     std::fprintf(stderr, "phyxel run: --render %s: allowed none, mono or stereo\n",
@@ -148,6 +162,11 @@ int run_command(const Args& args) {
   int64_t step_reached = -1, steps_total = 0;
   std::string last_points;
   try {
+    // The checkpoint first: a bad one is refused before the solver is built.
+    std::unique_ptr<Checkpoint> checkpoint;
+    if (!resume_dir.empty())
+      checkpoint = std::make_unique<Checkpoint>(
+          read_checkpoint(std::filesystem::path(resume_dir) / kCheckpointFile));
     Scene scene = load_scene(positional[0]);
     if (!render_mode.empty())
       scene.render.mode = render_mode == "mono"     ? RenderSettings::Mode::Mono
@@ -172,11 +191,18 @@ int run_command(const Args& args) {
     } else {
       solver = make_cpu_solver(set, scene.simulation.gravity, threads, precision == "float");
     }
+    if (checkpoint)  // before anything in the folder changes
+      check_checkpoint_matches(*checkpoint, std::filesystem::path(resume_dir) / kCheckpointFile,
+                               file_hash(scene.file), set, solver->device());
     RunOptions options;
     options.steps = steps_override >= 0 ? steps_override : scene.simulation.steps;
     options.out_dir = out_dir;
     options.pass_selection = !no_skip;
     options.on_points_written = [&last_points](const std::string& name) { last_points = name; };
+    options.resume = checkpoint.get();
+    options.checkpoint_every = checkpoint_every > 0 ? checkpoint_every
+                               : checkpoint         ? checkpoint->checkpoint_every
+                                                    : 0;
     if (explain) {
       std::fputs(explain_passes(scene, set, *solver, options).c_str(), stdout);
       return 0;
@@ -194,7 +220,10 @@ int run_command(const Args& args) {
     std::unique_ptr<ToolTraceWriter> trace;
     HapticSession haptics(scene, haptic_device);
     if (!scene.tools.empty()) {
-      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools);
+      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools,
+                                                checkpoint ? checkpoint->step : -1,
+                                                options.checkpoint_every > 0);
+      options.before_checkpoint = [&trace] { trace->flush(); };
       options.on_tool_step = [&](int64_t step, double t,
                                  const std::vector<ToolStepRecord>& records) {
         if (!haptics.empty()) haptics.publish(t, records);
@@ -216,7 +245,7 @@ int run_command(const Args& args) {
           gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
-      render::write_solver_frame(*frames, *solver, 0, tool_poses, buffers);
+      if (!checkpoint) render::write_solver_frame(*frames, *solver, 0, tool_poses, buffers);
       options.frame_every = scene.render.every;
       options.on_frame = [&frames, &tool_poses, buffers](int64_t step, Solver& s) {
         render::write_solver_frame(*frames, s, step, tool_poses, buffers);
@@ -289,6 +318,9 @@ int run_command(const Args& args) {
     if (!quiet && frame_count > 0)
       std::printf("wrote %zu frames frame_NNNNNN.png to %s\n", frame_count, out_dir.c_str());
     return 0;
+  } catch (const CheckpointError& e) {
+    std::fprintf(stderr, "phyxel run: %s\n", e.what());
+    return 1;
   } catch (const SceneError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;

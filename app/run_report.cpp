@@ -41,6 +41,10 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
   }
   const double substeps_done =
       static_cast<double>(result.steps_done) * static_cast<double>(result.plan.substeps);
+  // A resumed run's wall time covers the steps since its checkpoint only.
+  const double substeps_timed =
+      static_cast<double>(result.steps_done - std::max<int64_t>(0, result.resumed_from)) *
+      static_cast<double>(result.plan.substeps);
   json j = {
       {"scene", scene.file.string()},
       {"device", solver.device()},
@@ -58,7 +62,9 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       {"simulated_time", substeps_done * result.plan.dt_used},
       {"wall_seconds", result.wall_seconds},
       {"phyxel_steps_per_second",
-       result.wall_seconds > 0 ? double(set.size()) * substeps_done / result.wall_seconds : 0.0},
+       result.wall_seconds > 0 ? double(set.size()) * substeps_timed / result.wall_seconds : 0.0},
+      {"resumed_from_step", result.resumed_from},
+      {"checkpoint_every", options.checkpoint_every},
       {"stopped_at_rest", result.stopped_at_rest},
       {"interrupted", interrupted_by != nullptr},
       {"ill_conditioned_moment_matrices", solver.regularised_count()},

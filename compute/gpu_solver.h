@@ -135,7 +135,7 @@ class GpuSolver final : public Solver {
   uint64_t pair_count() const { return pairs_; }
 
   // Replaces u and v (uploads) and recomputes the forces for the new u.
-  void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity);
+  void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity) override;
   // Recomputes the forces for the current u (as CpuSolver::compute_forces: the stress and
   // force passes over their lists).
   void compute_forces();

@@ -137,6 +137,28 @@ int64_t steps_within(double seconds, int64_t steps, std::chrono::steady_clock::t
                              std::max<int64_t>(1, 4 * previous));
 }
 
+// The checkpoint of the run loop's state after `step` steps.
+Checkpoint make_checkpoint(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                           uint64_t scene_hash, int64_t step, const RunResult& result) {
+  Checkpoint c;
+  c.scene_hash = scene_hash;
+  c.set_hash = phyxel_set_hash(set);
+  c.device = solver.device();
+  c.solver = solver_identity(c.device);
+  c.step = step;
+  c.dt_requested = scene.simulation.dt;
+  c.time = double(step) * c.dt_requested;
+  c.substeps = result.plan.substeps;
+  PointState state = solver.read_state(false);
+  c.displacement = std::move(state.displacement);
+  c.velocity = std::move(state.velocity);
+  c.sleeps = result.sleeps;
+  c.wakes = result.wakes;
+  c.load_changes = result.load_changes;
+  c.flags = set.flags;
+  return c;
+}
+
 }  // namespace
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
@@ -174,6 +196,11 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   int64_t below_since = -1;
   std::vector<int64_t> object_below_since(set.objects.size(), -1);
   std::vector<uint8_t> awake(set.objects.size(), 1);
+  const int64_t checkpoint_every = options.checkpoint_every;
+  if (checkpoint_every > 0 && options.out_dir.empty())
+    throw std::runtime_error("checkpoints need an output folder");
+  const uint64_t scene_hash =
+      (checkpoint_every > 0 || options.resume) && !scene.file.empty() ? file_hash(scene.file) : 0;
 
   auto write_points = [&](int64_t step) {
     if (options.out_dir.empty()) return;
@@ -192,19 +219,106 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   const bool polled = options.stop_requested && tools.empty();
   int64_t poll_steps = 1;  // steps per advance while polled, from the measured rate
 
-  const auto start = std::chrono::steady_clock::now();
   int64_t step = 0;
   size_t next_event = 0;
-  while (step < total) {
+  // Loads switch at `step` (after `previous`): apply the new ones and wake every object whose
+  // loads changed.
+  auto switch_loads = [&](int64_t previous) {
+    ++next_event;
+    ++result.load_changes;
+    solver.set_external_forces(external_forces_at(set, step * step_time));
+    for (const LoadSpread& load : set.loads) {
+      if (load.active_at(previous * step_time) == load.active_at(step * step_time)) continue;
+      object_below_since[load.object] = -1;
+      if (!awake[load.object]) {
+        awake[load.object] = 1;
+        solver.set_object_awake(load.object, true);
+        ++result.wakes;
+      }
+    }
+  };
+  if (options.resume) {
+    const Checkpoint& c = *options.resume;
+    const std::string name = (options.out_dir / kCheckpointFile).string();
+    check_checkpoint_matches(c, name, scene_hash, set, solver.device());
+    if (c.dt_requested != step_time || c.substeps != result.plan.substeps || c.check_every != check)
+      throw CheckpointError(name +
+                            ": written with another time step, substep count or check "
+                            "interval (--check-every) than this run's");
+    if (c.step > total)
+      throw CheckpointError(name + ": at step " + std::to_string(c.step) + ", past the " +
+                            std::to_string(total) + " steps this run is asked for");
+    if (c.loads_applied > static_cast<int64_t>(events.size()) ||
+        (c.loads_applied > 0 && events[c.loads_applied - 1] > c.step) ||
+        c.tool_stats.size() != tools.size() ||
+        (!tools.empty() && c.last_check_u.size() != set.size()))
+      throw CheckpointError(name + ": its load schedule or tools differ from the scene's");
+    step = c.step;
+    result.resumed_from = c.step;
+    result.sleeps = c.sleeps;
+    result.wakes = c.wakes;
+    result.load_changes = c.load_changes;
+    next_event = static_cast<size_t>(c.loads_applied);
+    if (next_event > 0)
+      solver.set_external_forces(external_forces_at(set, events[next_event - 1] * step_time));
+    for (size_t o = 0; o < set.objects.size(); ++o) {
+      awake[o] = c.awake[o];
+      object_below_since[o] = c.object_below_since[o];
+      if (!awake[o]) solver.set_object_awake(static_cast<uint32_t>(o), false);
+    }
+    below_since = c.rest_below_since;
+    if (!tools.empty()) {
+      last_u = c.last_check_u;
+      tools.restore(c.tool_poses, c.tool_stats);
+    }
+    solver.set_state(c.displacement, c.velocity);  // last: the forces for this u and state
+    // A load switching exactly at the step a shorter run ended on: it never applied it.
+    if (next_event < events.size() && events[next_event] == step) switch_loads(step - 1);
+    // A run that had come to rest stays finished (its last check said so).
+    if (rest.enabled && below_since >= 0 && step - below_since >= rest.for_steps)
+      result.stopped_at_rest = true;
+    // summary.json lists the whole run's outputs: the snapshots written before the checkpoint.
+    for (int64_t s = every; every > 0 && s <= step && s < total; s += every)
+      result.outputs.push_back(points_name(s));
+  }
+  auto write_checkpoint_now = [&] {
+    if (options.before_checkpoint) options.before_checkpoint();
+    Checkpoint c = make_checkpoint(scene, set, solver, scene_hash, step, result);
+    c.check_every = check;
+    c.checkpoint_every = checkpoint_every;
+    c.total = total;
+    c.awake = awake;
+    c.object_below_since = object_below_since;
+    c.loads_applied = static_cast<int64_t>(next_event);
+    c.rest_below_since = below_since;
+    if (!tools.empty()) {
+      c.last_check_u = last_u;
+      c.tool_poses = tools.poses();
+      c.tool_stats = tools.stats();
+    }
+    write_checkpoint(options.out_dir / kCheckpointFile, c);
+    if (std::find(result.outputs.begin(), result.outputs.end(), kCheckpointFile) ==
+        result.outputs.end())
+      result.outputs.push_back(kCheckpointFile);
+  };
+
+  int64_t checkpointed = options.resume ? step : -1;  // the step of the last checkpoint
+  const auto start = std::chrono::steady_clock::now();
+  // Real-time pacing counts simulated time from step 0: a resumed run's clock starts where the
+  // checkpoint's simulated time was.
+  const auto paced_from = start - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                      std::chrono::duration<double>(double(step) * step_time));
+  while (step < total && !result.stopped_at_rest) {
     // Advance to the next step at which something has to be looked at.
     int64_t next = std::min(total, next_multiple(step, check));
     if (every > 0) next = std::min(next, next_multiple(step, every));
     if (options.frame_every > 0) next = std::min(next, next_multiple(step, options.frame_every));
     if (next_event < events.size()) next = std::min(next, events[next_event]);
     if (tool_chunk > 0) next = std::min(next, step + tool_chunk);
+    if (checkpoint_every > 0) next = std::min(next, next_multiple(step, checkpoint_every));
     // Real time: advance what the wall clock owes (at least a step, at most a tool chunk), so
     // a live tool's pose reaches the physics every few milliseconds of wall time.
-    if (options.real_time) next = std::min(next, step + steps_owed(start, step, step_time));
+    if (options.real_time) next = std::min(next, step + steps_owed(paced_from, step, step_time));
     // A stop can be asked for: advance no more than about stop_poll_seconds of wall time.
     if (polled) next = std::min(next, step + poll_steps);
     if (!tools.empty())  // sleeping objects the tools are about to reach wake first
@@ -228,29 +342,24 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
           std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
                                       records.begin() + (s - step + 1) * tools.size()));
     lap(result.split.callbacks);
-    if (options.real_time) pace(start, double(next) * step_time, result);
+    if (options.real_time) pace(paced_from, double(next) * step_time, result);
     lap(result.split.pacing);
     const int64_t previous = step;
     step = next;
     if (options.progress) options.progress(step, total);
 
-    if (next_event < events.size() && events[next_event] == step) {
-      // Loads switch: apply the new ones and wake every object whose loads changed.
-      ++next_event;
-      ++result.load_changes;
-      solver.set_external_forces(external_forces_at(set, step * step_time));
-      for (const LoadSpread& load : set.loads) {
-        if (load.active_at(previous * step_time) == load.active_at(step * step_time)) continue;
-        object_below_since[load.object] = -1;
-        if (!awake[load.object]) {
-          awake[load.object] = 1;
-          solver.set_object_awake(load.object, true);
-          ++result.wakes;
-        }
-      }
-    }
+    if (next_event < events.size() && events[next_event] == step) switch_loads(previous);
 
-    const bool checking = step % check == 0 || step == total;
+    // Checkpoints hold the state a run that goes on has at this step: after the check where the
+    // loop checks, before the end's extra check (its sleep and rest decisions) where it does
+    // not. Adding checkpoints thus changes no decision of the loop.
+    const bool regular = step % check == 0;
+    if (checkpoint_every > 0 && (step % checkpoint_every == 0 || step == total) && !regular &&
+        solver.first_non_finite() < 0) {
+      write_checkpoint_now();
+      checkpointed = step;
+    }
+    const bool checking = regular || step == total;
     if (checking) {
       const long bad = solver.first_non_finite();
       if (bad >= 0) {
@@ -309,6 +418,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     if (every > 0 && step % every == 0 && !last) write_points(step);
     if (options.on_frame && options.frame_every > 0 && (step % options.frame_every == 0 || last))
       options.on_frame(step, solver);
+    if (checkpoint_every > 0 && step % checkpoint_every == 0 && regular) {
+      write_checkpoint_now();
+      checkpointed = step;
+    }
     lap(result.split.outputs);
     if (result.stopped_at_rest || result.stopped) break;
   }
@@ -320,6 +433,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       result.wall_seconds > 0 ? result.simulated_time / result.wall_seconds : 0;
   result.tools = tools.stats();
   if (!result.non_finite && !result.unstable) {
+    // The end (or an interruption, or rest): a last checkpoint to continue from.
+    if (checkpoint_every > 0 && checkpointed != step) write_checkpoint_now();
     write_points(step);
     result.energies = solver.energies();
     result.max_displacement = max_norm(solver.read_state(false).displacement);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/run/checkpoint.h"
 #include "engine/solver/solver.h"
 #include "engine/surgery/tool_track.h"
 
@@ -54,6 +55,17 @@ struct RunOptions {
   // advance at most tool_chunk_substeps at a time.
   std::function<bool()> stop_requested;
   double stop_poll_seconds = 0.1;
+  // Checkpoints (engine/run/checkpoint.h): out_dir/checkpoint.phx every checkpoint_every steps
+  // and at the end (0: never; needs out_dir). Advances end at those steps; the loop's checks
+  // are unchanged. A run resumed from a checkpoint at step k is bit-identical to the run that
+  // went on where that run also ended an advance at k (docs/checkpoint.md says when).
+  int64_t checkpoint_every = 0;
+  // Continue from this checkpoint (read by read_checkpoint; run_simulation verifies that it
+  // belongs to the scene, set and solver and throws CheckpointError otherwise).
+  const Checkpoint* resume = nullptr;
+  // Called before each checkpoint is written: outputs the caller buffers (tools.csv) must hold
+  // every step up to it.
+  std::function<void()> before_checkpoint;
 };
 
 struct RunResult {
@@ -85,6 +97,7 @@ struct RunResult {
   struct WallSplit {
     double advance = 0, checks = 0, callbacks = 0, pacing = 0, outputs = 0;
   } split;
+  int64_t resumed_from = -1;  // the checkpoint's step, or -1
 };
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,

@@ -1,15 +1,73 @@
 #include "engine/run/tool_trace.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <stdexcept>
+#include <string>
 
 namespace phyxel {
 
+namespace {
+
+// The length of the part of `file` a resumed run keeps: the header and the rows of steps up to
+// `last_step` (rows past it were written after the checkpoint by a run that then stopped).
+uintmax_t kept_length(const std::filesystem::path& file, int64_t last_step) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw std::runtime_error("cannot read " + file.string() +
+                             " to continue it; the checkpointed run's tools.csv is missing");
+  std::string line;
+  uintmax_t kept = 0;
+  long long last = 0;  // the step of the last row kept
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (!header) {
+      char* end = nullptr;
+      const long long step = std::strtoll(line.c_str(), &end, 10);
+      if (end == line.c_str() || *end != ',')
+        throw std::runtime_error(file.string() + ": a row without a step number (\"" +
+                                 line.substr(0, 40) + "\"); cannot continue it");
+      if (step > last_step) break;
+      last = step;
+    }
+    kept += line.size() + 1;
+    header = false;
+  }
+  if (header || last < last_step)
+    throw std::runtime_error(file.string() + ": ends before step " + std::to_string(last_step) +
+                             " of the checkpoint; cannot continue it");
+  in.clear();
+  in.seekg(0, std::ios::end);
+  return std::min<uintmax_t>(kept, static_cast<uintmax_t>(in.tellg()));
+}
+
+}  // namespace
+
 ToolTraceWriter::ToolTraceWriter(const std::filesystem::path& file,
-                                 const std::vector<ToolDesc>& tools)
-    : out_(file) {
+                                 const std::vector<ToolDesc>& tools, int64_t resume_after,
+                                 bool in_place)
+    : file_(file) {
   for (const ToolDesc& t : tools) names_.push_back(t.name);
-  out_.append("step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts\n");
+  const char* header = "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts\n";
+  if (resume_after >= 0) {
+    // Appended to: cut back to the checkpoint's step, then the rows after it follow.
+    std::error_code ec;
+    std::filesystem::resize_file(file, kept_length(file, resume_after), ec);
+    if (ec)
+      throw std::runtime_error("cannot continue " + file_.string() + " (" + ec.message() + ")");
+    out_.open(file, std::ios::app);
+  } else if (in_place) {
+    out_.open(file);
+    out_ << header;
+  } else {
+    atomic_.emplace(file);
+    atomic_->append(header);
+    return;
+  }
+  if (!out_)
+    throw std::runtime_error("cannot write " + file_.string() + "; check the output folder");
 }
 
 void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRecord>& records) {
@@ -20,12 +78,29 @@ void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRe
                   static_cast<long long>(step), t, names_[k].c_str(), r.pose.position.x(),
                   r.pose.position.y(), r.pose.position.z(), r.pose.axis.x(), r.pose.axis.y(),
                   r.pose.axis.z(), r.force.x(), r.force.y(), r.force.z(), r.contacts);
-    out_.append(row);
+    if (atomic_)
+      atomic_->append(row);
+    else
+      out_ << row;
   }
+  if (!atomic_ && !out_)
+    throw std::runtime_error("cannot write " + file_.string() + " (disk full?); the run stopped");
+}
+
+void ToolTraceWriter::flush() {
+  if (atomic_) return;  // whole at close(); a checkpointed run writes in place
+  out_.flush();
+  if (!out_)
+    throw std::runtime_error("cannot write " + file_.string() + " (disk full?); the run stopped");
 }
 
 void ToolTraceWriter::close() {
-  out_.commit();
+  if (atomic_) {
+    atomic_->commit();
+    return;
+  }
+  out_.close();
+  if (out_.fail()) throw std::runtime_error("cannot finish " + file_.string() + " (disk full?)");
 }
 
 }  // namespace phyxel

@@ -3,11 +3,16 @@
 // (the tip position and axis at the end of the step, the mean force on the tool over the
 // step's substeps in N, the phyxels in contact at its last substep). Written to tools.csv.tmp
 // and renamed at close(), or when the writer is destroyed without close() (a run stopped by
-// an error keeps the rows of the steps it did); a failed write removes tools.csv.tmp.
+// an error keeps the rows of the steps it did); a failed write removes tools.csv.tmp. A run
+// with checkpoints writes it in place instead (flush() before each checkpoint), so that the
+// file holds every row up to the latest checkpoint, and a resumed run cuts it back to the
+// checkpoint's step and appends.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,17 +23,25 @@ namespace phyxel {
 
 class ToolTraceWriter {
  public:
-  // Creates tools.csv.tmp and buffers the header. Throws std::runtime_error naming the file.
-  ToolTraceWriter(const std::filesystem::path& file, const std::vector<ToolDesc>& tools);
+  // Creates the file (tools.csv.tmp unless in_place) and writes the header. Throws
+  // std::runtime_error naming the file. resume_after >= 0 (a resumed run): keeps the header
+  // and the rows of steps up to resume_after of the existing file and appends after them.
+  ToolTraceWriter(const std::filesystem::path& file, const std::vector<ToolDesc>& tools,
+                  int64_t resume_after = -1, bool in_place = false);
   // One row per tool. Throws std::runtime_error naming the file when the write fails (a full
-  // disk), after removing tools.csv.tmp.
+  // disk; tools.csv.tmp is removed).
   void write(int64_t step, double t, const std::vector<ToolStepRecord>& records);
-  // Writes the rest and renames tools.csv.tmp to tools.csv; throws like write().
+  // In place: writes the buffered rows out (before a checkpoint). Atomic: nothing.
+  void flush();
+  // Atomic: writes the rest and renames tools.csv.tmp to tools.csv. In place: closes the file.
+  // Throws like write().
   void close();
 
  private:
+  std::filesystem::path file_;
   std::vector<std::string> names_;
-  AtomicFileWriter out_;
+  std::optional<AtomicFileWriter> atomic_;
+  std::ofstream out_;
 };
 
 }  // namespace phyxel

@@ -2,6 +2,8 @@
 #include <omp.h>
 
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include "engine/solver/solver.h"
 
@@ -42,6 +44,18 @@ class CpuBackend final : public Solver {
     if (with_stress) s.von_mises = solver_->von_mises_stress();
     s.contact = solver_->contact();
     return s;
+  }
+  void set_state(const std::vector<Vec3>& displacement,
+                 const std::vector<Vec3>& velocity) override {
+    const size_t n = solver_->size();
+    if (displacement.size() != n || velocity.size() != n)
+      throw std::invalid_argument("set_state: expected " + std::to_string(n) +
+                                  " displacements and velocities");
+    for (size_t i = 0; i < n; ++i) {
+      solver_->displacement()[i] = displacement[i].template cast<Real>();
+      solver_->velocity()[i] = velocity[i].template cast<Real>();
+    }
+    solver_->compute_forces();
   }
   size_t regularised_count() const override { return solver_->regularised_count(); }
   const NeighbourLists& neighbours() const override { return solver_->neighbours(); }

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,14 @@ class Solver {
   // The largest |u| and |v| over all phyxels (m, m/s): what the run loop's checks and the
   // contact broad phase need without reading the whole state back.
   virtual std::pair<double, double> max_norms();
+  // Replaces u and v (converted to the solver's precision: values read_state gave convert back
+  // exactly) and recomputes the forces for the new u, so the next advance continues exactly
+  // as the solver that read them would (checkpoint resume). Throws where unsupported.
+  virtual void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity) {
+    (void)displacement;
+    (void)velocity;
+    throw std::logic_error(device() + " cannot restore a state");
+  }
 
   // Optional abilities; a solver without one says so and the run loop does without it.
   // Pass selection (skip fixed-only regions and sleeping objects): see CpuSolver.

@@ -99,4 +99,13 @@ std::vector<ToolStepRecord> ToolTrack::fold(const std::vector<ToolContactSample>
   return records;
 }
 
+void ToolTrack::restore(const std::vector<ToolPose>& poses,
+                        const std::vector<ToolRunStats>& stats) {
+  if (poses.size() != tools_.size() || stats.size() != tools_.size())
+    throw std::invalid_argument("ToolTrack::restore: expected " + std::to_string(tools_.size()) +
+                                " tools, got " + std::to_string(poses.size()));
+  last_ = poses;
+  stats_ = stats;
+}
+
 }  // namespace phyxel

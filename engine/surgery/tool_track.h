@@ -61,6 +61,9 @@ class ToolTrack {
   const std::vector<ToolRunStats>& stats() const { return stats_; }
   // The pose every tool ended the last chunk at.
   const std::vector<ToolPose>& poses() const { return last_; }
+  // Continues a checkpointed run: the poses the tools ended its last chunk at and its
+  // statistics (one each per tool; throws std::invalid_argument otherwise).
+  void restore(const std::vector<ToolPose>& poses, const std::vector<ToolRunStats>& stats);
 
  private:
   std::vector<ToolDesc> tools_;
