@@ -27,9 +27,15 @@ for target in "${targets[@]}"; do
   artifacts="build-fuzz/artifacts/$target"
   mkdir -p "$corpus" "$artifacts"
   case "$target" in
-    fuzz_scene) seeds=(scenes scenes/validation tests/data/scenes tests/data/fuzz/fuzz_scene) ;;
-    fuzz_obj) seeds=(tests/data/meshes tests/data/fuzz/fuzz_obj) ;;
-    *) seeds=() ;;
+    fuzz_scene)
+      seeds=(scenes scenes/validation tests/data/scenes tests/data/fuzz/fuzz_scene)
+      options=(-dict=fuzz/scene.dict)
+      ;;
+    fuzz_obj)
+      seeds=(tests/data/meshes tests/data/fuzz/fuzz_obj)
+      options=(-dict=fuzz/obj.dict)
+      ;;
+    *) seeds=() options=() ;;
   esac
   for dir in "${seeds[@]}"; do
     [ -d "$dir" ] || continue
@@ -39,7 +45,7 @@ for target in "${targets[@]}"; do
   echo "fuzz: $target for ${seconds}s, corpus $corpus ($(ls "$corpus" | wc -l) files)"
   "build-fuzz/fuzz/$target" "$corpus" -artifact_prefix="$artifacts/" \
     -max_total_time="$seconds" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
-    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 2>&1 | tee "build-fuzz/$target.log" |
+    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "${options[@]}" 2>&1 | tee "build-fuzz/$target.log" |
     grep -E '^#|INFO: fork|crash|ERROR|SUMMARY|stat::' || true
   echo "fuzz: $target findings: $(ls "$artifacts" | wc -l) in $artifacts"
 done
