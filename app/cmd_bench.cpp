@@ -53,7 +53,11 @@ constexpr const char* kBenchHelp =
     "  --render              splat rendering time per frame, and the GPU solver's step rate\n"
     "                        alone and with a frame every 1/60 s (--device D, --surfels LIST,\n"
     "                        --width W, --height H per eye, --mono, --frames N, --no-solver,\n"
-    "                        --json FILE)";
+    "                        --json FILE)\n"
+    "  --haptics             the 1 kHz haptic loop's tick timing while the solver runs in real\n"
+    "                        time (and idle), and the cost of tool contact per step (--device\n"
+    "                        D, --scene FILE, --refine K, --seconds S, --sizes LIST, --out DIR;\n"
+    "                        --haptics --help)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -70,7 +74,8 @@ std::vector<int64_t> parse_list(const std::string& text, const std::string& opti
   return out;
 }
 
-// A cube of about `phyxels` points: 0.1 m on a side, clamped at z = 0, soft tissue material.
+}  // namespace
+
 Scene bench_scene(int64_t phyxels) {
   const int per_side = std::max(2, static_cast<int>(std::lround(std::cbrt(double(phyxels)))));
   const double side = 0.1, spacing = side / (per_side - 1);
@@ -93,6 +98,8 @@ Scene bench_scene(int64_t phyxels) {
   scene.simulation.dt = 1;  // replaced by the stable step below
   return scene;
 }
+
+namespace {
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -182,6 +189,7 @@ int bench_command(const Args& args) {
   if (has("--skips")) return bench_skips(args);
   if (has("--stability")) return bench_stability(args);
   if (has("--render")) return bench_render_command(args);
+  if (has("--haptics")) return bench_haptics(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")

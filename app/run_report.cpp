@@ -85,7 +85,8 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
                        {"overruns", st.overruns},
                        {"max_force_jump", st.max_force_jump},
                        {"max_hand_force", st.max_hand_force},
-                       {"snapshots", st.snapshots}});
+                       {"snapshots", st.snapshots},
+                       {"realtime_priority", st.realtime_priority}});
     }
     j["haptics"] = loops;
   }

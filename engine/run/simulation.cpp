@@ -107,6 +107,13 @@ void wake_touched_objects(const PhyxelSet& set, const Bounds& bounds,
   }
 }
 
+// Real time: the steps the wall clock owes the simulation (at least one).
+int64_t steps_owed(std::chrono::steady_clock::time_point start, int64_t step, double step_time) {
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return std::max<int64_t>(1, static_cast<int64_t>(std::floor(wall / step_time)) - step);
+}
+
 // Real-time pacing: sleep while the simulation is ahead of the wall clock; note the lag when
 // it is behind.
 void pace(std::chrono::steady_clock::time_point start, double simulated, RunResult& result) {
@@ -148,10 +155,7 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   }
   // Steps per advance while tools move: the broad phase is built once per advance.
   const int64_t tool_chunk =
-      tools.empty() ? 0
-      : options.real_time
-          ? 1
-          : std::max<int64_t>(1, options.tool_chunk_substeps / result.plan.substeps);
+      tools.empty() ? 0 : std::max<int64_t>(1, options.tool_chunk_substeps / result.plan.substeps);
   std::vector<Vec3> last_u(set.size(), Vec3::Zero());  // as of the last check
   int64_t below_since = -1;
   std::vector<int64_t> object_below_since(set.objects.size(), -1);
@@ -159,7 +163,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
 
   auto write_points = [&](int64_t step) {
     if (options.out_dir.empty()) return;
-    const PointState state = solver.read_state(true);
+    PointState state = solver.read_state(true);
+    // The solvers always report a contact flag per phyxel (all 0 without tools); the .vtp
+    // files carry the `contact` array for scenes with tools only.
+    if (scene.tools.empty()) state.contact.clear();
     const std::string name = points_name(step);
     write_points_vtp(options.out_dir / name, set, state, scene.output.binary);
     result.outputs.push_back(name);
@@ -176,6 +183,9 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     if (options.frame_every > 0) next = std::min(next, next_multiple(step, options.frame_every));
     if (next_event < events.size()) next = std::min(next, events[next_event]);
     if (tool_chunk > 0) next = std::min(next, step + tool_chunk);
+    // Real time: advance what the wall clock owes (at least a step, at most a tool chunk), so
+    // a live tool's pose reaches the physics every few milliseconds of wall time.
+    if (options.real_time) next = std::min(next, step + steps_owed(start, step, step_time));
     if (!tools.empty())  // sleeping objects the tools are about to reach wake first
       wake_touched_objects(set, tools.swept_bounds(step * step_time, next * step_time), last_u,
                            awake, object_below_since, solver, result);

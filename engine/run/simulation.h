@@ -40,8 +40,9 @@ struct RunOptions {
   std::function<void(int64_t step, double t, const std::vector<ToolStepRecord>&)> on_tool_step;
   // Substeps per advance while tools move (the broad phase is built once per advance).
   int64_t tool_chunk_substeps = 64;
-  // Pace simulated time to the wall clock (interactive and haptic runs): the loop advances one
-  // step at a time and sleeps while it is ahead; RunResult says how far it fell behind.
+  // Pace simulated time to the wall clock (interactive and haptic runs): the loop advances the
+  // steps the wall clock owes (at least one, at most tool_chunk_substeps worth) and sleeps
+  // while it is ahead; RunResult says how far it fell behind.
   bool real_time = false;
   // Polled between advances: true stops the run after the current step (the viewer, signals).
   std::function<bool()> stop_requested;

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace phyxel {
 namespace {
@@ -116,8 +117,13 @@ void write_points_vtp(const std::filesystem::path& file, const PhyxelSet& set,
   xml << "</Verts>\n</Piece>\n</PolyData>\n";
   if (binary) {
     xml << "<AppendedData encoding=\"raw\">\n_";
-    for (const Array* a :
-         {&points, &data[0], &data[1], &data[2], &data[3], &data[4], &connectivity, &offsets}) {
+    // Every block in the order of the offsets above: the points, each data array (the
+    // `contact` array included when there is one), the connectivity and the offsets.
+    std::vector<const Array*> blocks{&points};
+    for (const Array& a : data) blocks.push_back(&a);
+    blocks.push_back(&connectivity);
+    blocks.push_back(&offsets);
+    for (const Array* a : blocks) {
       const uint64_t size = a->bytes.size();
       xml.write(reinterpret_cast<const char*>(&size), sizeof size);
       xml.write(a->bytes.data(), static_cast<std::streamsize>(a->bytes.size()));

@@ -54,6 +54,9 @@ struct HapticLoopSettings {
   double overrun_ms = 2;            // a period longer than this is an overrun
   double spin_us = 200;             // sleep until this long before the deadline, then spin
   bool extrapolate = true;          // false: hold the newest force (zero-order hold)
+  // Ask for real-time scheduling (SCHED_FIFO) and a 1 ns timer slack for the loop's thread;
+  // where the OS refuses (no CAP_SYS_NICE, no rtprio limit) it runs at normal priority.
+  bool realtime_priority = true;
 };
 
 // The loop's latest state, for the physics and for display.
@@ -79,6 +82,9 @@ struct HapticStats {
   uint64_t clamped_ticks = 0;  // ticks whose force was clamped
   uint64_t invalid_ticks = 0;  // ticks without a valid device pose
   uint64_t snapshots = 0;      // snapshots published
+  // The thread got real-time scheduling (SCHED_FIFO; needs CAP_SYS_NICE or an rtprio limit):
+  // without it the OS may preempt the loop for milliseconds on a busy machine.
+  bool realtime_priority = false;
 };
 
 class HapticLoop {
@@ -139,6 +145,7 @@ class HapticLoop {
 
   // Shared with other threads.
   std::atomic<bool> stop_{false};
+  std::atomic<bool> realtime_{false};
   std::thread thread_;
   mutable std::mutex error_mutex_;
   std::string error_;

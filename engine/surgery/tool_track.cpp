@@ -28,7 +28,15 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
     const ToolDesc& tool = tools_[t];
     const bool live_tool = tool.control == ToolDesc::Control::Haptic;
     const ToolPose start = last_[t];
-    const ToolPose target = live_tool ? source_(t, double(first + count) * dt) : ToolPose{};
+    ToolPose target = live_tool ? source_(t, double(first + count) * dt) : ToolPose{};
+    if (live_tool) {
+      // A live tool moves at most kMaxLiveSpeed in simulated time: when the physics runs
+      // slower than real time, a device moved at a hand's speed would otherwise drive the tool
+      // through the tissue many times faster in simulated time; the simulated tool lags.
+      const Vec3 move = target.position - start.position;
+      const double limit = kMaxLiveSpeed * double(count) * dt;
+      if (move.norm() > limit) target.position = start.position + move * (limit / move.norm());
+    }
     ToolPose from = start;
     for (int64_t k = 0; k < count; ++k) {
       ToolPose to;

@@ -45,7 +45,9 @@ class ToolTrack {
 
   // The motions of every tool over the substeps [first, first + count) of size dt (count x
   // tools, row-major by substep). Path tools: exactly their path at the substep boundaries.
-  // Live tools: from the pose the last chunk ended at to the source's pose now, linearly.
+  // Live tools: from the pose the last chunk ended at to the source's pose now, linearly, at
+  // most kMaxLiveSpeed in simulated time (a slow simulation's tool lags its device).
+  static constexpr double kMaxLiveSpeed = 1.0;  // m/s
   std::vector<ToolMotion> motions(int64_t first, int64_t count, double dt);
 
   // Bounds of every tool over simulated time [from, to]: its pose now, its path's keys in

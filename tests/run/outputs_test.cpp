@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -71,6 +72,43 @@ TEST(VtpWriter, BinaryFileHasAppendedBlocksOfTheRightSize) {
   uint64_t bytes = 0;
   std::memcpy(&bytes, text.data() + text.find('_', start) + 1, sizeof bytes);
   EXPECT_EQ(bytes, w.set.size() * 3 * sizeof(double));
+}
+
+TEST(VtpWriter, BinaryFileHasEveryBlockWhereItsOffsetSaysWithContact) {
+  Written w = sample_state();
+  const size_t n = w.set.size();
+  for (size_t i = 0; i < n; ++i) w.state.contact.push_back(i % 3 == 0 ? 1 : 0);
+  const auto file = test::test_output_dir("vtp_binary_contact") / "points.vtp";
+  write_points_vtp(file, w.set, w.state, true);
+  const std::string text = read_file(file);
+  const size_t data = text.find('_', text.find("<AppendedData encoding=\"raw\">")) + 1;
+  ASSERT_NE(data, std::string::npos + 1);
+  size_t blocks = 0, end = 0;
+  for (size_t at = text.find("<DataArray"); at < data; at = text.find("<DataArray", at + 1)) {
+    const std::string tag = text.substr(at, text.find('>', at) - at);
+    auto attr = [&tag](const std::string& key) {
+      const size_t v = tag.find(key + "=\"") + key.size() + 2;
+      return tag.substr(v, tag.find('"', v) - v);
+    };
+    const size_t width = attr("type") == "UInt32" ? 4 : 8;
+    const uint64_t expected = n * std::stoul(attr("NumberOfComponents")) * width;
+    const size_t block = data + std::stoull(attr("offset"));
+    uint64_t bytes = 0;
+    ASSERT_LE(block + sizeof bytes, text.size()) << tag;
+    std::memcpy(&bytes, text.data() + block, sizeof bytes);
+    EXPECT_EQ(bytes, expected) << tag;
+    if (tag.find("Name=\"contact\"") != std::string::npos) {
+      for (size_t i = 0; i < n && block + 8 + 4 * (i + 1) <= text.size(); ++i) {
+        uint32_t c = 0;
+        std::memcpy(&c, text.data() + block + 8 + 4 * i, 4);
+        EXPECT_EQ(c, w.state.contact[i]) << "phyxel " << i;
+      }
+    }
+    end = block + sizeof bytes + bytes;
+    ++blocks;
+  }
+  EXPECT_EQ(blocks, 9u);  // points, five arrays, contact, connectivity, offsets
+  EXPECT_EQ(text.compare(end, 16, "\n</AppendedData>"), 0);
 }
 
 TEST(VtpWriter, UnwritableFolderNamesTheFile) {
