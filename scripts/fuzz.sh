@@ -11,6 +11,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+if ! command -v clang++ >/dev/null ||
+  ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
+  echo "fuzz: needs clang and libFuzzer (apt-get install clang libclang-rt-14-dev)" >&2
+  exit 1
+fi
+
 seconds="${1:-300}"
 shift || true
 targets=("$@")
@@ -39,7 +45,7 @@ for target in "${targets[@]}"; do
   esac
   for dir in "${seeds[@]}"; do
     [ -d "$dir" ] || continue
-    find "$dir" -maxdepth 1 -type f \( -name '*.json' -o -name '*.obj' -o -name 'crash-*' \) \
+    find "$dir" -maxdepth 1 -type f \( -name '*.json' -o -name '*.obj' -o -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
       -exec cp -n {} "$corpus/" \;
   done
   echo "fuzz: $target for ${seconds}s, corpus $corpus ($(ls "$corpus" | wc -l) files)"
@@ -47,5 +53,8 @@ for target in "${targets[@]}"; do
     -max_total_time="$seconds" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
     -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "${options[@]}" 2>&1 | tee "build-fuzz/$target.log" |
     grep -E '^#|INFO: fork|crash|ERROR|SUMMARY|stat::' || true
-  echo "fuzz: $target findings: $(ls "$artifacts" | wc -l) in $artifacts"
+  last="$(grep -E '^#[0-9]+:' "build-fuzz/$target.log" | tail -1)"
+  time_s="${last#*time: }"
+  echo "fuzz: $target done: executions ${last%%:*} in ${time_s%% *}, corpus $(ls "$corpus" | wc -l) files" \
+    "($(du -sh "$corpus" | cut -f1)), findings $(ls "$artifacts" | wc -l) in $artifacts"
 done
