@@ -17,6 +17,7 @@
 
 #include "app/bench_extras.h"
 #include "app/options.h"
+#include "app/run_report.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/surgery/haptic_session.h"
@@ -221,6 +222,7 @@ nlohmann::json solver_loop(Scene scene, const PhyxelSet& set, const std::string&
   row["steps"] = result.steps_done;
   row["max_contacts"] = max_contacts;
   row["finite"] = !result.non_finite && !result.unstable;
+  row["wall_split_s"] = wall_split_json(result.split);
   return row;
 }
 
@@ -392,6 +394,12 @@ void print_loop_row(const nlohmann::json& r) {
   if (r.contains("realtime_priority") && !r["realtime_priority"].get<bool>())
     std::printf("  (normal priority: SCHED_FIFO refused)");
   std::printf("\n");
+  if (r.contains("wall_split_s")) {
+    const nlohmann::json& w = r["wall_split_s"];
+    std::printf("  wall s: advance %.3f, checks %.3f, callbacks %.3f, pacing %.3f, outputs %.3f\n",
+                w["advance"].get<double>(), w["checks"].get<double>(), w["callbacks"].get<double>(),
+                w["pacing"].get<double>(), w["outputs"].get<double>());
+  }
   std::fflush(stdout);
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/interrupt.h"
 #include "app/options.h"
 #include "app/run_report.h"
 #include "compute/gpu_solver.h"
@@ -54,7 +55,13 @@ constexpr const char* kRunHelp =
     "  --quiet             no progress bar\n"
     "  --help              this text\n"
     "\n"
-    "exit status: 0 done, 1 bad input or I/O error, 3 the simulation became non-finite";
+    "SIGINT (Ctrl-C) or SIGTERM stops the run after the current step and writes what it has:\n"
+    "the last state DIR/points_NNNNNN.vtp, the last frame when rendering, tools.csv and\n"
+    "summary.json with \"interrupted\": true and \"interrupted_by\". A second signal ends the\n"
+    "process at once, writing nothing more (the files written so far stay whole).\n"
+    "\n"
+    "exit status: 0 done, 1 bad input or I/O error, 2 bad usage, 3 the simulation became\n"
+    "non-finite or ran away, 130 stopped by SIGINT, 143 stopped by SIGTERM";
 
 // A one-line progress bar on a terminal, redrawn at most 10 times a second.
 class ProgressBar {
@@ -133,6 +140,9 @@ int run_command(const Args& args) {
                  render_mode.c_str());
     return 1;
   }
+  // SIGINT and SIGTERM from here on stop the run cleanly (app/interrupt.h); the previous
+  // handlers come back when the command returns.
+  const InterruptGuard interrupts;
   try {
     Scene scene = load_scene(positional[0]);
     if (!render_mode.empty())
@@ -166,6 +176,7 @@ int run_command(const Args& args) {
       std::fputs(explain_passes(scene, set, *solver, options).c_str(), stdout);
       return 0;
     }
+    options.stop_requested = [] { return InterruptGuard::received() != 0; };
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) { bar.update(s, t); };
     // Tools: DIR/tools.csv, a row per step and tool; haptic tools get a 1 kHz loop each and the
@@ -214,7 +225,10 @@ int run_command(const Args& args) {
     options.on_frame = nullptr;
     frames.reset();  // before the solver: it may own the context
     if (result.steps_done < options.steps) bar.finish();
-    write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result, &haptics);
+    // A signal that came during the run (or while its last outputs were written) is reported.
+    const int signal = InterruptGuard::received();
+    write_run_summary(out_dir / "summary.json", scene, set, *solver, options, result, &haptics,
+                      signal != 0 ? signal_name(signal) : nullptr);
     if (options.real_time && result.real_time_factor < 0.99)
       std::fprintf(stderr,
                    "phyxel run: the simulation ran at %.2fx real time (fell behind the wall clock "
@@ -247,6 +261,15 @@ int run_command(const Args& args) {
                    scene.file.c_str(), static_cast<long long>(result.unstable_step),
                    result.unstable_phyxel, result.unstable_speed, result.unstable_wave_speed);
       return 3;
+    }
+    if (signal != 0) {
+      std::fprintf(stderr,
+                   "phyxel run: %s: stopped by %s after step %lld of %lld; wrote the last state "
+                   "and %s (exit status %d)\n",
+                   scene.file.c_str(), signal_name(signal),
+                   static_cast<long long>(result.steps_done), static_cast<long long>(options.steps),
+                   (out_dir / "summary.json").c_str(), interrupted_exit_status(signal));
+      return interrupted_exit_status(signal);
     }
     if (!quiet)
       std::printf("%s: %zu phyxels, %lld steps%s in %.2f s on %s; wrote %s\n", scene.file.c_str(),

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/interrupt.h"
 #include "app/options.h"
 #include "compute/vk_check.h"
 #include "render/viewer.h"
@@ -33,7 +34,13 @@ constexpr const char* kViewHelp =
     "best)\n"
     "  --threads N         CPU solver threads (default: all cores)\n"
     "  --validate          Vulkan validation layers on for the renderer\n"
-    "  --help              this text";
+    "  --help              this text\n"
+    "\n"
+    "SIGINT (Ctrl-C) or SIGTERM closes the viewer as closing its window does; a second signal\n"
+    "ends the process at once.\n"
+    "\n"
+    "exit status: 0 closed, 1 no display or bad input, 2 bad usage, 130 closed by SIGINT,\n"
+    "143 closed by SIGTERM";
 
 }  // namespace
 
@@ -62,8 +69,14 @@ int view_command(const Args& args) {
     std::fprintf(stderr, "phyxel view: --render %s: allowed mono or stereo\n", mode.c_str());
     return 1;
   }
+  const InterruptGuard interrupts;  // SIGINT, SIGTERM: close the viewer cleanly
+  options.stop_requested = [] { return InterruptGuard::received() != 0; };
   try {
     render::run_viewer(load_scene(positional[0]), options);
+    if (const int signal = InterruptGuard::received(); signal != 0) {
+      std::fprintf(stderr, "phyxel view: closed by %s\n", signal_name(signal));
+      return interrupted_exit_status(signal);
+    }
     return 0;
   } catch (const SceneError& e) {
     std::fprintf(stderr, "%s\n", e.what());

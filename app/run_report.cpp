@@ -7,9 +7,17 @@
 
 namespace phyxel::app {
 
+nlohmann::json wall_split_json(const RunResult::WallSplit& split) {
+  return {{"advance", split.advance},
+          {"checks", split.checks},
+          {"callbacks", split.callbacks},
+          {"pacing", split.pacing},
+          {"outputs", split.outputs}};
+}
+
 void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
                        Solver& solver, const RunOptions& options, const RunResult& result,
-                       const HapticSession* haptics) {
+                       const HapticSession* haptics, const char* interrupted_by) {
   using nlohmann::json;
   json objects = json::array();
   const NeighbourLists& nbr = solver.neighbours();
@@ -50,6 +58,7 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       {"phyxel_steps_per_second",
        result.wall_seconds > 0 ? double(set.size()) * substeps_done / result.wall_seconds : 0.0},
       {"stopped_at_rest", result.stopped_at_rest},
+      {"interrupted", interrupted_by != nullptr},
       {"ill_conditioned_moment_matrices", solver.regularised_count()},
       {"non_finite", result.non_finite},
       {"unstable", result.unstable},
@@ -60,7 +69,9 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       {"outputs", result.outputs},
       {"real_time_factor", result.real_time_factor},
   };
+  if (interrupted_by != nullptr) j["interrupted_by"] = interrupted_by;
   if (options.real_time) j["max_lag_seconds"] = result.max_lag;
+  j["wall_split_seconds"] = wall_split_json(result.split);
   if (!result.tools.empty()) {
     json tools = json::array();
     for (const ToolRunStats& t : result.tools)
@@ -103,9 +114,20 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
     j["potential_energy"] = result.energies.potential;
     j["max_displacement"] = result.max_displacement;
   }
-  std::ofstream out(file);
-  out << j.dump(2) << "\n";
-  if (!out) throw std::runtime_error("cannot write " + file.string() + "; check the output folder");
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    out.close();
+    if (!out)
+      throw std::runtime_error("cannot write " + tmp.string() + "; check the output folder");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec)
+    throw std::runtime_error("cannot rename " + tmp.string() + " to " + file.string() + ": " +
+                             ec.message());
 }
 
 }  // namespace phyxel::app

@@ -98,7 +98,9 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   reduce_[1] =
       device(((level1 + kScanBlock - 1) / kScanBlock) * sizeof(vec4), "energy partial sums (next)");
   von_mises_ = device(n * sizeof(float), "von Mises stress");
-  check_ = device(sizeof(uint32_t), "non-finite check");
+  // Host-visible: the run loop's checks read them every few steps without a staging copy.
+  check_ = Buffer(ctx, sizeof(uint32_t), MemoryIntent::Readback, "non-finite check");
+  max_norm_readback_ = Buffer(ctx, sizeof(vec4), MemoryIntent::Readback, "max |u|, |v|");
   list_ = device(sizeof(uint32_t), "precompute list");
   stress_list_ = device(std::max<uint64_t>(n, 1) * sizeof(uint32_t), "stress pass list");
   force_list_ = device(std::max<uint64_t>(n, 1) * sizeof(uint32_t), "force pass list");
@@ -108,8 +110,7 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   mass_ = set.mass;
   objects_ = set.objects;
   awake_.assign(set.objects.size(), 1);
-  broad_ = std::make_unique<ContactBroadPhase>(set);
-  for (const ObjectRange& o : set.objects) reach_spacing_ = std::max(reach_spacing_, o.spacing);
+  for (const ObjectRange& o : set.objects) contact_spacing_ = std::max(contact_spacing_, o.spacing);
 
   upload(ctx, classes_, host.classes);
   upload(ctx, rest_, host.rest);

@@ -91,6 +91,7 @@ class GpuSolver final : public Solver {
   void advance(int64_t substeps, double dt) override;
   Energies energies() override;
   long first_non_finite() override;
+  std::pair<double, double> max_norms() override;  // a GPU reduction; 16 bytes back
   PointState read_state(bool with_stress) override;
   size_t regularised_count() const override { return regularised_; }
   const NeighbourLists& neighbours() const override { return neighbours_; }
@@ -117,15 +118,16 @@ class GpuSolver final : public Solver {
   // contact runs after every drift on the phyxels the broad phase found for the chunk of
   // substeps whose motions set_tool_motion gave (kept for the next advance; a step past them
   // keeps the last end pose). At the start of an advance with new motions: max |u| and |v| by a
-  // GPU reduction (16 bytes back), ContactBroadPhase on the host, the candidates of awake
-  // objects and the motion table uploaded. Sleeping (set_object_awake) refilters the list.
+  // GPU reduction, the broad phase on the GPU (contact_candidates' twin: tool_broad_phase) and
+  // the motion table uploaded, in the advance's command buffer. Sleeping or waking
+  // (set_object_awake) runs the broad phase again at the next advance.
   // tool_samples(): what each tool felt in each substep of the last advance (substeps x
   // tools; read back once per advance). Without tools nothing is recorded.
   bool supports_tools() const override { return true; }
   void set_tools(const std::vector<ContactTool>& tools) override;
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
-  size_t contact_candidates() const override { return candidates_.size(); }
+  size_t contact_candidates() const override { return candidates_; }
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -184,8 +186,8 @@ class GpuSolver final : public Solver {
   void begin_contact(int64_t substeps, double dt);
   void record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp);
   void finish_contact(int64_t substeps, bool ran);
-  void filter_candidates(Recorder& rec);  // awake objects' phyxels of broad_list_; uploads
-  std::pair<double, double> max_norms();  // max |u|, max |v| (GPU reduction)
+  void record_broad_phase(Recorder& rec);  // max norms, then the candidates and their count
+  void record_max_norms(Recorder& rec);    // into max_norm_readback_
   bool contact_recorded() const { return contact_active_; }
 
   std::unique_ptr<Context> owned_ctx_;
@@ -235,25 +237,27 @@ class GpuSolver final : public Solver {
   // Tools (gpu_solver_contact.cpp); every buffer below is allocated by set_tools or grown
   // when a chunk needs more (never shrunk), so scenes without tools allocate none of it.
   std::vector<ContactTool> tools_;
-  std::unique_ptr<ContactBroadPhase> broad_;   // over the set at construction
-  double reach_spacing_ = 0;                   // the largest object spacing (contact_reach)
+  double contact_spacing_ = 0;                 // the largest object spacing (contact_margin)
+  double chunk_duration_ = 0;                  // s: the motions' substeps times their dt
   std::vector<ToolMotion> pending_motion_;     // for the next advance
   std::vector<ToolMotion> motion_;             // the chunk's motions (substeps x tools)
   size_t motion_steps_ = 0, motion_step_ = 0;  // substeps in motion_, substeps consumed
   layout::vec4 contact_origin_{};              // the motion table's frame (world, float)
-  std::vector<uint32_t> broad_list_;           // the broad phase's phyxels for the chunk
-  std::vector<uint32_t> candidates_;           // those of awake objects (uploaded)
+  bool broad_pending_ = false;                 // the broad phase to run at the next advance
+  size_t candidates_ = 0;                      // of the last advance (read with its samples)
   std::vector<ToolContactSample> samples_;     // of the last advance
   bool contact_active_ = false;                // contact passes recorded in this advance
   uint32_t candidate_capacity_ = 0;            // elements of the candidate buffers
   Buffer tool_shapes_;                         // ContactToolShape per tool
   Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
-  Buffer candidate_list_;     // uint[capacity]; candidate_upload_ stages it
+  Buffer candidate_list_;     // uint[capacity]: the broad phase's phyxels, ascending
+  Buffer contact_count_;      // Readback, indirect: ContactCount of the broad phase
+  Buffer broad_groups_;       // uint per broad-phase workgroup: hits, then offsets
   Buffer candidate_force_;    // vec4[tools][capacity]: m dv / dt and 1 per contact
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
-  Buffer motion_upload_, candidate_upload_;
+  Buffer motion_upload_;
 
   std::unique_ptr<Recorder> rec_[2];
 };

@@ -1,16 +1,18 @@
 // GpuSolver: tool-tissue contact with CpuSolver's semantics (engine/solver/cpu_solver.cpp:
 // set_tools, set_tool_motion, apply_contacts; engine/surgery/contact.h for the response).
 //
-// At the start of an advance with new motions (begin_contact): max |u| and max |v| from a GPU
-// reduction (solver_max_norm, 16 bytes back), the broad phase on the host exactly as the CPU's
-// (ContactBroadPhase over the set at construction, bounds = swept_bounds of the chunk's
-// motions, reach = contact_reach(largest spacing, max |u|, max |v|, chunk duration)), the
-// candidates of awake objects and the motion table copied from persistent staging buffers in
-// the advance's first command buffer, and the contact flags cleared. After every drift of
-// every substep (record_steps): tool_contact over the candidates, then tool_contact_reduce
-// into the samples (a Readback buffer, read once after the advance). Buffers grow when a chunk
-// needs more and are never reallocated otherwise.
+// At the start of an advance with new motions (begin_contact), all on the GPU and recorded
+// into the advance's first command buffer (nothing read back): max |u| and |v| by a reduction
+// (solver_max_norm), the broad phase over the force list (tool_broad_phase, tool_broad_scan:
+// the phyxels whose current position is inside the chunk's swept bounds grown by
+// contact_margin, in ascending order) with the candidate count and the indirect dispatch of
+// tool_contact, the motion table copied from a persistent staging buffer, and the contact flags
+// cleared. After every drift of every substep (record_steps): tool_contact over the candidates
+// (dispatched indirectly), then tool_contact_reduce into the samples (a Readback buffer, read
+// once after the advance with the candidate count). Buffers grow when a chunk needs more and
+// are never reallocated otherwise.
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -53,9 +55,9 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   pending_motion_.clear();
   motion_.clear();
   motion_steps_ = motion_step_ = 0;
-  broad_list_.clear();
-  candidates_.clear();
   samples_.clear();
+  candidates_ = 0;
+  broad_pending_ = false;
   contact_active_ = false;
   if (!tools_.empty()) {
     Context& ctx = *ctx_;
@@ -64,10 +66,13 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     upload(ctx, tool_shapes_, shapes);
     reserve(ctx, contact_flag_, uint64_t{count_} * sizeof(uint32_t), MemoryIntent::Device,
             "contact flags");
-    reserve(ctx, max_norm_readback_, sizeof(vec4), MemoryIntent::Readback, "max |u|, |v|");
+    if (!contact_count_)
+      contact_count_ = Buffer(ctx, sizeof(ContactCount), MemoryIntent::Readback,
+                              "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
   }
-  if (contact_flag_) {  // no flag survives a change of tools
+  if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);
+    rec_[0]->fill(contact_count_, 0);
     rec_[0]->submit_and_wait();
   }
 }
@@ -80,9 +85,7 @@ void GpuSolver::set_tool_motion(const std::vector<ToolMotion>& motion) {
   pending_motion_ = motion;  // as CpuBackend: empty keeps the last chunk's motions
 }
 
-std::pair<double, double> GpuSolver::max_norms() {
-  if (count_ == 0) return {0.0, 0.0};
-  Recorder& rec = *rec_[0];
+void GpuSolver::record_max_norms(Recorder& rec) {
   const uint32_t threads = kernels_->max_norm.workgroup_size()[0];
   const Buffer* src = &reduce_[1];  // not read at level 0
   uint32_t count = count_;
@@ -96,23 +99,58 @@ std::pair<double, double> GpuSolver::max_norms() {
     src = &dst;
     count = groups;
   }
-  rec.submit_and_wait();
+}
+
+std::pair<double, double> GpuSolver::max_norms() {
+  if (count_ == 0) return {0.0, 0.0};
+  record_max_norms(*rec_[0]);
+  rec_[0]->submit_and_wait();
   max_norm_readback_.invalidate();
   vec4 m;
   std::memcpy(&m, max_norm_readback_.mapped(), sizeof m);
   return {double(m.x), double(m.y)};
 }
 
-void GpuSolver::filter_candidates(Recorder& rec) {
-  candidates_.clear();
-  for (const uint32_t i : broad_list_)
-    if (awake_[object_[i]] && !(phyxel_flags_[i] & (kFixed | kRemoved))) candidates_.push_back(i);
-  if (!candidates_.empty()) {
-    const uint64_t bytes = candidates_.size() * sizeof(uint32_t);
-    std::memcpy(candidate_upload_.mapped(), candidates_.data(), bytes);
-    rec.copy(candidate_upload_, candidate_list_, bytes);
-  }
+void GpuSolver::record_broad_phase(Recorder& rec) {
+  Context& ctx = *ctx_;
+  const uint32_t n = static_cast<uint32_t>(force_count_);
+  const size_t nt = tools_.size();
+  // Room for every entry of the force list (the broad phase may take them all).
+  if (std::max<uint32_t>(n, 1) > candidate_capacity_)
+    candidate_capacity_ = std::max(std::max<uint32_t>(n, 1), 2 * candidate_capacity_);
+  const uint64_t cap = candidate_capacity_;
+  reserve(ctx, candidate_list_, cap * sizeof(uint32_t), MemoryIntent::Device, "contact candidates");
+  reserve(ctx, candidate_force_, cap * nt * sizeof(vec4), MemoryIntent::Device,
+          "contact force per candidate");
+  const uint32_t wg = kernels_->broad_phase.workgroup_size()[0];
+  const uint32_t groups = (n + wg - 1) / wg;
+  reserve(ctx, broad_groups_, std::max<uint64_t>(groups, 1) * sizeof(uint32_t),
+          MemoryIntent::Device, "contact broad phase per workgroup");
+  record_max_norms(rec);
+  rec.barrier();
+  const Bounds b = swept_bounds(tools_, motion_);
+  BroadPhasePush push{
+      {float(b.min.x()), float(b.min.y()), float(b.min.z()), float(contact_spacing_)},
+      {float(b.max.x()), float(b.max.y()), float(b.max.z()), float(chunk_duration_)},
+      n,
+      0u,
+      groups,
+      0u};
+  auto pass = [&](uint32_t mode) {
+    push.mode = mode;
+    dispatch(
+        rec, kernels_->broad_phase, push,
+        {force_list_, rest_, disp_[0], flags_, max_norm_readback_, broad_groups_, candidate_list_},
+        groups * wg);
+  };
+  pass(0);
+  rec.barrier();
+  dispatch(rec, kernels_->broad_scan, push, {broad_groups_, contact_count_},
+           kernels_->broad_scan.workgroup_size()[0]);
+  rec.barrier();
+  pass(1);
   rec.fill(contact_flag_, 0);  // no stale contact from the last list
+  rec.indirect_barrier();
 }
 
 void GpuSolver::begin_contact(int64_t substeps, double dt) {
@@ -124,10 +162,7 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
     pending_motion_.clear();
     motion_steps_ = motion_.size() / nt;
     motion_step_ = 0;
-    // The CPU's broad phase for the chunk (CpuSolver::set_tool_motion).
-    const auto [max_u, max_v] = max_norms();
-    const double reach = contact_reach(reach_spacing_, max_u, max_v, dt * double(motion_steps_));
-    broad_list_ = broad_->candidates(swept_bounds(tools_, motion_), reach);
+    chunk_duration_ = dt * double(motion_steps_);
     // The motion table in a frame at the first tool's first pose, rounded to float so that the
     // shader subtracts exactly this origin from the rest positions.
     const Vec3 origin = motion_[0].from.position.cast<float>().cast<double>();
@@ -143,33 +178,23 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
     reserve(ctx, motion_table_, table_bytes, MemoryIntent::Device, "contact motion");
     std::memcpy(motion_upload_.mapped(), table.data(), table_bytes);
     rec.copy(motion_upload_, motion_table_, table_bytes);
-    // Room for every phyxel of the broad phase (a wake can bring any of them back).
-    const uint64_t capacity = std::max<size_t>(broad_list_.size(), 1);
-    if (capacity > candidate_capacity_)
-      candidate_capacity_ =
-          static_cast<uint32_t>(std::max<uint64_t>(capacity, 2 * uint64_t{candidate_capacity_}));
-    const uint64_t cap = candidate_capacity_;
-    reserve(ctx, candidate_upload_, cap * sizeof(uint32_t), MemoryIntent::Upload,
-            "contact candidates staging");
-    reserve(ctx, candidate_list_, cap * sizeof(uint32_t), MemoryIntent::Device,
-            "contact candidates");
-    reserve(ctx, candidate_force_, cap * nt * sizeof(vec4), MemoryIntent::Device,
-            "contact force per candidate");
-    filter_candidates(rec);
-    rec.barrier();
+    broad_pending_ = true;
+  }
+  if (broad_pending_ && motion_steps_ > 0) {
+    record_broad_phase(rec);  // after the copy: the barriers in it order the table too
+    broad_pending_ = false;
   }
   reserve(ctx, samples_buffer_, uint64_t(substeps) * nt * sizeof(vec4), MemoryIntent::Readback,
           "contact samples");
-  contact_active_ = motion_steps_ > 0 && !candidates_.empty();
+  contact_active_ = motion_steps_ > 0 && force_count_ > 0;
 }
 
 void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
-  const uint32_t n = static_cast<uint32_t>(candidates_.size());
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
   // This substep's row of the motion table; past the chunk the tools keep the last end pose.
   const uint64_t k = motion_step_ + uint64_t(step);
   const ContactPush push{contact_origin_,
-                         n,
+                         0u,
                          dt,
                          nt,
                          static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_ - 1)),
@@ -177,14 +202,15 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          candidate_capacity_,
                          0u,
                          0u};
-  dispatch(rec, kernels_->contact, push,
-           {candidate_list_, rest_, disp, vel_, ext_, flags_, tool_shapes_, motion_table_,
-            candidate_force_, contact_flag_},
-           n);
+  dispatch_indirect(rec, kernels_->contact, push,
+                    {candidate_list_, rest_, disp, vel_, ext_, flags_, tool_shapes_, motion_table_,
+                     candidate_force_, contact_flag_, contact_count_},
+                    contact_count_, offsetof(ContactCount, groups_x));
   rec.barrier();
   dispatch(rec, kernels_->contact_reduce,
-           ContactReducePush{n, nt, candidate_capacity_, static_cast<uint32_t>(step)},
-           {candidate_force_, samples_buffer_}, nt * kernels_->contact_reduce.workgroup_size()[0]);
+           ContactReducePush{0u, nt, candidate_capacity_, static_cast<uint32_t>(step)},
+           {candidate_force_, samples_buffer_, contact_count_},
+           nt * kernels_->contact_reduce.workgroup_size()[0]);
 }
 
 void GpuSolver::finish_contact(int64_t substeps, bool ran) {
@@ -192,6 +218,10 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
   if (motion_steps_ == 0) return;  // no motion yet: as the CPU, no samples
   const size_t nt = tools_.size();
   samples_.assign(size_t(substeps) * nt, ToolContactSample{});
+  contact_count_.invalidate();
+  ContactCount count;
+  std::memcpy(&count, contact_count_.mapped(), sizeof count);
+  candidates_ = count.total;
   if (contact_active_ && ran) {
     samples_buffer_.invalidate();
     std::vector<vec4> felt(samples_.size());

@@ -17,6 +17,8 @@
 #include "phyxel_spv/solver_reduce.spv.h"
 #include "phyxel_spv/solver_stress.spv.h"
 #include "phyxel_spv/solver_von_mises.spv.h"
+#include "phyxel_spv/tool_broad_phase.spv.h"
+#include "phyxel_spv/tool_broad_scan.spv.h"
 #include "phyxel_spv/tool_contact.spv.h"
 #include "phyxel_spv/tool_contact_reduce.spv.h"
 
@@ -39,8 +41,10 @@ SolverKernels::SolverKernels(Context& ctx)
       check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
       von_mises(ctx, PHYXEL_SHADER(solver_von_mises), 11, sizeof(StepPush)),
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
-      contact(ctx, PHYXEL_SHADER(tool_contact), 10, sizeof(ContactPush)),
-      contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 2, sizeof(ContactReducePush)) {
+      contact(ctx, PHYXEL_SHADER(tool_contact), 11, sizeof(ContactPush)),
+      contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),
+      broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
+      broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)) {
   if (ctx.float64())
     nbr_pairs_f64 = Pipeline(ctx, PHYXEL_SHADER(nbr_pairs_f64), 11, sizeof(NbrPush));
 }

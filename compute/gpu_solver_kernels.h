@@ -31,6 +31,8 @@ class SolverKernels {
   Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
   Pipeline contact;         // layout::ContactPush; kContact* bindings (over the candidates)
   Pipeline contact_reduce;  // layout::ContactReducePush; kContactReduce* bindings
+  Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings
+  Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
 };
 
 // Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for

@@ -55,10 +55,7 @@ void GpuSolver::set_object_awake(uint32_t object, bool awake) {
   awake_[object] = awake;
   build_pass_lists();
   // Sleeping objects take no contact: the chunk's candidates follow the awake objects.
-  if (!tools_.empty() && !broad_list_.empty()) {
-    filter_candidates(*rec_[0]);
-    rec_[0]->barrier();
-  }
+  if (!tools_.empty() && motion_steps_ > 0) broad_pending_ = true;
   if (!awake && objects_[object].count > 0) {
     // An object's phyxels are one range of the per-phyxel buffers.
     Recorder& rec = *rec_[0];

@@ -165,7 +165,8 @@ void Pipeline::reset() {
 namespace detail {
 
 void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, size_t push_size,
-                     std::initializer_list<BufferRef> bindings, uint32_t elements) {
+                     std::initializer_list<BufferRef> bindings, uint32_t elements,
+                     const Buffer* indirect, VkDeviceSize indirect_offset) {
   const std::string& name = pipeline.name();
   if (pipeline.handle() == VK_NULL_HANDLE) {
     throw std::logic_error("dispatch of an empty Pipeline");
@@ -215,7 +216,11 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
     }
     infos.push_back({b.buffer->handle(), b.offset, b.range});
   }
-  if (elements == 0) return;
+  if (indirect != nullptr && (!*indirect || indirect_offset % 4 != 0 ||
+                              indirect_offset + 3 * sizeof(uint32_t) > indirect->size()))
+    throw std::logic_error("dispatch of '" + name + "': the indirect arguments are not in '" +
+                           (*indirect ? indirect->name() : std::string("an empty buffer")) + "'");
+  if (elements == 0 && indirect == nullptr) return;
 
   const DeviceFunctions& fn = ctx.fn();
   const VkCommandBuffer cmd = rec.cmd();
@@ -247,7 +252,10 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
     fn.vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                           static_cast<uint32_t>(push_size), push);
   }
-  fn.vkCmdDispatch(cmd, groups[0], groups[1], groups[2]);
+  if (indirect != nullptr)
+    fn.vkCmdDispatchIndirect(cmd, indirect->handle(), indirect_offset);
+  else
+    fn.vkCmdDispatch(cmd, groups[0], groups[1], groups[2]);
   rec.count_dispatch();
 }
 

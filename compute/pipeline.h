@@ -90,7 +90,8 @@ struct NoPush {};
 
 namespace detail {
 void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, size_t push_size,
-                     std::initializer_list<BufferRef> bindings, uint32_t elements);
+                     std::initializer_list<BufferRef> bindings, uint32_t elements,
+                     const Buffer* indirect = nullptr, VkDeviceSize indirect_offset = 0);
 }  // namespace detail
 
 // Records one 1D dispatch of `elements` invocations (nothing when 0): binds the pipeline,
@@ -108,6 +109,17 @@ void dispatch(Recorder& rec, const Pipeline& pipeline, const Push& push,
     static_assert(sizeof(Push) <= 128, "Vulkan guarantees only 128 bytes of push constants");
     detail::record_dispatch(rec, pipeline, &push, sizeof(Push), bindings, elements);
   }
+}
+
+// The same with the group counts read by the GPU from `args` at `offset` (three uint32: x, y,
+// z; a buffer made with VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, written before a barrier that
+// makes it visible to VK_ACCESS_INDIRECT_COMMAND_READ_BIT, see Recorder::indirect_barrier).
+template <class Push>
+void dispatch_indirect(Recorder& rec, const Pipeline& pipeline, const Push& push,
+                       std::initializer_list<BufferRef> bindings, const Buffer& args,
+                       VkDeviceSize offset = 0) {
+  static_assert(std::is_trivially_copyable_v<Push> && sizeof(Push) % 4 == 0 && sizeof(Push) <= 128);
+  detail::record_dispatch(rec, pipeline, &push, sizeof(Push), bindings, 0, &args, offset);
 }
 
 }  // namespace phyxel::gpu

@@ -67,6 +67,13 @@ void Recorder::barrier() {
               VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
+void Recorder::indirect_barrier() {
+  barrier(kGpuStages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+          kGpuStages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+              VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+}
+
 void Recorder::barrier(VkPipelineStageFlags src_stages, VkAccessFlags src_access,
                        VkPipelineStageFlags dst_stages, VkAccessFlags dst_access) {
   if (!recording_) throw VulkanError("Recorder '" + name_ + "': barrier() while not recording");

@@ -34,6 +34,8 @@ class Recorder {
   // Compute-shader and transfer writes before it are visible to compute-shader and transfer
   // reads and writes after it (one global memory barrier: the right tool for buffers).
   void barrier();
+  // barrier() that also makes compute-shader writes visible to indirect dispatch arguments.
+  void indirect_barrier();
   void barrier(VkPipelineStageFlags src_stages, VkAccessFlags src_access,
                VkPipelineStageFlags dst_stages, VkAccessFlags dst_access);
 

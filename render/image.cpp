@@ -121,13 +121,24 @@ void write_png(const std::filesystem::path& file, const RgbaImage& image) {
   if (image.width == 0 || image.height == 0) {
     throw std::runtime_error(file.string() + ": cannot write an empty image");
   }
+  // Written to FILE.tmp, then renamed: an interrupted run never leaves half a PNG.
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
   const int ok =
-      stbi_write_png(file.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 4,
+      stbi_write_png(tmp.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 4,
                      image.pixels.data(), static_cast<int>(image.width * 4));
   if (ok == 0) {
-    throw std::runtime_error(file.string() + ": cannot write the PNG file (" +
-                             std::strerror(errno) + "); check the folder and free space");
+    const std::string why = std::strerror(errno);
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error(file.string() + ": cannot write the PNG file (" + why +
+                             "); check the folder and free space");
   }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec)
+    throw std::runtime_error(file.string() + ": cannot rename " + tmp.string() + " to it (" +
+                             ec.message() + ")");
 }
 
 }  // namespace phyxel::render

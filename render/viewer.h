@@ -43,13 +43,17 @@ struct ViewerOptions {
   // haptic_pose(tool, target): where to draw the tool (e.g. the simulated tool of the virtual
   // coupling, which lags its target); unset: at the target.
   std::function<ToolPose(size_t tool, const ToolPose& target)> haptic_pose;
+  // Polled every frame (and at least every 0.1 s while the window is minimised): true closes
+  // the viewer as closing its window does (phyxel view: SIGINT, SIGTERM).
+  std::function<bool()> stop_requested;
 };
 
 // Whether this build has the window viewer.
 bool viewer_available();
 
-// Opens the window and runs until it is closed. Throws std::runtime_error with one line when
-// there is no display or no window support, SceneError for bad scene input.
+// Opens the window and runs until it is closed or options.stop_requested says stop. Throws
+// std::runtime_error with one line when there is no display or no window support, SceneError for
+// bad scene input.
 void run_viewer(const Scene& scene, const ViewerOptions& options);
 
 }  // namespace phyxel::render

@@ -207,7 +207,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   auto last_title = std::chrono::steady_clock::now();
   int frames = 0;
   std::string halted;  // why the simulation stopped (non-finite or runaway), empty while fine
-  while (glfwWindowShouldClose(window) != GLFW_TRUE) {
+  auto stopping = [&options] { return options.stop_requested && options.stop_requested(); };
+  while (glfwWindowShouldClose(window) != GLFW_TRUE && !stopping()) {
     glfwPollEvents();
     if (controls.take_stereo_toggle()) {
       mode = mode == RenderSettings::Mode::Stereo ? RenderSettings::Mode::Mono
@@ -229,7 +230,7 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);
     if (fw <= 0 || fh <= 0) {
-      glfwWaitEvents();
+      glfwWaitEventsTimeout(0.1);  // minimised: wake up to poll stop_requested
       continue;
     }
     RenderSettings r = scene.render;

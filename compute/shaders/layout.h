@@ -284,7 +284,7 @@ PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 // tool touched, else 0), and the per-phyxel contact flag (1 touched, 0 not).
 struct ContactPush {
   vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
-  uint count;     // candidates
+  uint unused;    // (the candidates are counted on the GPU: ContactCount.total)
   float dt;       // s
   uint tools;     // tools
   uint motion;    // row of the motion table (substep of the chunk, clamped to its last)
@@ -305,12 +305,13 @@ PHYXEL_CONST uint kContactBindingTools = 6;
 PHYXEL_CONST uint kContactBindingMotion = 7;
 PHYXEL_CONST uint kContactBindingForce = 8;
 PHYXEL_CONST uint kContactBindingContact = 9;
+PHYXEL_CONST uint kContactBindingCount = 10;  // ContactCount (tool_broad_scan)
 
 // tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k], k < count, in a
 // fixed order (thread t takes k = t, t + workgroup, ...; then a fixed tree) and writes
 // samples[sample * tools + tool] = (minus the summed force: the force on the tool, contacts).
 struct ContactReducePush {
-  uint count;
+  uint unused;  // (ContactCount.total)
   uint tools;
   uint capacity;
   uint substep;  // of the advance: the row of the samples
@@ -318,6 +319,43 @@ struct ContactReducePush {
 PHYXEL_ASSERT_SIZE(ContactReducePush, 16);
 PHYXEL_CONST uint kContactReduceBindingForce = 0;
 PHYXEL_CONST uint kContactReduceBindingSamples = 1;
+PHYXEL_CONST uint kContactReduceBindingCount = 2;
+
+// The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
+// of the force list (moving phyxels of awake objects) that are not fixed or removed and whose
+// current position rest + u lies inside the tools' swept bounds grown by the margin
+// 2 duration max|v| + spacing (contact_margin in engine/surgery/contact.h; max|v| from the
+// solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0 counts each
+// workgroup's hits into group[g]; tool_broad_scan turns the counts into exclusive offsets (one
+// workgroup), the total and the indirect dispatch of tool_contact; mode 1 writes the hits at
+// their offsets, in list order, so the candidates are ascending and the same on every run.
+struct BroadPhasePush {
+  vec4 lo;         // xyz: swept bounds min (world, m); w: spacing (m)
+  vec4 hi;         // xyz: swept bounds max (world, m); w: chunk duration (s)
+  uint count;      // entries of the force list
+  uint mode;       // 0: count per workgroup; 1: write
+  uint groups;     // workgroups of tool_broad_phase (entries of group[])
+  uint pad0;
+};
+PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
+PHYXEL_CONST uint kBroadBindingList = 0;    // force list
+PHYXEL_CONST uint kBroadBindingRest = 1;
+PHYXEL_CONST uint kBroadBindingDisp = 2;
+PHYXEL_CONST uint kBroadBindingFlags = 3;
+PHYXEL_CONST uint kBroadBindingMaxNorm = 4;  // vec4 (max |u|, max |v|, 0, 0)
+PHYXEL_CONST uint kBroadBindingGroup = 5;    // uint per workgroup: hits (mode 0), offset (1)
+PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
+// tool_broad_scan: {group, count}
+PHYXEL_CONST uint kBroadScanBindingGroup = 0;
+PHYXEL_CONST uint kBroadScanBindingCount = 1;
+// The candidate count and tool_contact's indirect dispatch (x, y, z groups), after the scan.
+struct ContactCount {
+  uint total;
+  uint groups_x;
+  uint groups_y;
+  uint groups_z;
+};
+PHYXEL_ASSERT_SIZE(ContactCount, 16);
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

@@ -1,5 +1,5 @@
-// Tool contact after a drift, per candidate phyxel of the chunk's list (GpuSolver::
-// begin_contact, compute/gpu_solver_contact.cpp): every tool in turn, in the CPU's order
+// Tool contact after a drift, per candidate phyxel of the chunk's list (tool_broad_phase;
+// dispatched indirectly by tool_broad_scan's count): every tool in turn, in the CPU's order
 // (CpuSolver::apply_contacts), corrects u and v of the phyxel in place on the displacement
 // buffer that holds the new u (u += dx, v += dv), writes the contact force m dv / dt of each
 // (candidate, tool) for tool_contact_reduce and sets the phyxel's contact flag. Fixed and
@@ -23,10 +23,11 @@ layout(std430, binding = kContactBindingTools) readonly buffer Tools { ContactTo
 layout(std430, binding = kContactBindingMotion) readonly buffer Motion { ContactMotion motion[]; };
 layout(std430, binding = kContactBindingForce) writeonly buffer Force { vec4 contact_force[]; };
 layout(std430, binding = kContactBindingContact) writeonly buffer Contact { uint contact[]; };
+layout(std430, binding = kContactBindingCount) readonly buffer Count { ContactCount count; };
 
 void main() {
   const uint slot = PHYXEL_GLOBAL_INDEX;
-  if (slot >= p.count) return;
+  if (slot >= count.total) return;
   const uint i = list[slot];
   const bool takes = (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u;
   vec3 u = disp[i].xyz;

@@ -16,6 +16,7 @@ layout(std430, binding = kContactReduceBindingForce) readonly buffer Force {
 layout(std430, binding = kContactReduceBindingSamples) writeonly buffer Samples {
   vec4 samples[];
 };
+layout(std430, binding = kContactReduceBindingCount) readonly buffer Count { ContactCount count; };
 
 shared vec4 partial[PHYXEL_WORKGROUP_SIZE];
 
@@ -24,7 +25,7 @@ void main() {
   if (tool >= p.tools) return;  // whole workgroups only, before any barrier
   const uint t = gl_LocalInvocationID.x;
   vec4 sum = vec4(0.0);
-  for (uint k = t; k < p.count; k += PHYXEL_WORKGROUP_SIZE) {
+  for (uint k = t; k < count.total; k += PHYXEL_WORKGROUP_SIZE) {
     sum += contact_force[tool * p.capacity + k];
   }
   partial[t] = sum;

@@ -125,6 +125,18 @@ void pace(std::chrono::steady_clock::time_point start, double simulated, RunResu
     result.max_lag = std::max(result.max_lag, wall - simulated);
 }
 
+// The steps that take about `seconds` of wall time at the rate of the advance of `steps` steps
+// that began at `since`: at least one, at most four times `previous` (a first short advance
+// can be unrepresentatively fast).
+int64_t steps_within(double seconds, int64_t steps, std::chrono::steady_clock::time_point since,
+                     int64_t previous) {
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+  const double fit = seconds * double(steps) / std::max(took, 1e-9);
+  return std::clamp<int64_t>(static_cast<int64_t>(std::min(fit, 4.0 * double(previous))), 1,
+                             std::max<int64_t>(1, 4 * previous));
+}
+
 }  // namespace
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
@@ -156,7 +168,9 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   // Steps per advance while tools move: the broad phase is built once per advance.
   const int64_t tool_chunk =
       tools.empty() ? 0 : std::max<int64_t>(1, options.tool_chunk_substeps / result.plan.substeps);
-  std::vector<Vec3> last_u(set.size(), Vec3::Zero());  // as of the last check
+  std::vector<Vec3> last_u(set.size(), Vec3::Zero());             // as of the last check
+  double slowest_wave = std::numeric_limits<double>::infinity();  // find_runaway's bound
+  for (const Material& m : set.materials) slowest_wave = std::min(slowest_wave, p_wave_speed(m));
   int64_t below_since = -1;
   std::vector<int64_t> object_below_since(set.objects.size(), -1);
   std::vector<uint8_t> awake(set.objects.size(), 1);
@@ -173,6 +187,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   };
   auto next_multiple = [](int64_t step, int64_t n) { return (step / n + 1) * n; };
 
+  // Advances without tools split exactly, so they can be cut short to see a stop promptly.
+  const bool polled = options.stop_requested && tools.empty();
+  int64_t poll_steps = 1;  // steps per advance while polled, from the measured rate
+
   const auto start = std::chrono::steady_clock::now();
   int64_t step = 0;
   size_t next_event = 0;
@@ -186,17 +204,31 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     // Real time: advance what the wall clock owes (at least a step, at most a tool chunk), so
     // a live tool's pose reaches the physics every few milliseconds of wall time.
     if (options.real_time) next = std::min(next, step + steps_owed(start, step, step_time));
+    // A stop can be asked for: advance no more than about stop_poll_seconds of wall time.
+    if (polled) next = std::min(next, step + poll_steps);
     if (!tools.empty())  // sleeping objects the tools are about to reach wake first
       wake_touched_objects(set, tools.swept_bounds(step * step_time, next * step_time), last_u,
                            awake, object_below_since, solver, result);
+    auto mark = std::chrono::steady_clock::now();
+    auto lap = [&mark](double& into) {
+      const auto now = std::chrono::steady_clock::now();
+      into += std::chrono::duration<double>(now - mark).count();
+      mark = now;
+    };
+    const auto advance_start = mark;
     const std::vector<ToolStepRecord> records = advance_with_tools(
         solver, tools, step, next - step, result.plan.substeps, result.plan.dt_used);
+    if (polled)
+      poll_steps = steps_within(options.stop_poll_seconds, next - step, advance_start, poll_steps);
+    lap(result.split.advance);
     for (int64_t s = step; options.on_tool_step && !tools.empty() && s < next; ++s)
       options.on_tool_step(
           s + 1, double(s + 1) * step_time,
           std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
                                       records.begin() + (s - step + 1) * tools.size()));
+    lap(result.split.callbacks);
     if (options.real_time) pace(start, double(next) * step_time, result);
+    lap(result.split.pacing);
     const int64_t previous = step;
     step = next;
     if (options.progress) options.progress(step, total);
@@ -217,7 +249,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       }
     }
 
-    if (step % check == 0 || step == total) {
+    const bool checking = step % check == 0 || step == total;
+    if (checking) {
       const long bad = solver.first_non_finite();
       if (bad >= 0) {
         result.non_finite = true;
@@ -225,6 +258,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         result.non_finite_phyxel = bad;
         break;
       }
+    }
+    // Without rest or sleep to decide, no phyxel faster than the slowest wave speed leaves
+    // nothing to look at: a reduction instead of reading the whole state back.
+    if (checking && (rest.enabled || sleeping || !(solver.max_norms().second <= slowest_wave))) {
       const PointState state = solver.read_state(false);
       if (!tools.empty()) last_u = state.displacement;
       if (const Runaway r = find_runaway(set, state.velocity); r.phyxel >= 0) {
@@ -264,12 +301,15 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         }
       }
     }
-    const bool last = step == total || result.stopped_at_rest;
+    lap(result.split.checks);
+    result.stopped = step < total && !result.stopped_at_rest && options.stop_requested &&
+                     options.stop_requested();
+    const bool last = step == total || result.stopped_at_rest || result.stopped;
     if (every > 0 && step % every == 0 && !last) write_points(step);
     if (options.on_frame && options.frame_every > 0 && (step % options.frame_every == 0 || last))
       options.on_frame(step, solver);
-    if (result.stopped_at_rest) break;
-    if (options.stop_requested && options.stop_requested()) break;
+    lap(result.split.outputs);
+    if (result.stopped_at_rest || result.stopped) break;
   }
   result.steps_done = step;
   result.wall_seconds =
@@ -331,9 +371,11 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
                                                                 : "--no-skip");
   const auto events = load_event_steps(set, plan.dt_requested, options.steps);
   add("  load changes: %zu (loads with from/until)", events.size());
-  add("  checks: kinetic energy, finiteness and runaway speed every %lld steps%s",
+  const bool energies = scene.simulation.until_rest.enabled || sleeping;
+  add("  checks: finiteness and the largest speed every %lld steps%s",
       static_cast<long long>(check_interval(scene, options, sleeping)),
-      scene.simulation.until_rest.enabled ? " (until_rest is on)" : "");
+      energies ? ", with kinetic energies (the state read back) for until_rest or sleep"
+               : "; the state is read back only when a phyxel outruns the slowest wave speed");
   if (scene.output.every > 0)
     add("  outputs: points_*.vtp every %lld steps and at the end; no readback otherwise",
         static_cast<long long>(scene.output.every));
@@ -345,8 +387,8 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
         scene.render.mode == RenderSettings::Mode::Stereo ? "stereo" : "mono",
         static_cast<long long>(scene.render.every));
   if (!scene.tools.empty()) {
-    add("    contact        %zu tool(s): after every drift, on the phyxels a rest-space grid "
-        "finds near the tools' swept bounds (broad phase once per advance of at most %lld "
+    add("    contact        %zu tool(s): after every drift, on the phyxels whose current "
+        "position is near the tools' swept bounds (broad phase once per advance of at most %lld "
         "substeps); the tools' forces are summed per substep",
         scene.tools.size(), static_cast<long long>(options.tool_chunk_substeps));
     add("  tools: tools.csv (a row per step and tool) and summary.json tools");

@@ -44,8 +44,14 @@ struct RunOptions {
   // steps the wall clock owes (at least one, at most tool_chunk_substeps worth) and sleeps
   // while it is ahead; RunResult says how far it fell behind.
   bool real_time = false;
-  // Polled between advances: true stops the run after the current step (the viewer, signals).
+  // Polled between advances: true stops the run after the current advance (signals, benches);
+  // the last state and frame are then written as at the end. While it is set, an advance of a
+  // scene without tools is cut to the steps that take about stop_poll_seconds of wall time at
+  // the rate measured so far (such advances split exactly: the states are the same bit for
+  // bit), so a stop is seen promptly even when a check interval takes minutes; tools already
+  // advance at most tool_chunk_substeps at a time.
   std::function<bool()> stop_requested;
+  double stop_poll_seconds = 0.1;
 };
 
 struct RunResult {
@@ -53,6 +59,7 @@ struct RunResult {
   int64_t steps_done = 0;
   double wall_seconds = 0;
   bool stopped_at_rest = false;
+  bool stopped = false;  // RunOptions::stop_requested ended the run before its last step
   bool non_finite = false;
   int64_t non_finite_step = -1;  // first check at which a non-finite value was seen
   long non_finite_phyxel = -1;
@@ -70,6 +77,12 @@ struct RunResult {
   double simulated_time = 0;         // s
   double real_time_factor = 0;       // simulated seconds per wall second
   double max_lag = 0;                // real_time runs: the most wall time was ahead of it, s
+  // Where the wall time went, s: advancing the solver (contact broad phase included), the
+  // checks (state read back, runaway, energies, sleep), the tool-step callbacks (haptics,
+  // tools.csv), sleeping to keep pace with the clock, and outputs and frames.
+  struct WallSplit {
+    double advance = 0, checks = 0, callbacks = 0, pacing = 0, outputs = 0;
+  } split;
 };
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,

@@ -15,8 +15,7 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
       object_(set.object),
       awake_(set.objects.size(), 1),
       flags_(set.flags),
-      nbr_(find_rest_neighbours(set)),
-      broad_(set) {
+      nbr_(find_rest_neighbours(set)) {
   const size_t n = set.size();
   rest_.resize(n);
   mass_.resize(n);
@@ -63,7 +62,7 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     kappa_[i] = tr > 0 ? Real(mat.hourglass * lame_mu(mat) * set.volume[i] / tr) : Real(0);
   }
   regularised_count_ = regularised;
-  for (const ObjectRange& o : set.objects) reach_spacing_ = std::max(reach_spacing_, o.spacing);
+  for (const ObjectRange& o : set.objects) contact_spacing_ = std::max(contact_spacing_, o.spacing);
   contact_.assign(n, 0);
   contact_force_.assign(n, V3::Zero());
   mass_d_ = set.mass;
@@ -169,6 +168,7 @@ void CpuSolver<Real>::set_object_awake(uint32_t object, bool awake) {
     for (size_t i = 0; i < v_.size(); ++i)
       if (object_[i] == object) v_[i] = V3::Zero();
   build_pass_lists();
+  if (!motion_.empty()) find_candidates();  // the candidates follow the awake objects
   compute_forces();
 }
 
@@ -218,22 +218,21 @@ void CpuSolver<Real>::set_tool_motion(const std::vector<ToolMotion>& motion, Rea
   motion_ = motion;
   motion_step_ = 0;
   samples_.clear();
-  // Broad phase for the chunk: phyxels whose rest position is within reach of the tools'
-  // swept bounds, reach from the largest displacement and speed now (contact_reach).
-  double max_u = 0, max_v = 0;
-  for (size_t i = 0; i < u_.size(); ++i) {
-    max_u = std::max(max_u, double(u_[i].norm()));
-    max_v = std::max(max_v, double(v_[i].norm()));
-  }
-  const double duration = double(dt) * double(motion.size() / tools_.size());
-  const double reach = contact_reach(reach_spacing_, max_u, max_v, duration);
-  for (const uint32_t i : candidates_) {  // no stale contact from the last chunk's list
+  chunk_duration_ = double(dt) * double(motion.size() / tools_.size());
+  find_candidates();
+}
+
+template <class Real>
+void CpuSolver<Real>::find_candidates() {
+  for (const uint32_t i : candidates_) {  // no stale contact from the last list
     contact_[i] = 0;
     contact_force_[i] = V3::Zero();
   }
-  candidates_.clear();
-  for (uint32_t i : broad_.candidates(swept_bounds(tools_, motion_), reach))
-    if (awake_[object_[i]]) candidates_.push_back(i);
+  double max_v = 0;
+  for (const V3& v : v_) max_v = std::max(max_v, double(v.norm()));
+  const double margin = contact_margin(contact_spacing_, max_v, chunk_duration_);
+  candidates_ = phyxel::contact_candidates<Real>(force_list_, flags_, rest_, u_,
+                                                 swept_bounds(tools_, motion_), margin);
 }
 
 template <class Real>

@@ -64,7 +64,8 @@ class CpuSolver {
 
   // Tools (engine/surgery/contact.h): contact runs after every drift, on the phyxels the broad
   // phase found for the chunk of substeps whose motions set_tool_motion gave (substeps x
-  // tools, consumed one substep per step(); a step past them keeps the last end pose).
+  // tools, consumed one substep per step(); a step past them keeps the last end pose). The
+  // broad phase runs again when an object falls asleep or wakes.
   void set_tools(const std::vector<ContactTool>& tools);
   void set_tool_motion(const std::vector<ToolMotion>& motion, Real dt);
   // What each tool felt per substep since set_tool_motion (substeps x tools).
@@ -95,6 +96,7 @@ class CpuSolver {
   int threads_for(long n) const;  // threads worth using for n phyxels
   void build_pass_lists();
   void apply_contacts(Real dt);  // after the drift of step()
+  void find_candidates();        // the chunk's broad phase (contact_candidates)
 
   Vec3 gravity_;
   std::vector<uint32_t> object_;
@@ -117,8 +119,8 @@ class CpuSolver {
 
   // Tools.
   std::vector<ContactTool> tools_;
-  ContactBroadPhase broad_;
-  double reach_spacing_ = 0;  // the largest object spacing, for contact_reach
+  double contact_spacing_ = 0;  // the largest object spacing, for contact_margin
+  double chunk_duration_ = 0;   // s: the motions' substeps times their dt
   std::vector<ToolMotion> motion_;
   size_t motion_step_ = 0;  // substeps of motion_ consumed
   std::vector<uint32_t> candidates_;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
@@ -30,6 +31,9 @@ class Solver {
   virtual PointState read_state(bool with_stress) = 0;
   virtual size_t regularised_count() const = 0;  // ill-conditioned moment matrices
   virtual const NeighbourLists& neighbours() const = 0;
+  // The largest |u| and |v| over all phyxels (m, m/s): what the run loop's checks and the
+  // contact broad phase need without reading the whole state back.
+  virtual std::pair<double, double> max_norms();
 
   // Optional abilities; a solver without one says so and the run loop does without it.
   // Pass selection (skip fixed-only regions and sleeping objects): see CpuSolver.

@@ -57,69 +57,37 @@ template bool contact_correction<float>(const ContactTool&, const ToolMotion&, f
                                         const Eigen::Vector3f&, const Eigen::Vector3f&,
                                         const Eigen::Vector3f&, Eigen::Vector3f&, Eigen::Vector3f&);
 
-ContactBroadPhase::ContactBroadPhase(const PhyxelSet& set) {
-  std::vector<uint32_t> members;
-  Eigen::AlignedBox3d box;
-  for (size_t i = 0; i < set.size(); ++i) {
-    if (set.flags[i] & (kFixed | kRemoved)) continue;
-    members.push_back(static_cast<uint32_t>(i));
-    box.extend(set.rest[i]);
-  }
-  cell_ = 0;
-  for (const ObjectRange& o : set.objects) cell_ = std::max(cell_, o.support_radius);
-  if (members.empty() || !(cell_ > 0)) {
-    cell_start_.assign(2, 0);
-    return;
-  }
-  origin_ = box.min();
-  for (int a = 0; a < 3; ++a)
-    dims_[a] = std::max(1, static_cast<int>(std::floor(box.sizes()[a] / cell_)) + 1);
-  const size_t cells = size_t(dims_.x()) * dims_.y() * dims_.z();
-  auto key = [&](const Vec3& p) {
-    size_t k = 0;
-    for (int a = 2; a >= 0; --a) {
-      const int c =
-          std::clamp(static_cast<int>(std::floor((p[a] - origin_[a]) / cell_)), 0, dims_[a] - 1);
-      k = k * dims_[a] + c;
-    }
-    return k;
-  };
-  cell_start_.assign(cells + 1, 0);
-  for (uint32_t i : members) ++cell_start_[key(set.rest[i]) + 1];
-  std::partial_sum(cell_start_.begin(), cell_start_.end(), cell_start_.begin());
-  sorted_.resize(members.size());
-  std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-  for (uint32_t i : members) sorted_[fill[key(set.rest[i])]++] = i;
-}
-
-std::vector<uint32_t> ContactBroadPhase::candidates(const Bounds& bounds, double reach) const {
+template <class Real>
+std::vector<uint32_t> contact_candidates(const std::vector<uint32_t>& list,
+                                         const std::vector<uint32_t>& flags,
+                                         const std::vector<Eigen::Matrix<Real, 3, 1>>& rest,
+                                         const std::vector<Eigen::Matrix<Real, 3, 1>>& u,
+                                         const Bounds& bounds, double margin) {
   std::vector<uint32_t> out;
-  if (sorted_.empty() || bounds.empty()) return out;
-  Eigen::Vector3i lo, hi;
-  for (int a = 0; a < 3; ++a) {
-    const double l = (bounds.min[a] - reach - origin_[a]) / cell_;
-    const double h = (bounds.max[a] + reach - origin_[a]) / cell_;
-    if (h < 0 || l >= dims_[a]) return out;  // the grown box misses the grid
-    // Clamped as doubles before the conversion: an enormous or infinite reach (a diverging
-    // run's speed) overflowed int (undefined; INT_MIN on x86, one slab of the grid). A NaN
-    // takes the whole axis, the conservative answer.
-    const double top = dims_[a] - 1;
-    lo[a] = l > 0 ? static_cast<int>(std::min(std::floor(l), top)) : 0;
-    hi[a] = h < top ? static_cast<int>(std::max(std::floor(h), 0.0)) : dims_[a] - 1;
+  if (bounds.empty()) return out;
+  const bool all = !std::isfinite(margin);
+  const Vec3 lo = bounds.min.array() - margin, hi = bounds.max.array() + margin;
+  for (const uint32_t i : list) {
+    if (flags[i] & (kFixed | kRemoved)) continue;
+    const Vec3 x = (rest[i] + u[i]).template cast<double>();
+    if (all || ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()))
+      out.push_back(i);
   }
-  for (int z = lo.z(); z <= hi.z(); ++z)
-    for (int y = lo.y(); y <= hi.y(); ++y)
-      for (int x = lo.x(); x <= hi.x(); ++x) {
-        const size_t k = (size_t(z) * dims_.y() + y) * dims_.x() + x;
-        out.insert(out.end(), sorted_.begin() + cell_start_[k],
-                   sorted_.begin() + cell_start_[k + 1]);
-      }
-  std::sort(out.begin(), out.end());
   return out;
 }
+template std::vector<uint32_t> contact_candidates<double>(const std::vector<uint32_t>&,
+                                                          const std::vector<uint32_t>&,
+                                                          const std::vector<Eigen::Vector3d>&,
+                                                          const std::vector<Eigen::Vector3d>&,
+                                                          const Bounds&, double);
+template std::vector<uint32_t> contact_candidates<float>(const std::vector<uint32_t>&,
+                                                         const std::vector<uint32_t>&,
+                                                         const std::vector<Eigen::Vector3f>&,
+                                                         const std::vector<Eigen::Vector3f>&,
+                                                         const Bounds&, double);
 
-double contact_reach(double spacing, double max_u, double max_v, double duration) {
-  return max_u + 2 * duration * max_v + spacing;
+double contact_margin(double spacing, double max_v, double duration) {
+  return 2 * duration * max_v + spacing;
 }
 
 Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {

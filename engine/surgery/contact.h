@@ -54,28 +54,23 @@ bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real 
                         const Eigen::Matrix<Real, 3, 1>& x_new, const Eigen::Matrix<Real, 3, 1>& v,
                         Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv);
 
-// Broad phase: a counting-sort grid of the rest positions of every phyxel that can take
-// contact (not fixed, not removed), cell size the largest support radius.
-class ContactBroadPhase {
- public:
-  explicit ContactBroadPhase(const PhyxelSet& set);
-  // Phyxels (ascending) whose rest position lies in a cell that overlaps `bounds` grown by
-  // `reach` (m). A phyxel whose current position is inside `bounds` is returned whenever its
-  // displacement is below `reach`.
-  std::vector<uint32_t> candidates(const Bounds& bounds, double reach) const;
+// Broad phase of a chunk of substeps (CpuSolver::set_tool_motion; its GPU twin is
+// compute/shaders/tool_broad_phase.comp): the entries of `list` (ascending phyxel indices: the
+// solver's force list, moving phyxels of awake objects) that are neither fixed nor removed and
+// whose current position rest + u lies inside `bounds` grown by `margin` (m). A non-finite
+// margin (a diverging run) takes every such entry.
+template <class Real>
+std::vector<uint32_t> contact_candidates(const std::vector<uint32_t>& list,
+                                         const std::vector<uint32_t>& flags,
+                                         const std::vector<Eigen::Matrix<Real, 3, 1>>& rest,
+                                         const std::vector<Eigen::Matrix<Real, 3, 1>>& u,
+                                         const Bounds& bounds, double margin);
 
- private:
-  Vec3 origin_ = Vec3::Zero();
-  double cell_ = 1;
-  Eigen::Vector3i dims_{1, 1, 1};
-  std::vector<uint32_t> cell_start_, sorted_;
-};
-
-// How far a phyxel can be from its rest position during a chunk of `duration` seconds that
-// starts with largest displacement `max_u` and largest speed `max_v`: max_u + 2 duration max_v
-// + the largest spacing. A heuristic bound (docs/decisions.md): the tool drives the tissue
-// near it, and those phyxels are inside the tool's own swept bounds.
-double contact_reach(double spacing, double max_u, double max_v, double duration);
+// How far outside the tools' swept bounds a phyxel that starts a chunk of `duration` seconds
+// can still reach them: 2 duration max_v + the largest spacing, with max_v the largest speed at
+// the chunk's start. A heuristic bound (docs/decisions.md): the tool drives the tissue near it,
+// and those phyxels are inside the tool's own swept bounds.
+double contact_margin(double spacing, double max_v, double duration);
 
 // Union of the tools' bounds over a chunk's motions (substeps x tools, row-major).
 Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion);

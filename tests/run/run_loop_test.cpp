@@ -1,5 +1,5 @@
-// The run loop: time-step plan, rest detection, non-finite detection, output schedule, and
-// thread-count independence of the CPU solver.
+// The run loop: time-step plan, rest detection, non-finite detection, output schedule, stop
+// requests, and thread-count independence of the CPU solver.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -131,6 +131,65 @@ TEST(RunLoop, StopsCleanlyAtTheFirstNonFiniteCheck) {
   EXPECT_EQ(r.non_finite_phyxel, 7);
   EXPECT_EQ(r.steps_done, 300);
   EXPECT_TRUE(r.outputs.empty());  // no file with NaN in it
+}
+
+// A stop can be requested: the advances are cut short (here to one step each), and the states
+// are those of a run that cannot be stopped, bit for bit.
+TEST(RunLoop, StoppableRunSplitsAdvancesExactly) {
+  Scene scene = cube_scene();
+  scene.simulation.gravity = Vec3(0, 0, -9.81);
+  scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.001)));
+  scene.simulation.steps = 120;
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = 2.5 * plan_time_step(scene, set).dt_stable;  // 3 substeps per step
+  RunOptions plain;
+  plain.steps = scene.simulation.steps;
+  RunOptions stoppable = plain;
+  int polls = 0;
+  stoppable.stop_requested = [&polls] { return ++polls < 0; };
+  stoppable.stop_poll_seconds = 0;  // every advance one step
+  auto a = make_cpu_solver(set, scene.simulation.gravity, 1);
+  auto b = make_cpu_solver(set, scene.simulation.gravity, 1);
+  const RunResult ra = run_simulation(scene, set, *a, plain);
+  const RunResult rb = run_simulation(scene, set, *b, stoppable);
+  EXPECT_EQ(polls, 119);  // one advance per step, the stop asked about after each but the last
+  EXPECT_FALSE(rb.stopped);
+  EXPECT_EQ(ra.steps_done, rb.steps_done);
+  const PointState sa = a->read_state(false), sb = b->read_state(false);
+  ASSERT_GT(ra.max_displacement, 0);
+  for (size_t i = 0; i < set.size(); ++i) {
+    ASSERT_EQ(sa.displacement[i], sb.displacement[i]) << "phyxel " << i;
+    ASSERT_EQ(sa.velocity[i], sb.velocity[i]) << "phyxel " << i;
+  }
+}
+
+TEST(RunLoop, StopRequestEndsTheRunWithTheLastStateAndFrame) {
+  Scene scene = cube_scene();
+  scene.simulation.gravity = Vec3(0, 0, -9.81);
+  scene.output.every = 1000;
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = plan_time_step(scene, set).dt_stable;
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  RunOptions options;
+  options.steps = 1000000;
+  options.out_dir = test::test_output_dir("run_stop");
+  options.frame_every = 100000;
+  std::vector<int64_t> frames;
+  options.on_frame = [&frames](int64_t step, Solver&) { frames.push_back(step); };
+  int polls = 0;
+  options.stop_requested = [&polls] { return ++polls >= 5; };
+  const RunResult r = run_simulation(scene, set, *solver, options);
+  EXPECT_TRUE(r.stopped);
+  EXPECT_EQ(polls, 5);
+  EXPECT_GT(r.steps_done, 0);
+  EXPECT_LT(r.steps_done, 1000);  // the first advances are a step, then at most 4x the last
+  ASSERT_EQ(r.outputs.size(), 1u);
+  char last[64];
+  std::snprintf(last, sizeof last, "points_%06lld.vtp", static_cast<long long>(r.steps_done));
+  EXPECT_EQ(r.outputs.back(), last);
+  EXPECT_TRUE(std::filesystem::exists(options.out_dir / last));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames.back(), r.steps_done);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <vector>
@@ -233,133 +234,132 @@ bool inside(const Vec3& p, const Bounds& b, double reach) {
   return true;
 }
 
-// Checks the candidates of every query against a brute-force search of the set.
-void check_against_brute_force(const PhyxelSet& set, double cell, const Bounds& bounds,
-                               double reach) {
-  const ContactBroadPhase grid(set);
-  const std::vector<uint32_t> got = grid.candidates(bounds, reach);
-  for (size_t k = 1; k < got.size(); ++k) ASSERT_LT(got[k - 1], got[k]) << "not ascending";
-  for (uint32_t i = 0; i < set.size(); ++i) {
-    const bool takes_contact = !(set.flags[i] & (kFixed | kRemoved));
-    const bool found = std::binary_search(got.begin(), got.end(), i);
-    if (takes_contact && inside(set.rest[i], bounds, reach)) {
-      EXPECT_TRUE(found) << "missed phyxel " << i << " at " << set.rest[i].transpose();
-    }
-    if (!takes_contact) {
-      EXPECT_FALSE(found) << "fixed or removed phyxel " << i;
-    }
-    // A candidate lies in a cell overlapping the grown bounds: within one cell of them.
-    if (found) {
-      EXPECT_TRUE(inside(set.rest[i], bounds, reach + cell * (1 + 1e-9))) << i;
-    }
-  }
+std::vector<uint32_t> every_index(size_t n) {
+  std::vector<uint32_t> list(n);
+  for (uint32_t i = 0; i < n; ++i) list[i] = i;
+  return list;
 }
 
-TEST(BroadPhase, RandomQueriesMatchBruteForce) {
+// Every candidate and only those: ascending, none fixed or removed, exactly the phyxels of
+// `list` whose current position rest + u is inside the bounds grown by the margin.
+void check_candidates(const PhyxelSet& set, const std::vector<Vec3>& u,
+                      const std::vector<uint32_t>& list, const Bounds& bounds, double margin) {
+  const std::vector<uint32_t> got =
+      contact_candidates<double>(list, set.flags, set.rest, u, bounds, margin);
+  for (size_t k = 1; k < got.size(); ++k) ASSERT_LT(got[k - 1], got[k]) << "not ascending";
+  for (const uint32_t i : list) {
+    const bool takes_contact = !(set.flags[i] & (kFixed | kRemoved));
+    const bool found = std::binary_search(got.begin(), got.end(), i);
+    EXPECT_EQ(found, takes_contact && inside(set.rest[i] + u[i], bounds, margin))
+        << "phyxel " << i << " at " << (set.rest[i] + u[i]).transpose();
+  }
+  for (const uint32_t i : got) EXPECT_TRUE(std::binary_search(list.begin(), list.end(), i)) << i;
+}
+
+TEST(BroadPhase, RandomQueriesFindThePhyxelsWhereTheyAreNow) {
   std::mt19937 rng(42);
   const PhyxelSet set = random_set(3000, rng);
   std::uniform_real_distribution<double> cx(-0.07, 0.07), cy(-0.02, 0.05), cz(0.08, 0.22);
-  std::uniform_real_distribution<double> half(0, 0.02), reach(0, 0.01);
+  std::uniform_real_distribution<double> half(0, 0.02), margin(0, 0.01), du(-0.02, 0.02);
+  std::vector<Vec3> u(set.size());
+  for (Vec3& x : u) x = Vec3(du(rng), du(rng), du(rng));
+  const std::vector<uint32_t> all = every_index(set.size());
+  std::vector<uint32_t> odd;  // a force list that leaves some phyxels out (sleeping objects)
+  for (uint32_t i = 1; i < set.size(); i += 2) odd.push_back(i);
   for (int q = 0; q < 300; ++q) {
     const Vec3 c(cx(rng), cy(rng), cz(rng));
     const Vec3 h(half(rng), half(rng), half(rng));
     const Bounds bounds{c - h, c + h};
-    check_against_brute_force(set, 0.006, bounds, reach(rng));
+    const double m = margin(rng);
+    check_candidates(set, u, all, bounds, m);
+    check_candidates(set, u, odd, bounds, m);
     if (HasFailure()) return;
   }
 }
 
-TEST(BroadPhase, EverythingOnceForBoundsAroundTheSet) {
+TEST(BroadPhase, ADisplacedPhyxelIsFoundWhereItIsNotWhereItRests) {
   std::mt19937 rng(43);
-  const PhyxelSet set = random_set(500, rng);
-  const ContactBroadPhase grid(set);
-  const std::vector<uint32_t> got = grid.candidates({Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 0);
-  std::vector<uint32_t> expected;
-  for (uint32_t i = 0; i < set.size(); ++i) {
-    if (!(set.flags[i] & (kFixed | kRemoved))) expected.push_back(i);
-  }
-  EXPECT_EQ(got, expected);
+  PhyxelSet set = random_set(200, rng);
+  for (uint32_t& f : set.flags) f &= ~(kFixed | kRemoved);
+  std::vector<Vec3> u(set.size(), Vec3::Zero());
+  const Bounds tool{Vec3(0.5, 0.5, 0.5), Vec3(0.51, 0.51, 0.51)};  // far from every rest position
+  const std::vector<uint32_t> all = every_index(set.size());
+  EXPECT_TRUE(contact_candidates<double>(all, set.flags, set.rest, u, tool, 0.001).empty());
+  u[17] = Vec3(0.505, 0.505, 0.505) - set.rest[17];  // sagged or dragged into the tool's way
+  EXPECT_EQ(contact_candidates<double>(all, set.flags, set.rest, u, tool, 0.001),
+            std::vector<uint32_t>{17});
+  // And one resting inside the bounds but moved far away is not a candidate.
+  set.rest[18] = Vec3(0.505, 0.505, 0.505);
+  u[18] = Vec3(-1, 0, 0);
+  EXPECT_EQ(contact_candidates<double>(all, set.flags, set.rest, u, tool, 0.001),
+            std::vector<uint32_t>{17});
 }
 
-TEST(BroadPhase, ReachGrowsTheQuery) {
+TEST(BroadPhase, MarginGrowsTheQueryAndEmptyOrFarBoundsFindNothing) {
   std::mt19937 rng(44);
   const PhyxelSet set = random_set(2000, rng);
-  const ContactBroadPhase grid(set);
-  // A point-sized box just outside the set: nothing without reach, the brute-force set with it.
-  const Bounds outside{Vec3(0, 0.04, 0.15), Vec3(0, 0.04, 0.15)};
-  EXPECT_TRUE(grid.candidates(outside, 0).empty());
-  EXPECT_FALSE(grid.candidates(outside, 0.02).empty());
-  check_against_brute_force(set, 0.006, outside, 0.02);
+  const std::vector<Vec3> u(set.size(), Vec3::Zero());
+  const std::vector<uint32_t> all = every_index(set.size());
+  const Bounds outside{Vec3(0, 0.04, 0.15), Vec3(0, 0.04, 0.15)};  // a point just outside
+  EXPECT_TRUE(contact_candidates<double>(all, set.flags, set.rest, u, outside, 0).empty());
+  EXPECT_FALSE(contact_candidates<double>(all, set.flags, set.rest, u, outside, 0.02).empty());
+  check_candidates(set, u, all, outside, 0.02);
+  EXPECT_TRUE(contact_candidates<double>(all, set.flags, set.rest, u, Bounds{}, 1.0).empty());
+  EXPECT_TRUE(
+      contact_candidates<double>(all, set.flags, set.rest, u, {Vec3(5, 5, 5), Vec3(6, 6, 6)}, 0.1)
+          .empty());
 }
 
-TEST(BroadPhase, EmptyBoundsFarBoundsAndAllFixed) {
-  std::mt19937 rng(45);
-  PhyxelSet set = random_set(300, rng);
-  const ContactBroadPhase grid(set);
-  EXPECT_TRUE(grid.candidates(Bounds{}, 1.0).empty());
-  EXPECT_TRUE(grid.candidates({Vec3(5, 5, 5), Vec3(6, 6, 6)}, 0.1).empty());
-  EXPECT_TRUE(grid.candidates({Vec3(-5, -5, -5), Vec3(-4, -4, -4)}, 0.1).empty());
-  for (uint32_t& f : set.flags) f |= kFixed;
-  const ContactBroadPhase none(set);
-  EXPECT_TRUE(none.candidates({Vec3(-1, -1, -1), Vec3(1, 1, 1)}, 1.0).empty());
-}
-
-TEST(BroadPhase, HugeOrNonFiniteReachCoversTheWholeGrid) {
-  // A diverging simulation gives an enormous or infinite reach (contact_reach of a huge speed):
-  // the candidates are then every phyxel that can take contact, never a slab of the grid.
+TEST(BroadPhase, HugeOrNonFiniteMarginTakesEveryPhyxelThatCanTakeContact) {
+  // A diverging simulation gives an enormous, infinite or NaN margin (contact_margin of a huge
+  // speed): the candidates are then every phyxel of the list that can take contact.
   std::mt19937 rng(47);
   const PhyxelSet set = random_set(500, rng);
-  const ContactBroadPhase grid(set);
+  const std::vector<Vec3> u(set.size(), Vec3::Zero());
+  const std::vector<uint32_t> list = every_index(set.size());
   std::vector<uint32_t> all;
   for (uint32_t i = 0; i < set.size(); ++i) {
     if (!(set.flags[i] & (kFixed | kRemoved))) all.push_back(i);
   }
   const Bounds tool{Vec3(0, 0.01, 0.15), Vec3(0.001, 0.011, 0.151)};
-  for (double reach : {1e10, 1e30, std::numeric_limits<double>::infinity(),
-                       std::numeric_limits<double>::quiet_NaN()}) {
-    EXPECT_EQ(grid.candidates(tool, reach), all) << "reach " << reach;
+  for (double margin : {1e10, 1e30, std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_EQ(contact_candidates<double>(list, set.flags, set.rest, u, tool, margin), all)
+        << "margin " << margin;
   }
 }
 
-// A sampled box scene: its lower part is clamped (fixed) and never a candidate.
-TEST(BroadPhase, SampledSceneSkipsFixedPhyxels) {
-  Scene scene;
-  ObjectDesc o;
-  o.name = "block";
-  o.shape.type = Shape::Type::Box;
-  o.shape.min = Vec3(0, 0, 0);
-  o.shape.max = Vec3(0.02, 0.02, 0.03);
-  o.spacing = 0.0025;
-  o.support_radius = 2 * o.spacing;
-  o.material.young = 1e4;
-  o.material.poisson = 0.3;
-  o.material.density = 1000;
-  Shape clamp;
-  clamp.type = Shape::Type::Box;
-  clamp.min = Vec3(-1, -1, -1);
-  clamp.max = Vec3(1, 1, 0.0051);
-  o.fixed.push_back(clamp);
-  scene.objects.push_back(o);
-  const PhyxelSet set = sample_scene(scene);
-  ASSERT_GT(set.size(), 100u);
-  const auto fixed = std::count_if(set.flags.begin(), set.flags.end(),
-                                   [](uint32_t f) { return (f & kFixed) != 0; });
-  ASSERT_GT(fixed, 0);
-  std::mt19937 rng(46);
-  std::uniform_real_distribution<double> c(-0.005, 0.035), half(0, 0.01), reach(0, 0.005);
-  for (int q = 0; q < 100; ++q) {
-    const Vec3 centre(c(rng), c(rng), c(rng));
-    const Vec3 h(half(rng), half(rng), half(rng));
-    check_against_brute_force(set, o.support_radius, {centre - h, centre + h}, reach(rng));
-    if (HasFailure()) return;
+TEST(BroadPhase, SinglePrecisionAgreesWithDouble) {
+  std::mt19937 rng(48);
+  const PhyxelSet set = random_set(1000, rng);
+  std::uniform_real_distribution<double> du(-0.01, 0.01);
+  std::vector<Vec3> u(set.size());
+  for (Vec3& x : u) x = Vec3(du(rng), du(rng), du(rng));
+  std::vector<Eigen::Vector3f> rest_f, u_f;
+  for (size_t i = 0; i < set.size(); ++i) {
+    rest_f.push_back(set.rest[i].cast<float>());
+    u_f.push_back(u[i].cast<float>());
+  }
+  const std::vector<uint32_t> list = every_index(set.size());
+  const Bounds tool{Vec3(-0.01, 0.0, 0.12), Vec3(0.02, 0.02, 0.16)};
+  const auto d = contact_candidates<double>(list, set.flags, set.rest, u, tool, 0.003);
+  const auto f = contact_candidates<float>(list, set.flags, rest_f, u_f, tool, 0.003);
+  ASSERT_FALSE(d.empty());
+  // Only phyxels within float rounding of the grown bounds may differ.
+  std::vector<uint32_t> differ;
+  std::set_symmetric_difference(d.begin(), d.end(), f.begin(), f.end(), std::back_inserter(differ));
+  for (const uint32_t i : differ) {
+    EXPECT_TRUE(inside(set.rest[i] + u[i], tool, 0.003 + 1e-6) &&
+                !inside(set.rest[i] + u[i], tool, 0.003 - 1e-6))
+        << i;
   }
 }
 
-// --- reach and swept bounds ---
+// --- margin and swept bounds ---
 
-TEST(ContactReach, AddsDisplacementTwiceTheTravelAndTheSpacing) {
-  EXPECT_DOUBLE_EQ(contact_reach(0.002, 0.01, 0.5, 0.004), 0.01 + 2 * 0.004 * 0.5 + 0.002);
-  EXPECT_DOUBLE_EQ(contact_reach(0.002, 0, 0, 0.004), 0.002);
+TEST(ContactMargin, TwiceTheTravelAtTheLargestSpeedAndTheSpacing) {
+  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0.5, 0.004), 2 * 0.004 * 0.5 + 0.002);
+  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0, 0.004), 0.002);
 }
 
 TEST(ContactSweptBounds, UnionOverSubstepsAndTools) {

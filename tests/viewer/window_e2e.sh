@@ -4,8 +4,8 @@
 # state read back from its window title (step, "(paused)", mono/stereo, "halted: ..."). Checks
 # that the simulation runs, space pauses it (the step stops), n advances exactly one step, s
 # switches to stereo, a drag (and the tool controls' right drag and shift + wheel) is taken,
-# q quits with status 0 and validation said nothing; the same with the GPU solver; and that a
-# runaway simulation is halted with a message.
+# q quits with status 0 and validation said nothing; the same with the GPU solver; that a
+# runaway simulation is halted with a message; and that SIGINT / SIGTERM close it (130 / 143).
 # Registered with ctest by tests/CMakeLists.txt when the viewer is built.
 #
 #   window_e2e.sh PHYXEL SOURCE_DIR OUT_DIR
@@ -162,5 +162,37 @@ awk -v f="$force" 'BEGIN { exit !(f > 0) }' || fail "the probe in the block feel
 quit_viewer
 grep -q "haptic tools: right drag" "$log" || fail "the viewer did not list the tool controls ($log)"
 
+# 5. SIGINT and SIGTERM close the viewer as closing its window does, with status 130 and 143.
+# The viewer has no output folder: it writes no file (run in an empty folder, which stays empty).
+for sig in INT TERM; do
+  mkdir -p "$out/cwd_$sig" && rm -rf "${out:?}/cwd_$sig/"*
+  (cd "$out/cwd_$sig" && exec "$phyxel" view "$src/scenes/beam.json" --threads 1) \
+    >"$out/view_sig$sig.log" 2>&1 &
+  pid=$! log="$out/view_sig$sig.log"
+  win=""
+  for _ in $(seq 600); do
+    win="$(xdotool search --pid "$pid" --name '^phyxel view' 2>/dev/null | head -1)"
+    [ -n "$win" ] && break
+    alive
+    sleep 0.1
+  done
+  [ -n "$win" ] || fail "no viewer window appeared in 60 s"
+  wait_for ' step [1-9][0-9]*  mono ' 120
+  kill -s "$sig" "$pid"
+  for _ in $(seq 300); do
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  kill -0 "$pid" 2>/dev/null && fail "SIG$sig did not close the viewer in 30 s"
+  wait "$pid"
+  status=$?
+  pid=""
+  want=130
+  [ "$sig" = TERM ] && want=143
+  [ "$status" = "$want" ] || fail "SIG$sig: the viewer exited with status $status, not $want ($log)"
+  grep -q "closed by SIG$sig" "$log" || fail "SIG$sig: the viewer did not say why it closed ($log)"
+  [ -z "$(ls -A "$out/cwd_$sig")" ] || fail "SIG$sig: the viewer wrote files: $(ls "$out/cwd_$sig")"
+done
+
 trap - EXIT
-echo "window_e2e: ok (CPU: paused at step $paused_at, one step, stereo, drag; GPU solver; runaway halted at step $halted_at; haptic probe pressed with $force N)"
+echo "window_e2e: ok (CPU: paused at step $paused_at, one step, stereo, drag; GPU solver; runaway halted at step $halted_at; haptic probe pressed with $force N; SIGINT 130, SIGTERM 143)"

@@ -1,0 +1,51 @@
+// The contact broad phase of a chunk over the force list (layout.h BroadPhasePush): mode 0
+// counts each workgroup's hits into group[g]; mode 1 (after tool_broad_scan turned the counts
+// into offsets) writes the hits at group[g] + their rank in the workgroup. Both modes decide a
+// hit from the same inputs, so they agree; the list comes out ascending.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { BroadPhasePush p; };
+layout(std430, binding = kBroadBindingList) readonly buffer List { uint list[]; };
+layout(std430, binding = kBroadBindingRest) readonly buffer Rest { vec4 rest[]; };
+layout(std430, binding = kBroadBindingDisp) readonly buffer Disp { vec4 disp[]; };
+layout(std430, binding = kBroadBindingFlags) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = kBroadBindingMaxNorm) readonly buffer MaxNorm { vec4 max_norm; };
+layout(std430, binding = kBroadBindingGroup) buffer Group { uint group[]; };
+layout(std430, binding = kBroadBindingOut) writeonly buffer Out { uint candidates[]; };
+
+shared uint rank[PHYXEL_WORKGROUP_SIZE];
+
+void main() {
+  const uint g = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  if (g >= p.groups) return;  // whole workgroups only, before any barrier
+  const uint t = gl_LocalInvocationID.x;
+  const uint slot = g * PHYXEL_WORKGROUP_SIZE + t;
+  bool hit = false;
+  uint i = 0u;
+  if (slot < p.count) {
+    i = list[slot];
+    // contact_margin: 2 duration max|v| + spacing
+    const float margin = 2.0 * p.hi.w * max_norm.y + p.lo.w;
+    const vec3 x = rest[i].xyz + disp[i].xyz;
+    hit = (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u &&
+          all(greaterThanEqual(x, p.lo.xyz - margin)) && all(lessThanEqual(x, p.hi.xyz + margin));
+  }
+  // Inclusive scan of the hits over the workgroup (Hillis-Steele, fixed order).
+  rank[t] = hit ? 1u : 0u;
+  barrier();
+  for (uint d = 1u; d < PHYXEL_WORKGROUP_SIZE; d <<= 1u) {
+    const uint add = t >= d ? rank[t - d] : 0u;
+    barrier();
+    rank[t] += add;
+    barrier();
+  }
+  if (p.mode == 0u) {
+    if (t == PHYXEL_WORKGROUP_SIZE - 1u) group[g] = rank[t];
+  } else if (hit) {
+    candidates[group[g] + rank[t] - 1u] = i;
+  }
+}

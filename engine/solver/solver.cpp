@@ -1,0 +1,15 @@
+#include "engine/solver/solver.h"
+
+#include <algorithm>
+
+namespace phyxel {
+
+std::pair<double, double> Solver::max_norms() {
+  const PointState s = read_state(false);
+  double u = 0, v = 0;
+  for (const Vec3& x : s.displacement) u = std::max(u, x.norm());
+  for (const Vec3& x : s.velocity) v = std::max(v, x.norm());
+  return {u, v};
+}
+
+}  // namespace phyxel
