@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The README's quick start:
 #   scripts/dev.sh demo   install what is missing, build (Release), run the demo scene headless
-#   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite
+#   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite,
+#                         then the sanitizer job (below)
+# A CMAKE_CXX_COMPILER_LAUNCHER in the environment (ccache) is used; nothing needs it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,4 +26,30 @@ if [ "$what" = demo ]; then
   echo "demo: outputs in out/ (summary.json, points_*.vtp: open them in ParaView)"
 else
   ctest --test-dir build --output-on-failure -j"$jobs" --timeout 900
+
+  # Sanitizer job: a Debug build (-O1, asserts on) with AddressSanitizer (leaks included) and
+  # UndefinedBehaviorSanitizer in build-asan, the first error fatal (docs/decisions.md
+  # "Sanitizers in CI"). These test areas: the scene and OBJ readers (with the fuzzing
+  # regressions), sampling, the CPU solver, contact, surgery (tools, cutting), the skipping of
+  # settled regions and haptics (the 1 kHz loop's threads, UDP devices). They link only the
+  # engine, so the job compiles no Vulkan, render or command-line code. Left out for time:
+  # stability and validation (long runs of the solver code that physics covers), run and bench
+  # (the whole command line), and the Vulkan areas (gpu_solver, vulkan, render). Also left
+  # out: the six tests that run longer than 20 s each under ASan (san_slow; their code runs
+  # in the areas' other tests).
+  san_areas=(scene sampling physics contact skip surgery haptics)
+  san_targets=("${san_areas[@]/#/test_}")
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DPHYXEL_SANITIZE=ON -DPHYXEL_WITH_WINDOW=OFF
+  cmake --build build-asan -j"$jobs" --target "${san_targets[@]}"
+  label="^($(
+    IFS='|'
+    echo "${san_areas[*]}"
+  ))\$"
+  san_slow='^(Contact\.(NoPhyxelInsideAProbePressedFiveMillimetres|HertzIndentation|'
+  san_slow+='SlidingProbeFeelsCoulombFriction|StickingProbeDragsTheSurface)|'
+  san_slow+='FreeVibration\.UndampedMotionConservesTotalEnergy|'
+  san_slow+='Sleeping\.ChangesResultsOnlyBelowItsRestBound)$'
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -L "$label" \
+    -E "$san_slow"
 fi

@@ -7,8 +7,10 @@
 #include <tiny_obj_loader.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -23,6 +25,57 @@ namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
   throw std::runtime_error(path.string() + ": " + message);
+}
+
+// The statements of an OBJ file that tinyobjloader gets: only those a mesh shape uses
+// (vertices, texture and normal coordinates that faces may name, faces, object and group
+// names). Every other line (skin weights `vw`, tags, materials, lines, points, smoothing
+// groups, comments) becomes an empty line, so tinyobjloader's line numbers stay right.
+// Fuzzing found undefined behaviour in tinyobjloader's reading of `vw` lines (a weight's
+// joint id converted to int unchecked) and of numbers whose exponent has 10 digits (an int
+// overflow); the first never reaches it now, the second is refused here with the line.
+std::string geometry_statements(const std::filesystem::path& path, std::istream& in) {
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::string out;
+  out.reserve(text.size());
+  size_t line_number = 0;
+  for (size_t begin = 0; begin < text.size();) {
+    // Lines end at "\n", "\r\n" or a lone "\r", as tinyobjloader reads them.
+    size_t end = text.find_first_of("\r\n", begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(begin, end - begin);
+    begin = end < text.size() && text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n'
+                ? end + 2
+                : end + 1;
+    ++line_number;
+    const size_t start = line.find_first_not_of(" \t");
+    const size_t stop = start == std::string::npos ? start : line.find_first_of(" \t", start);
+    const std::string keyword =
+        start == std::string::npos
+            ? ""
+            : line.substr(start, stop == std::string::npos ? stop : stop - start);
+    const bool numbers = keyword == "v" || keyword == "vt" || keyword == "vn";
+    if (numbers || keyword == "f" || keyword == "o" || keyword == "g") {
+      if (numbers)
+        for (size_t e = line.find_first_of("eE"); e != std::string::npos;
+             e = line.find_first_of("eE", e + 1)) {
+          size_t digit = e + 1;
+          if (digit < line.size() && (line[digit] == '+' || line[digit] == '-')) ++digit;
+          while (digit < line.size() && line[digit] == '0') ++digit;
+          size_t digits = 0;
+          while (digit + digits < line.size() &&
+                 std::isdigit(static_cast<unsigned char>(line[digit + digits])))
+            ++digits;
+          if (digits > 9)
+            fail(path, "line " + std::to_string(line_number) +
+                           ": a number's exponent has more than 9 digits; write coordinates as "
+                           "ordinary decimal numbers");
+        }
+      out += line;
+    }
+    out += '\n';
+  }
+  return out;
 }
 
 // tinyobjloader's messages are newline-separated; ours are one line.
@@ -106,7 +159,8 @@ TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale) {
   std::vector<tinyobj::material_t> materials;
   std::string warn, err;
   // No material reader: `mtllib` lines are ignored, only the geometry matters here.
-  const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, nullptr,
+  std::istringstream geometry(geometry_statements(path, in));
+  const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &geometry, nullptr,
                                    /*triangulate=*/true, /*default_vcols_fallback=*/false);
   if (!ok || !err.empty()) fail(path, "cannot parse the OBJ file: " + one_line(err));
   // tinyobjloader drops faces with bad vertex indices with only a warning; a dropped face

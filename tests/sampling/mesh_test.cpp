@@ -178,6 +178,30 @@ TEST(ObjMeshErrors, NoFacesBadIndicesAndParseErrors) {
   EXPECT_EQ(message.find('\n'), std::string::npos);
 }
 
+// Fuzzing (docs/decisions.md) found undefined behaviour in tinyobjloader on skin-weight lines
+// and on 10-digit exponents: only geometry statements reach it, and such exponents are refused.
+TEST(ObjMesh, StatementsBeyondGeometryAreIgnored) {
+  const std::string extras =
+      "mtllib none.mtl\nusemtl skin\nvw 0 1e38 0.5\nvw 1 12147483647010 1\nt crease 1/2/3 1 2\n"
+      "l 1 2\np 3\ns 1\n# a comment 1e-2147483648\ng e1234567890\n";
+  const TriangleMesh m =
+      load_obj_mesh(write_file(test_dir() / "extras.obj", extras + cube_obj(kCubeFaces)), 1);
+  EXPECT_EQ(m.vertices.size(), 8u);
+  EXPECT_EQ(m.triangles.size(), 12u);
+  EXPECT_NEAR(signed_volume(m), 1, 1e-12);
+}
+
+TEST(ObjMeshErrors, ExponentsOfTenDigitsAreRefusedWithTheirLine) {
+  // Lines end in "\r\n" and a lone "\r" here: both count as one line, as in tinyobjloader.
+  const std::string obj = "v 0 0 0\r\nv 1 0 0\rv 1e-0000000005 1 0\nv 0 0 1e-2147483648\n";
+  const std::string message =
+      load_error(write_file(test_dir() / "exponent.obj", obj + std::string(kCubeFaces)));
+  EXPECT_NE(message.find("exponent.obj: line 4: a number's exponent has more than 9 digits"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+}
+
 // Samples an object of the given shape at spacing s.
 PhyxelSet sample(const Shape& shape, double s) {
   return sample_scene(scene_of({object("o", shape, s)}));

@@ -128,7 +128,8 @@ TEST(SceneParse, InclusionMaterialOverridesHostValues) {
   auto j = nlohmann::json::parse(kDemo);
   j["objects"][0]["inclusions"][0]["material"]["damping"] = 7;
   j["objects"][0]["inclusions"][0]["material"]["volume_stiffness"] = 0;
-  const Material& m = parse_scene(j.dump(), "demo.json").objects[0].inclusions[0].material;
+  const Scene s = parse_scene(j.dump(), "demo.json");
+  const Material& m = s.objects[0].inclusions[0].material;
   EXPECT_DOUBLE_EQ(m.damping, 7);
   ASSERT_TRUE(m.volume_stiffness.has_value());
   EXPECT_DOUBLE_EQ(*m.volume_stiffness, 0);

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Fuzzes the scene reader and the OBJ reader with libFuzzer for a bounded time each.
+# A benchmark script, not CI: CI replays what fuzzing found (tests/scene/fuzz_regressions_test.cpp).
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   default 300 s, fuzz_scene fuzz_obj
+# Needs clang and libclang-rt-14-dev (libFuzzer). Builds build-fuzz (clang, ASan + UBSan,
+# -fsanitize=fuzzer); a CMAKE_CXX_COMPILER_LAUNCHER from the environment (ccache) is used.
+# One fuzzing process at a time (-fork=1): the machine's cores are shared. Crashes do not stop
+# a run (-ignore_crashes=1); they land in build-fuzz/artifacts/TARGET/, the grown corpus in
+# build-fuzz/corpus/TARGET/ (kept between runs). Move each finding to tests/data/fuzz/TARGET/
+# with its fix: the regression test replays every file there.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if ! command -v clang++ >/dev/null ||
+  ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
+  echo "fuzz: needs clang and libFuzzer (apt-get install clang libclang-rt-14-dev)" >&2
+  exit 1
+fi
+
+seconds="${1:-300}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_obj)
+
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DPHYXEL_FUZZ=ON -DPHYXEL_BUILD_TESTS=OFF -DPHYXEL_WITH_WINDOW=OFF >/dev/null
+cmake --build build-fuzz -j2 --target "${targets[@]}"
+
+export OMP_NUM_THREADS=1
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
+for target in "${targets[@]}"; do
+  corpus="build-fuzz/corpus/$target"
+  artifacts="build-fuzz/artifacts/$target"
+  mkdir -p "$corpus" "$artifacts"
+  case "$target" in
+    fuzz_scene)
+      seeds=(scenes scenes/validation tests/data/scenes tests/data/fuzz/fuzz_scene)
+      options=(-dict=fuzz/scene.dict)
+      ;;
+    fuzz_obj)
+      seeds=(tests/data/meshes tests/data/fuzz/fuzz_obj)
+      options=(-dict=fuzz/obj.dict)
+      ;;
+    *) seeds=() options=() ;;
+  esac
+  for dir in "${seeds[@]}"; do
+    [ -d "$dir" ] || continue
+    find "$dir" -maxdepth 1 -type f \( -name '*.json' -o -name '*.obj' -o -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
+      -exec cp -n {} "$corpus/" \;
+  done
+  echo "fuzz: $target for ${seconds}s, corpus $corpus ($(ls "$corpus" | wc -l) files)"
+  "build-fuzz/fuzz/$target" "$corpus" -artifact_prefix="$artifacts/" \
+    -max_total_time="$seconds" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
+    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "${options[@]}" 2>&1 | tee "build-fuzz/$target.log" |
+    grep -E '^#|INFO: fork|crash|ERROR|SUMMARY|stat::' || true
+  last="$(grep -E '^#[0-9]+:' "build-fuzz/$target.log" | tail -1)"
+  time_s="${last#*time: }"
+  echo "fuzz: $target done: executions ${last%%:*} in ${time_s%% *}, corpus $(ls "$corpus" | wc -l) files" \
+    "($(du -sh "$corpus" | cut -f1)), findings $(ls "$artifacts" | wc -l) in $artifacts"
+done
