@@ -31,8 +31,11 @@ void main() {
     // contact_margin: 2 duration max|v| + spacing
     const float margin = 2.0 * p.hi.w * max_norm.y + p.lo.w;
     const vec3 x = rest[i].xyz + disp[i].xyz;
+    // A non-finite margin (a diverging run) takes every phyxel, as contact_candidates does.
+    const bool all_in = isnan(margin) || isinf(margin);
     hit = (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u &&
-          all(greaterThanEqual(x, p.lo.xyz - margin)) && all(lessThanEqual(x, p.hi.xyz + margin));
+          (all_in || (all(greaterThanEqual(x, p.lo.xyz - margin)) &&
+                      all(lessThanEqual(x, p.hi.xyz + margin))));
   }
   // Inclusive scan of the hits over the workgroup (Hillis-Steele, fixed order).
   rank[t] = hit ? 1u : 0u;

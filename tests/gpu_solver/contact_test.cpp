@@ -313,6 +313,36 @@ TEST_F(GpuSolverTest, ContactToolThatTouchesNothingChangesNoBit) {
 
 // A sleeping object takes no contact (the candidates are those of awake objects, refiltered
 // when an object sleeps or wakes); the CPU's broad phase drops it too.
+// A diverging state (an infinite speed, so an infinite margin) takes every phyxel that
+// can take contact into the broad phase, as contact_candidates does on the CPU, never none.
+TEST_F(GpuSolverTest, ContactBroadPhaseOfADivergingStateTakesEveryMovingPhyxel) {
+  const Scene scene = block_scene();
+  const PhyxelSet set = sample_scene(scene);
+  const Vec3 g = scene.simulation.gravity;
+  const double dt = plan_time_step(scene, set).dt_stable;
+  const Probe probe = sphere_probe(scene, 1.0, 2.0);
+  size_t moving = 0;
+  for (const uint32_t f : set.flags) moving += (f & (kFixed | kRemoved)) ? 0 : 1;
+  ASSERT_GT(moving, 10u);
+  std::vector<Vec3> u(set.size(), Vec3::Zero()), v(set.size(), Vec3::Zero());
+  for (size_t i = 0; i < set.size(); ++i)
+    if (!(set.flags[i] & kFixed)) {
+      v[i] = Vec3(std::numeric_limits<double>::infinity(), 0, 0);
+      break;
+    }
+  GpuSolver gpu(ctx(), set, g);
+  gpu.set_tools({probe.tool});
+  gpu.set_state(u, v);
+  gpu.set_tool_motion(chunk({probe}, 0, 2, dt));
+  gpu.advance(2, dt);
+  EXPECT_EQ(gpu.contact_candidates(), moving);
+  CpuSolver<double> cpu(set, g);
+  cpu.set_tools({probe.tool});
+  cpu.velocity() = v;
+  cpu.set_tool_motion(chunk({probe}, 0, 2, dt), dt);
+  EXPECT_EQ(cpu.contact_candidates(), moving);
+}
+
 TEST_F(GpuSolverTest, ContactLeavesASleepingObjectAlone) {
   const Scene scene = block_scene();
   const PhyxelSet set = sample_scene(scene);
