@@ -324,8 +324,8 @@ PHYXEL_CONST uint kContactReduceBindingCount = 2;
 // The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
 // of the force list (moving phyxels of awake objects) that are not fixed or removed and whose
 // current position rest + u lies inside the tools' swept bounds grown by the margin
-// 2 duration max|v| + spacing (contact_margin in engine/surgery/contact.h; max|v| from the
-// solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0 counts each
+// 2 duration max(max|v|, tool speed) + spacing (contact_margin in engine/surgery/contact.h;
+// max|v| from the solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0 counts each
 // workgroup's hits into group[g]; tool_broad_scan turns the counts into exclusive offsets (one
 // workgroup), the total and the indirect dispatch of tool_contact; mode 1 writes the hits at
 // their offsets, in list order, so the candidates are ascending and the same on every run.
@@ -335,7 +335,7 @@ struct BroadPhasePush {
   uint count;      // entries of the force list
   uint mode;       // 0: count per workgroup; 1: write
   uint groups;     // workgroups of tool_broad_phase (entries of group[])
-  uint pad0;
+  float tool_speed;  // m/s: the fastest point of a tool over the chunk (contact_margin)
 };
 PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
 PHYXEL_CONST uint kBroadBindingList = 0;    // force list

@@ -28,8 +28,8 @@ void main() {
   uint i = 0u;
   if (slot < p.count) {
     i = list[slot];
-    // contact_margin: 2 duration max|v| + spacing
-    const float margin = 2.0 * p.hi.w * max_norm.y + p.lo.w;
+    // contact_margin: 2 duration max(max|v|, tool speed) + spacing
+    const float margin = 2.0 * p.hi.w * max(max_norm.y, p.tool_speed) + p.lo.w;
     const vec3 x = rest[i].xyz + disp[i].xyz;
     // A non-finite margin (a diverging run) takes every phyxel, as contact_candidates does.
     const bool all_in = isnan(margin) || isinf(margin);

@@ -219,6 +219,7 @@ void CpuSolver<Real>::set_tool_motion(const std::vector<ToolMotion>& motion, Rea
   motion_step_ = 0;
   samples_.clear();
   chunk_duration_ = double(dt) * double(motion.size() / tools_.size());
+  tool_speed_ = tool_speed(tools_, motion_, double(dt));
   find_candidates();
 }
 
@@ -230,7 +231,7 @@ void CpuSolver<Real>::find_candidates() {
   }
   double max_v = 0;
   for (const V3& v : v_) max_v = std::max(max_v, double(v.norm()));
-  const double margin = contact_margin(contact_spacing_, max_v, chunk_duration_);
+  const double margin = contact_margin(contact_spacing_, max_v, tool_speed_, chunk_duration_);
   candidates_ = phyxel::contact_candidates<Real>(force_list_, flags_, rest_, u_,
                                                  swept_bounds(tools_, motion_), margin);
 }

@@ -121,6 +121,7 @@ class CpuSolver {
   std::vector<ContactTool> tools_;
   double contact_spacing_ = 0;  // the largest object spacing, for contact_margin
   double chunk_duration_ = 0;   // s: the motions' substeps times their dt
+  double tool_speed_ = 0;       // m/s: the fastest point of a tool over the motions
   std::vector<ToolMotion> motion_;
   size_t motion_step_ = 0;  // substeps of motion_ consumed
   std::vector<uint32_t> candidates_;

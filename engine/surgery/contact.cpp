@@ -86,8 +86,23 @@ template std::vector<uint32_t> contact_candidates<float>(const std::vector<uint3
                                                          const std::vector<Eigen::Vector3f>&,
                                                          const Bounds&, double);
 
-double contact_margin(double spacing, double max_v, double duration) {
-  return 2 * duration * max_v + spacing;
+double contact_margin(double spacing, double max_v, double tool_speed, double duration) {
+  return 2 * duration * std::max(max_v, tool_speed) + spacing;
+}
+
+double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion,
+                  double dt) {
+  double fastest = 0;
+  for (size_t k = 0; k < motion.size() && !tools.empty() && dt > 0; ++k) {
+    const ContactTool& t = tools[k % tools.size()];
+    const double reach =
+        t.shape.type == ToolShape::Type::Capsule ? t.shape.length : 0.0;  // the far end
+    const ToolMotion& m = motion[k];
+    const double travel = (m.to.position - m.from.position).norm() +
+                          reach * (m.to.axis.normalized() - m.from.axis.normalized()).norm();
+    fastest = std::max(fastest, travel / dt);
+  }
+  return fastest;
 }
 
 Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {

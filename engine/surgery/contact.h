@@ -67,10 +67,17 @@ std::vector<uint32_t> contact_candidates(const std::vector<uint32_t>& list,
                                          const Bounds& bounds, double margin);
 
 // How far outside the tools' swept bounds a phyxel that starts a chunk of `duration` seconds
-// can still reach them: 2 duration max_v + the largest spacing, with max_v the largest speed at
-// the chunk's start. A heuristic bound (docs/decisions.md): the tool drives the tissue near it,
-// and those phyxels are inside the tool's own swept bounds.
-double contact_margin(double spacing, double max_v, double duration);
+// can still reach them: 2 duration max(max_v, tool_speed) + the largest spacing, with max_v the
+// largest speed at the chunk's start and tool_speed the fastest any point of a tool moves in it
+// (tissue the tool drives moves about as fast as the tool, and its neighbours follow). A
+// heuristic bound (docs/decisions.md): the tool drives the tissue near it, and those phyxels
+// are inside the tool's own swept bounds.
+double contact_margin(double spacing, double max_v, double tool_speed, double duration);
+
+// The fastest any point of a tool moves over a chunk's motions (substeps x tools, row-major;
+// a capsule's far end counts its axis turning), m/s for substeps of dt.
+double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion,
+                  double dt);
 
 // Union of the tools' bounds over a chunk's motions (substeps x tools, row-major).
 Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion);

@@ -357,9 +357,26 @@ TEST(BroadPhase, SinglePrecisionAgreesWithDouble) {
 
 // --- margin and swept bounds ---
 
-TEST(ContactMargin, TwiceTheTravelAtTheLargestSpeedAndTheSpacing) {
-  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0.5, 0.004), 2 * 0.004 * 0.5 + 0.002);
-  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0, 0.004), 0.002);
+TEST(ContactMargin, TwiceTheTravelAtTheLargestSpeedOfTissueOrToolAndTheSpacing) {
+  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0.5, 0.1, 0.004), 2 * 0.004 * 0.5 + 0.002);
+  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0.1, 0.5, 0.004), 2 * 0.004 * 0.5 + 0.002);
+  EXPECT_DOUBLE_EQ(contact_margin(0.002, 0, 0, 0.004), 0.002);
+}
+
+TEST(ContactMargin, ToolSpeedIsTheFastestPointOfAnyToolIncludingACapsulesTurningEnd) {
+  const double dt = 1e-3;
+  // kSphere moves 1 mm per substep; kCapsule (length kCapsule.shape.length) turns by 90
+  // degrees about its tip in one substep, its far end moving sqrt(2) lengths.
+  const std::vector<ContactTool> tools = {kSphere, kCapsule};
+  const std::vector<ToolMotion> motion = {
+      {{Vec3(0, 0, 0), Vec3::UnitZ()}, {Vec3(0.001, 0, 0), Vec3::UnitZ()}},
+      {{Vec3(0, 0, 1), Vec3::UnitZ()}, {Vec3(0, 0, 1), Vec3::UnitZ()}},
+      {{Vec3(0.001, 0, 0), Vec3::UnitZ()}, {Vec3(0.001, 0, 0), Vec3::UnitZ()}},
+      {{Vec3(0, 0, 1), Vec3::UnitZ()}, {Vec3(0, 0, 1), Vec3::UnitX()}}};
+  EXPECT_NEAR(tool_speed(tools, motion, dt),
+              std::max(0.001, std::sqrt(2.0) * kCapsule.shape.length) / dt, 1e-9);
+  EXPECT_DOUBLE_EQ(tool_speed({kSphere}, {motion[0]}, dt), 1.0);
+  EXPECT_DOUBLE_EQ(tool_speed(tools, {}, dt), 0.0);
 }
 
 TEST(ContactSweptBounds, UnionOverSubstepsAndTools) {
