@@ -231,6 +231,25 @@ TEST(Checkpoint, GpuResumeIsBitIdentical) {
   EXPECT_NE(g.err.find("same device"), std::string::npos) << g.err;
 }
 
+// The shipped cantilever (scenes/beam.json), cut at a checkpoint and inside an advance, on the
+// CPU and on the GPU.
+TEST(Checkpoint, BeamResumeIsBitIdenticalOnTheCpuAndTheGpu) {
+  const fs::path dir = test::test_output_dir("checkpoint_beam");
+  const fs::path beam = fs::path(PHYXEL_SOURCE_DIR) / "scenes" / "beam.json";
+  check_resume(dir / "cpu", beam, "--threads 2", 200, 50, 100);
+  check_resume(dir / "cpu_inside", beam, "--threads 1", 200, 50, 137);
+  gpu::ContextOptions context;
+  try {
+    context = gpu::test_context_options();
+  } catch (const VulkanError& e) {
+    GTEST_SKIP() << e.what();
+  }
+  const std::string device =
+      "--device " + context.device + (context.validation ? " --validate" : "");
+  check_resume(dir / "gpu", beam, device, 200, 50, 100);
+  check_resume(dir / "gpu_inside", beam, device, 200, 50, 137);
+}
+
 TEST(Checkpoint, PathToolResumeContinuesToolsCsv) {
   const fs::path dir = test::test_output_dir("checkpoint_tools");
   const fs::path scene = write_scene(dir, "probe.json", kProbe);
