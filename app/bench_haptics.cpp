@@ -44,7 +44,8 @@ constexpr const char* kHapticsHelp =
     "options:\n"
     "  --device D        cpu (default), gpu, gpu:N or part of a GPU's name\n"
     "  --scene FILE      scene of part 1 (default scenes/probe_indent.json); needs a tool\n"
-    "  --refine K        divides the scene's spacing and support radius by K (phyxels x K^3)\n"
+    "  --refine K        divides the scene's spacing and support radius by K, a number from 1\n"
+    "                    to 16 (phyxels x K^3; 2.78 makes the probe scene's brain 100k)\n"
     "  --seconds S       wall seconds of each part-1 run (default 10)\n"
     "  --sizes LIST      part 2 box sizes in phyxels (default 10000,100000 on the CPU,\n"
     "                    10000,100000,1000000 on a GPU)\n"
@@ -89,14 +90,14 @@ std::unique_ptr<Solver> make_solver(const std::string& device, const PhyxelSet& 
 }
 
 // The part-1 scene: refined, its first tool (the others dropped) haptic.
-Scene haptic_scene(const std::string& file, int64_t refine) {
+Scene haptic_scene(const std::string& file, double refine) {
   Scene scene = load_scene(file);
   if (scene.tools.empty())
     throw UsageError("phyxel bench --haptics: --scene " + file +
                      ": the scene has no tool to drive through the haptic loop");
   for (ObjectDesc& o : scene.objects) {
-    o.spacing /= double(refine);
-    o.support_radius /= double(refine);
+    o.spacing /= refine;
+    o.support_radius /= refine;
   }
   scene.tools.resize(1);
   scene.tools[0].control = ToolDesc::Control::Haptic;
@@ -155,7 +156,7 @@ class SimClockDevice : public HapticDevice {
 };
 
 nlohmann::json loop_row(const std::string& part, const std::string& scene, size_t phyxels,
-                        int64_t refine, double seconds, const HapticStats& s) {
+                        double refine, double seconds, const HapticStats& s) {
   return {{"part", part},
           {"scene", scene},
           {"phyxels", phyxels},
@@ -173,7 +174,7 @@ nlohmann::json loop_row(const std::string& part, const std::string& scene, size_
 }
 
 // The loop alone: the scene's haptic tool on its scripted device, nothing published.
-nlohmann::json idle_loop(Scene scene, const PhyxelSet& set, const std::string& file, int64_t refine,
+nlohmann::json idle_loop(Scene scene, const PhyxelSet& set, const std::string& file, double refine,
                          double seconds) {
   scene.tools[0].path = bench_path(scene.tools[0], set, seconds);
   HapticSession haptics(scene, "scripted");
@@ -189,10 +190,10 @@ nlohmann::json idle_loop(Scene scene, const PhyxelSet& set, const std::string& f
 
 // The loop while `device` simulates the scene paced to the wall clock, for `seconds`.
 nlohmann::json solver_loop(Scene scene, const PhyxelSet& set, const std::string& file,
-                           int64_t refine, const std::string& device, int threads, double seconds) {
+                           double refine, const std::string& device, int threads, double seconds) {
   auto solver = make_solver(device, set, scene.simulation.gravity, threads);
-  std::printf("(%s refine %lld: %zu phyxels on %s)\n", file.c_str(), static_cast<long long>(refine),
-              set.size(), solver->device().c_str());
+  std::printf("(%s refine %g: %zu phyxels on %s)\n", file.c_str(), refine, set.size(),
+              solver->device().c_str());
   std::fflush(stdout);
   std::atomic<double> sim_time{0};
   scene.tools[0].path = bench_path(scene.tools[0], set, seconds);  // also the loop's start
@@ -451,7 +452,7 @@ int bench_haptics(const Args& args) {
   }
   const std::string device = opts.value("--device", "cpu");
   const std::string scene_file = opts.value("--scene", "scenes/probe_indent.json");
-  const int64_t refine = opts.integer("--refine", 1, 1, 16);
+  const double refine = opts.number("--refine", 1, 1, 16);
   const double seconds = opts.number("--seconds", 10, 0.01, 3600);
   const auto sizes =
       parse_sizes(opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"));

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # On the device machine (docs/performance.md, "Haptics and contact"): `phyxel bench --haptics`
 # on the GPU: the 1 kHz haptic loop while the GPU solver runs the probe scene in real time at
-# refine 1, 3 and 6 (about 5k, 125k and 1M phyxels), 10 s each, then the contact cost per step
+# refine 1, 2.78, 3 and 6 (about 5k, 100k, 125k and 1M phyxels), 10 s each, then the contact cost per step
 # on boxes of 10k, 100k and 1M phyxels. About 3 to 4 minutes on an H100. Expects binaries built
 # on the development machine without the window viewer (the device machine has no GLFW),
 # carried:
@@ -30,7 +30,7 @@ collect() {  # $1: the run's --out folder, $2: name of its JSON in $OUT
   tail -n +2 "$1/haptics.csv" >>"$out/haptics.csv"
   cp "$1/haptics.json" "$out/$2"
 }
-for k in ${REFINES:-1 3 6}; do
+for k in ${REFINES:-1 2.78 3 6}; do
   "$b"/app/phyxel bench --haptics --device gpu --refine "$k" --seconds "$seconds" --no-contact \
     --out "/tmp/phyxel-haptics-r$k" 2>&1 | tee -a "$out/haptics.txt"
   collect "/tmp/phyxel-haptics-r$k" "haptics_r$k.json"
