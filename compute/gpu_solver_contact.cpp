@@ -135,7 +135,7 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
       n,
       0u,
       groups,
-      0u};
+      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_)))};
   auto pass = [&](uint32_t mode) {
     push.mode = mode;
     dispatch(

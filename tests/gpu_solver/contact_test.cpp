@@ -313,6 +313,32 @@ TEST_F(GpuSolverTest, ContactToolThatTouchesNothingChangesNoBit) {
 
 // A sleeping object takes no contact (the candidates are those of awake objects, refiltered
 // when an object sleeps or wakes); the CPU's broad phase drops it too.
+// A fast tool sweeping over the block 1.5 spacings above it, the tissue at rest: the broad
+// phase's margin grows with the tool's speed (contact_margin) on the GPU as on the CPU.
+TEST_F(GpuSolverTest, ContactBroadPhaseMarginGrowsWithTheToolsSpeedAsOnTheCpu) {
+  const Scene scene = block_scene();
+  const PhyxelSet set = sample_scene(scene);
+  const double dt = plan_time_step(scene, set).dt_stable;
+  const Vec3 lo = scene.objects[0].shape.min, hi = scene.objects[0].shape.max;
+  const double r = 0.005, h = hi.z() + r + 1.5 * scene.objects[0].spacing;
+  Probe sweep = sphere_probe(scene, 1.0, 2.0);
+  const double y = 0.5 * (lo.y() + hi.y());
+  sweep.path = {{0.0, Vec3(lo.x() - 0.01, y, h), Vec3::UnitZ()},
+                {0.01, Vec3(hi.x() + 0.01, y, h), Vec3::UnitZ()}};
+  const int64_t first = static_cast<int64_t>(0.005 / dt), n = 8;
+  ASSERT_GT(tool_speed({sweep.tool}, chunk({sweep}, first, n, dt), dt) * 2 * double(n) * dt,
+            scene.objects[0].spacing);  // the speed term reaches the surface
+  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+  gpu.set_tools({sweep.tool});
+  gpu.set_tool_motion(chunk({sweep}, first, n, dt));
+  gpu.advance(n, dt);
+  CpuSolver<double> cpu(set, scene.simulation.gravity);
+  cpu.set_tools({sweep.tool});
+  cpu.set_tool_motion(chunk({sweep}, first, n, dt), dt);
+  EXPECT_GT(cpu.contact_candidates(), 0u);
+  EXPECT_EQ(gpu.contact_candidates(), cpu.contact_candidates());
+}
+
 // A diverging state (an infinite speed, so an infinite margin) takes every phyxel that
 // can take contact into the broad phase, as contact_candidates does on the CPU, never none.
 TEST_F(GpuSolverTest, ContactBroadPhaseOfADivergingStateTakesEveryMovingPhyxel) {
