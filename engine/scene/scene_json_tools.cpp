@@ -24,25 +24,49 @@ constexpr std::string_view kPathExpected =
     "an array of one or more path keys {\"t\": s, \"position\": [x, y, z], \"axis\": [x, y, z]}";
 constexpr std::string_view kKeyExpected =
     "a path key {\"t\": s, \"position\": [x, y, z], \"axis\": [x, y, z]}";
+constexpr std::string_view kBladeExpected =
+    "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m}";
 constexpr std::string_view kCouplingExpected =
     "a coupling object {\"stiffness\": N/m, \"damping\": N s/m, \"mass\": kg, \"max_force\": N}";
 
 // Coulomb coefficients of instruments on tissue are well below 1; above this a value is a typo.
 constexpr double kMaxFriction = 10;
 
-// Instruments of the tool model whose actions (cutting, suction, grasping) are not built yet:
-// named so that a scene asking for one is told so, not that the name is unknown.
-constexpr std::array<std::string_view, 3> kComingTypes = {"scalpel", "suction", "grasper"};
+// Instruments of the tool model whose actions (suction, grasping) are not built yet: named so
+// that a scene asking for one is told so, not that the name is unknown.
+constexpr std::array<std::string_view, 2> kComingTypes = {"suction", "grasper"};
+
+// Cutting forces of scalpels in soft tissue are a few newtons; above this a value is a typo.
+constexpr double kMaxCutForce = 1e3;
 
 ToolDesc::Type read_type(const Node& node) {
   const nlohmann::json& v = node.value();
   if (v.is_string() && std::find(kComingTypes.begin(), kComingTypes.end(), v.get<std::string>()) !=
                            kComingTypes.end()) {
     node.fail("tool type \"" + v.get<std::string>() + "\" is not available yet",
-              "allowed probe (scalpel, suction and grasper come with their actions)");
+              "allowed probe or scalpel (suction and grasper come with their actions)");
   }
-  node.choice({"probe"});
-  return ToolDesc::Type::Probe;
+  return node.choice({"probe", "scalpel"}) == "scalpel" ? ToolDesc::Type::Scalpel
+                                                        : ToolDesc::Type::Probe;
+}
+
+// The blade of a scalpel: its edge made perpendicular to the axis of the path's first key.
+Blade read_blade(const Node& node, const Vec3& first_axis) {
+  node.expect_object(kBladeExpected, {"length", "edge", "reach"});
+  Blade b;
+  b.length = node.number("length", Limits::above(0), "m");
+  b.reach = node.number_or("reach", 0.0, Limits::at_least(0), "m");
+  const Vec3 edge = node.vec3("edge", Limits::any(), "");
+  const Vec3 across = edge - edge.dot(first_axis) * first_axis;
+  if (!(across.norm() > 1e-6 * edge.norm())) {
+    node.at("edge", "")
+        .fail(edge.isZero(0) ? "zero edge" : "edge along the tool's axis",
+              "allowed a direction [x, y, z] not parallel to the axis of path[0] (the way the "
+              "sharp side faces; its part across the axis is used)");
+  }
+  b.edge = across.stableNormalized();
+  b.reference_axis = first_axis;
+  return b;
 }
 
 ToolShape read_tool_shape(const Node& node) {
@@ -105,13 +129,25 @@ CouplingSettings read_coupling(const Node& node) {
 }
 
 ToolDesc read_tool(const Node& node) {
-  node.expect_object(kToolExpected,
-                     {"name", "type", "shape", "path", "friction", "control", "coupling"});
+  node.expect_object(kToolExpected, {"name", "type", "shape", "path", "friction", "control",
+                                     "coupling", "blade", "cut_force_threshold"});
   ToolDesc tool;
   tool.name = node.at("name", "a non-empty string").text();
-  tool.type = read_type(node.at("type", "\"probe\""));
+  tool.type = read_type(node.at("type", "\"probe\" or \"scalpel\""));
   tool.shape = read_tool_shape(node.at("shape", kToolShapeExpected));
   tool.path = read_path(node.at("path", kPathExpected));
+  if (tool.type == ToolDesc::Type::Scalpel) {
+    tool.blade = read_blade(node.at("blade", kBladeExpected), tool.path.front().axis);
+    tool.blade.threshold =
+        node.number_or("cut_force_threshold", 0.0, {0, kMaxCutForce, true, true}, "N");
+  } else {
+    for (const char* key : {"blade", "cut_force_threshold"}) {
+      if (const auto extra = node.find(key)) {
+        extra->fail(std::string("\"") + key + "\" applies only to a scalpel",
+                    "allowed only with \"type\": \"scalpel\"; remove it or change the type");
+      }
+    }
+  }
   tool.friction = node.number_or("friction", 0.0, {0, kMaxFriction, true, true}, "");
   if (const auto control = node.find("control")) {
     tool.control = control->choice({"path", "haptic"}) == "haptic" ? ToolDesc::Control::Haptic

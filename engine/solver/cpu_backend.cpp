@@ -73,6 +73,19 @@ class CpuBackend final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override { motion_ = motion; }
   std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
   size_t contact_candidates() const override { return solver_->contact_candidates(); }
+  bool supports_cutting() const override { return true; }
+  std::vector<SeveredPair> take_severed_pairs() override { return solver_->take_severed(); }
+  size_t severed_pairs() const override { return solver_->severed_count(); }
+  std::vector<uint8_t> pair_alive() override {
+    const auto& w = solver_->pair_weights();
+    std::vector<uint8_t> alive(w.size());
+    for (size_t k = 0; k < w.size(); ++k) alive[k] = w[k] != Real(0);
+    return alive;
+  }
+  void sever_pairs(const std::vector<SeveredPair>& pairs) override {
+    solver_->sever_pairs(pairs);
+    solver_->take_severed();  // given, not found: not reported again
+  }
 
  private:
   int threads_;

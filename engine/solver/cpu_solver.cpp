@@ -39,27 +39,27 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     external_[i] = (set.mass[i] * gravity + set.external_force[i]).cast<Real>();
   }
   // Moment matrices, their regularised inverses and the pair weights (in double).
-  size_t regularised = 0;
-#pragma omp parallel for schedule(static) reduction(+ : regularised)
+  support_.resize(set.objects.size());
+  for (size_t o = 0; o < set.objects.size(); ++o) {
+    support_[o] = set.objects[o].support_radius;
+    max_support_ = std::max(max_support_, support_[o]);
+  }
+  kappa_scale_.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    const double h = set.objects[set.object[i]].support_radius;
-    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-    for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
-      const Vec3 x = set.rest[nbr_.index[k]] - set.rest[i];
-      const double w = poly6(x.squaredNorm(), h);
-      w_[k] = Real(w);
-      a += w * x * x.transpose();
-    }
-    const MomentInverse inv = regularised_inverse(a);
-    a_inv_[i] = inv.inverse.cast<Real>();
-    a_residual_[i] = inv.residual.cast<Real>();
-    regularised_[i] = inv.regularised;
-    regularised += inv.regularised ? 1 : 0;
     // Hourglass stiffness: gamma mu v_i / (tr A_i / 3), so that the penalty energy of a
     // gradient error dG is about gamma/2 mu v_i |dG|^2, comparable to the elastic energy.
     const Material& mat = set.materials[set.material[i]];
-    const double tr = a.trace() / 3;
-    kappa_[i] = tr > 0 ? Real(mat.hourglass * lame_mu(mat) * set.volume[i] / tr) : Real(0);
+    kappa_scale_[i] = mat.hourglass * lame_mu(mat) * set.volume[i];
+    const double h = support_[object_[i]];
+    for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k)
+      w_[k] = Real(poly6((set.rest[nbr_.index[k]] - set.rest[i]).squaredNorm(), h));
+  }
+  rest_d_ = set.rest;
+  size_t regularised = 0;
+#pragma omp parallel for schedule(static) reduction(+ : regularised)
+  for (size_t i = 0; i < n; ++i) {
+    precompute(i);
+    regularised += regularised_[i];
   }
   regularised_count_ = regularised;
   for (const ObjectRange& o : set.objects) contact_spacing_ = std::max(contact_spacing_, o.spacing);
@@ -74,6 +74,25 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
   f_.assign(n, V3::Zero());
   d_.assign(n, M3::Zero());
   compute_forces();
+}
+
+template <class Real>
+void CpuSolver<Real>::precompute(size_t i) {
+  // In double from the rest positions, over the pairs still alive (w != 0): exactly the
+  // construction's values for an untouched phyxel.
+  const double h = support_[object_[i]];
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+    if (w_[k] == Real(0)) continue;
+    const Vec3 x = rest_d_[nbr_.index[k]] - rest_d_[i];
+    a += poly6(x.squaredNorm(), h) * x * x.transpose();
+  }
+  const MomentInverse inv = regularised_inverse(a);
+  a_inv_[i] = inv.inverse.cast<Real>();
+  a_residual_[i] = inv.residual.cast<Real>();
+  regularised_[i] = inv.regularised;
+  const double tr = a.trace() / 3;
+  kappa_[i] = tr > 0 ? Real(kappa_scale_[i] / tr) : Real(0);
 }
 
 template <class Real>
@@ -194,6 +213,7 @@ void CpuSolver<Real>::step(Real dt) {
     u_[i] += dt * v_[i];
   }
   if (!tools_.empty()) apply_contacts(dt);
+  if (cutting_) apply_cuts();
   compute_forces();
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long s = 0; s < nf; ++s) {
@@ -206,6 +226,8 @@ void CpuSolver<Real>::step(Real dt) {
 template <class Real>
 void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   tools_ = tools;
+  cutting_ = false;
+  for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();
@@ -231,7 +253,9 @@ void CpuSolver<Real>::find_candidates() {
   }
   double max_v = 0;
   for (const V3& v : v_) max_v = std::max(max_v, double(v.norm()));
-  const double margin = contact_margin(contact_spacing_, max_v, tool_speed_, chunk_duration_);
+  // A blade severs pairs reaching up to a support radius beyond the phyxels it touches.
+  const double reach = contact_spacing_ + (cutting_ ? max_support_ : 0.0);
+  const double margin = contact_margin(reach, max_v, tool_speed_, chunk_duration_);
   candidates_ = phyxel::contact_candidates<Real>(force_list_, flags_, rest_, u_,
                                                  swept_bounds(tools_, motion_), margin);
 }
@@ -242,7 +266,8 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
   // last end pose.
   const size_t nt = tools_.size();
   const size_t steps = motion_.size() / nt;
-  std::vector<ToolMotion> now(nt);
+  std::vector<ToolMotion>& now = now_;
+  now.assign(nt, ToolMotion{});
   for (size_t t = 0; t < nt; ++t) {
     if (steps == 0) return;
     const size_t k = std::min(motion_step_, steps - 1);

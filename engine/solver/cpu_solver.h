@@ -18,6 +18,7 @@
 #include "engine/solver/mls_model.h"
 #include "engine/solver/neighbours.h"
 #include "engine/surgery/contact.h"
+#include "engine/surgery/cutting.h"
 
 namespace phyxel {
 
@@ -76,6 +77,21 @@ class CpuSolver {
   const std::vector<V3>& contact_force() const { return contact_force_; }
   size_t contact_candidates() const { return candidates_.size(); }
 
+  // Cutting (engine/surgery/cutting.h, docs/cutting.md): after the contacts of every step, each
+  // scalpel whose edge force reached its threshold severs the pairs that cross the quad its
+  // blade swept (tested from the broad phase's candidates, whose margin grows by the support
+  // radius when a tool cuts). A severed pair gets weight 0 on both sides, for good; the moment
+  // matrices, inverses and hourglass stiffness of its two phyxels are recomputed from their
+  // remaining pairs before the forces. A phyxel left without pairs moves as a free particle.
+  // The pairs severed since the last call, ascending by (i, j).
+  std::vector<SeveredPair> take_severed();
+  size_t severed_count() const { return severed_count_; }  // over the solver's life
+  // w_ij aligned with neighbours().index (0: severed).
+  const std::vector<Real>& pair_weights() const { return w_; }
+  // Severs the pairs (i, j) given (both sides; a pair not in the lists is refused) and
+  // recomputes what they touch, as a cut would (checkpoint resume, tests).
+  void sever_pairs(const std::vector<SeveredPair>& pairs);
+
   // Recomputes force() from the current displacement; call after changing u by hand.
   void compute_forces();
   // One velocity-Verlet (leapfrog) step of size dt with implicit mass-proportional damping.
@@ -97,6 +113,9 @@ class CpuSolver {
   void build_pass_lists();
   void apply_contacts(Real dt);  // after the drift of step()
   void find_candidates();        // the chunk's broad phase (contact_candidates)
+  void apply_cuts();             // after apply_contacts (cpu_solver_cutting.cpp)
+  void precompute(size_t i);     // A_i^-1, its residual, kappa_i from the live pairs of i
+  bool sever(uint32_t i, uint32_t k, float t);  // pair k of row i; false if already severed
 
   Vec3 gravity_;
   std::vector<uint32_t> object_;
@@ -128,6 +147,16 @@ class CpuSolver {
   std::vector<ToolContactSample> samples_;
   std::vector<uint8_t> contact_;
   std::vector<V3> contact_force_;
+  std::vector<ToolMotion> now_;  // this substep's motion of each tool (apply_contacts)
+
+  // Cutting.
+  bool cutting_ = false;              // a tool has a blade
+  double max_support_ = 0;            // the largest support radius (the broad phase's margin)
+  std::vector<double> support_;       // per object
+  std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)
+  std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
+  std::vector<SeveredPair> severed_;  // since take_severed()
+  size_t severed_count_ = 0;
 
   std::vector<V3> u_, v_, f_;
   std::vector<M3> d_;  // pass-1 result

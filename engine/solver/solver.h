@@ -64,6 +64,19 @@ class Solver {
   virtual std::vector<ToolContactSample> tool_samples() { return {}; }
   // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
   virtual size_t contact_candidates() const { return 0; }
+  // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
+  // pairs during advance(). take_severed_pairs: the pairs severed since the last call (i < j,
+  // ascending); severed_pairs: how many over the solver's life; pair_alive: 1 per CSR pair of
+  // neighbours() still joined. sever_pairs: severs the given pairs as a cut would (resume).
+  virtual bool supports_cutting() const { return false; }
+  virtual std::vector<SeveredPair> take_severed_pairs() { return {}; }
+  virtual size_t severed_pairs() const { return 0; }
+  virtual std::vector<uint8_t> pair_alive() {
+    return std::vector<uint8_t>(neighbours().index.size(), 1);
+  }
+  virtual void sever_pairs(const std::vector<SeveredPair>& pairs) {
+    if (!pairs.empty()) throw std::logic_error(device() + " cannot sever pairs");
+  }
 };
 
 // The CPU reference solver behind the Solver interface. threads <= 0: all cores.

@@ -9,7 +9,7 @@ namespace phyxel {
 
 std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools) {
   std::vector<ContactTool> out;
-  for (const ToolDesc& t : tools) out.push_back({t.shape, t.friction});
+  for (const ToolDesc& t : tools) out.push_back({t.shape, t.friction, t.blade});
   return out;
 }
 

@@ -31,6 +31,7 @@ namespace phyxel {
 struct ContactTool {
   ToolShape shape;
   double friction = 0;
+  Blade blade;  // a scalpel's (cuts() false for every other tool)
 };
 std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools);
 

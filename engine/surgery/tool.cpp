@@ -77,6 +77,10 @@ ToolDistance tool_distance(const ToolShape& shape, const ToolPose& pose, const V
   return out;
 }
 
+Vec3 rotate_with_axis(const Vec3& from, const Vec3& to, const Vec3& v) {
+  return rotation_between(from, to) * v;
+}
+
 Vec3 carry_point(const ToolPose& from, const ToolPose& to, const Vec3& x) {
   return to.position + rotation_between(from.axis, to.axis) * (x - from.position);
 }

@@ -13,6 +13,16 @@ namespace phyxel {
 
 using Vec3 = Eigen::Vector3d;
 
+// The cutting part of a tool (ToolDesc::blade, ContactTool::blade; engine/surgery/cutting.h).
+struct Blade {
+  double length = 0;                    // m, from the tip along the axis (> 0: the tool cuts)
+  Vec3 edge = Vec3::UnitX();            // unit, perpendicular to the axis at the first key
+  Vec3 reference_axis = Vec3::UnitZ();  // the axis at the path's first key
+  double threshold = 0;                 // N: the edge force at which the tissue separates
+  double reach = 0;                     // m: how far ahead of the edge it separates
+  bool cuts() const { return length > 0; }
+};
+
 // The tool's rigid shape, in the tool's frame: the tip at `position`, the shaft along `axis`.
 struct ToolShape {
   enum class Type { Sphere, Capsule };
@@ -43,7 +53,7 @@ struct CouplingSettings {
 };
 
 struct ToolDesc {
-  enum class Type { Probe };  // scalpel, suction and grasper come with their actions
+  enum class Type { Probe, Scalpel };  // suction and grasper come with their actions
   enum class Control { Path, Haptic };
   std::string name;
   Type type = Type::Probe;
@@ -52,6 +62,7 @@ struct ToolDesc {
   double friction = 0;        // Coulomb coefficient mu (>= 0)
   Control control = Control::Path;
   CouplingSettings coupling;  // control haptic only
+  Blade blade;                // scalpel only (engine/surgery/cutting.h)
 };
 
 // The pose of a path at time t: position interpolated linearly between keys, the axis by the
@@ -72,6 +83,9 @@ struct ToolDistance {
   Vec3 normal = Vec3::UnitZ();
 };
 ToolDistance tool_distance(const ToolShape& shape, const ToolPose& pose, const Vec3& x);
+
+// v turned by the shortest rotation that takes the unit axis `from` to the unit axis `to`.
+Vec3 rotate_with_axis(const Vec3& from, const Vec3& to, const Vec3& v);
 
 // The point the tool's motion from `from` to `to` carries x to (rigid motion: translation of
 // the tip plus the shortest rotation of the axis about the tip).

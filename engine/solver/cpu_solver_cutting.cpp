@@ -1,0 +1,116 @@
+// CpuSolver: cutting (engine/surgery/cutting.h; the GPU twin is compute/shaders/tool_sever.comp).
+// After the contacts of a step, each blade whose edge force reached its threshold tests the
+// rows of the broad phase's candidates against the quad it swept in the step; a crossing pair
+// gets weight 0 on both sides, and the precompute reruns for the phyxels whose rows changed.
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "engine/solver/cpu_solver.h"
+
+namespace phyxel {
+
+template <class Real>
+bool CpuSolver<Real>::sever(uint32_t i, uint32_t k, float t) {
+  if (w_[k] == Real(0)) return false;
+  const uint32_t j = nbr_.index[k];
+  w_[k] = Real(0);
+  const auto row = nbr_.index.begin() + nbr_.offset[j];
+  const auto end = nbr_.index.begin() + nbr_.offset[j + 1];
+  const auto back = std::lower_bound(row, end, i);  // rows are sorted and symmetric
+  if (back != end && *back == i) w_[back - nbr_.index.begin()] = Real(0);
+  severed_.push_back(i < j ? SeveredPair{i, j, t} : SeveredPair{j, i, 1.0f - t});
+  ++severed_count_;
+  return true;
+}
+
+template <class Real>
+void CpuSolver<Real>::apply_cuts() {
+  const size_t nt = tools_.size();
+  if (now_.size() != nt || samples_.size() < nt) return;  // no motion yet: nothing cuts
+  const size_t first = severed_.size();
+  std::vector<uint32_t> touched;
+  for (size_t tool = 0; tool < nt; ++tool) {
+    const Blade& blade = tools_[tool].blade;
+    if (!blade.cuts()) continue;
+    const ToolMotion& m = now_[tool];
+    const CutQuad quad =
+        swept_quad(blade, m.from, m.to, blade.reach > 0 ? blade.reach : contact_spacing_);
+    const Vec3 felt = samples_[samples_.size() - nt + tool].force;
+    if (edge_force(felt, quad.edge) < blade.threshold) continue;
+    const std::array<Vec3, 4>& c = quad.corner;
+    for (const uint32_t i : candidates_) {
+      const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
+      for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+        if (w_[k] == Real(0)) continue;
+        const uint32_t j = nbr_.index[k];
+        const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
+        // The canonical order (lower index first): both sides of a pair decide alike.
+        double t = 0;
+        const bool crosses = i < j ? segment_crosses_quad<double>(xi, xj, c, &t)
+                                   : segment_crosses_quad<double>(xj, xi, c, &t);
+        if (!crosses) continue;
+        sever(i, k, float(i < j ? t : 1 - t));
+        touched.push_back(i);
+        touched.push_back(j);
+      }
+    }
+  }
+  if (severed_.size() == first) return;
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (const uint32_t i : touched) {
+    regularised_count_ -= regularised_[i];
+    precompute(i);
+    regularised_count_ += regularised_[i];
+  }
+}
+
+template <class Real>
+std::vector<SeveredPair> CpuSolver<Real>::take_severed() {
+  std::vector<SeveredPair> out;
+  out.swap(severed_);
+  std::sort(out.begin(), out.end(), [](const SeveredPair& a, const SeveredPair& b) {
+    return a.i != b.i ? a.i < b.i : a.j < b.j;
+  });
+  return out;
+}
+
+template <class Real>
+void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>& pairs) {
+  std::vector<uint32_t> touched;
+  for (const SeveredPair& p : pairs) {
+    if (p.i >= size() || p.j >= size())
+      throw std::invalid_argument("sever_pairs: no phyxel " + std::to_string(std::max(p.i, p.j)));
+    const auto row = nbr_.index.begin() + nbr_.offset[p.i];
+    const auto end = nbr_.index.begin() + nbr_.offset[p.i + 1];
+    const auto at = std::lower_bound(row, end, p.j);
+    if (at == end || *at != p.j)
+      throw std::invalid_argument("sever_pairs: phyxels " + std::to_string(p.i) + " and " +
+                                  std::to_string(p.j) + " are not neighbours");
+    if (sever(p.i, uint32_t(at - nbr_.index.begin()), p.t)) {
+      touched.push_back(p.i);
+      touched.push_back(p.j);
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (const uint32_t i : touched) {
+    regularised_count_ -= regularised_[i];
+    precompute(i);
+    regularised_count_ += regularised_[i];
+  }
+  compute_forces();
+}
+
+// The members defined here (the class itself is instantiated in cpu_solver.cpp).
+#define PHYXEL_CUTTING_MEMBERS(Real)                                 \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);   \
+  template void CpuSolver<Real>::apply_cuts();                       \
+  template std::vector<SeveredPair> CpuSolver<Real>::take_severed(); \
+  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);
+PHYXEL_CUTTING_MEMBERS(double)
+PHYXEL_CUTTING_MEMBERS(float)
+#undef PHYXEL_CUTTING_MEMBERS
+
+}  // namespace phyxel

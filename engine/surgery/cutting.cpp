@@ -1,0 +1,102 @@
+#include "engine/surgery/cutting.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace phyxel {
+
+Vec3 blade_edge(const Blade& blade, const ToolPose& pose) {
+  return rotate_with_axis(blade.reference_axis, pose.axis, blade.edge);
+}
+
+CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach) {
+  CutQuad q;
+  q.edge = blade_edge(blade, to);
+  const Vec3 ahead = reach * q.edge;
+  q.corner[0] = from.position;
+  q.corner[1] = from.position + blade.length * from.axis;
+  q.corner[2] = to.position + blade.length * to.axis + ahead;
+  q.corner[3] = to.position + ahead;
+  return q;
+}
+
+double edge_force(const Vec3& on_tool, const Vec3& edge) {
+  return std::max(0.0, -on_tool.dot(edge));
+}
+
+template <class Real>
+bool segment_crosses_triangle(const Eigen::Matrix<Real, 3, 1>& p,
+                              const Eigen::Matrix<Real, 3, 1>& q,
+                              const Eigen::Matrix<Real, 3, 1>& a,
+                              const Eigen::Matrix<Real, 3, 1>& b,
+                              const Eigen::Matrix<Real, 3, 1>& c, Real* t) {
+  using V3 = Eigen::Matrix<Real, 3, 1>;
+  // Everything relative to a: the products stay at the scale of the blade's motion.
+  const V3 pa = p - a, qa = q - a, ba = b - a, ca = c - a;
+  const V3 n = ba.cross(ca);
+  const Real sp = n.dot(pa), sq = n.dot(qa);
+  if ((sp >= 0) == (sq >= 0)) return false;  // same side; on the plane counts as positive
+  // The segment's orientation against each edge (signed volumes of p q and the edge).
+  const V3 d = qa - pa;
+  const V3 ap = -pa, bp = ba - pa, cp = ca - pa;
+  const Real s1 = d.dot(ap.cross(bp));
+  const Real s2 = d.dot(bp.cross(cp));
+  const Real s3 = d.dot(cp.cross(ap));
+  const bool inside = (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+  if (inside && t) *t = sp / (sp - sq);
+  return inside;
+}
+
+template <class Real>
+bool segment_crosses_quad(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 3, 1>& q,
+                          const std::array<Eigen::Matrix<Real, 3, 1>, 4>& quad, Real* t) {
+  return segment_crosses_triangle<Real>(p, q, quad[0], quad[1], quad[2], t) ||
+         segment_crosses_triangle<Real>(p, q, quad[0], quad[2], quad[3], t);
+}
+
+namespace {
+
+double point_segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double s = len2 > 0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (x - (a + s * ab)).norm();
+}
+
+double triangle_tie_distance(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                             const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double area2 = n.norm();
+  if (!(area2 > 0)) return std::numeric_limits<double>::infinity();  // never crosses
+  const Vec3 un = n / area2;
+  const double dp = un.dot(p - a), dq = un.dot(q - a);
+  double tie = std::min(std::abs(dp), std::abs(dq));
+  if (dp != dq) {  // where the segment's line meets the plane, against the edges
+    const double s = dp / (dp - dq);
+    const Vec3 x = p + s * (q - p);
+    tie = std::min({tie, point_segment_distance(x, a, b), point_segment_distance(x, b, c),
+                    point_segment_distance(x, c, a)});
+  }
+  return tie;
+}
+
+}  // namespace
+
+double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3, 4>& quad) {
+  return std::min(triangle_tie_distance(p, q, quad[0], quad[1], quad[2]),
+                  triangle_tie_distance(p, q, quad[0], quad[2], quad[3]));
+}
+
+template bool segment_crosses_triangle<double>(const Vec3&, const Vec3&, const Vec3&, const Vec3&,
+                                               const Vec3&, double*);
+template bool segment_crosses_triangle<float>(const Eigen::Vector3f&, const Eigen::Vector3f&,
+                                              const Eigen::Vector3f&, const Eigen::Vector3f&,
+                                              const Eigen::Vector3f&, float*);
+template bool segment_crosses_quad<double>(const Vec3&, const Vec3&, const std::array<Vec3, 4>&,
+                                           double*);
+template bool segment_crosses_quad<float>(const Eigen::Vector3f&, const Eigen::Vector3f&,
+                                          const std::array<Eigen::Vector3f, 4>&, float*);
+
+}  // namespace phyxel

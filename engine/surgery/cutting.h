@@ -1,0 +1,77 @@
+// Scalpel cutting (DESIGN.md section 8, docs/cutting.md): the blade, the surface it sweeps and
+// the visibility criterion, shared by the CPU reference (solver/cpu_solver) and mirrored by the
+// GPU solver (compute/shaders/tool_sever.comp).
+//
+// A scalpel's blade is the segment from the tool's tip along its axis, `length` long, whose
+// sharp side faces `edge` (a unit vector perpendicular to the axis at the path's first key; it
+// turns with the axis). In every substep in which the tissue presses the edge back with at least
+// the tool's threshold (the force on the tool along -edge, N), the blade separates the tissue:
+// every neighbour pair whose segment (current positions) crosses the quad the blade swept in
+// that substep, reaching `reach` ahead of the edge at the substep's end, is severed on both sides
+// for good. Below the threshold the blade only pushes (contact, like a probe).
+//
+// The crossing test is orientation-based with an explicit tie rule: an endpoint on the quad's
+// plane counts as on its positive side, and a segment through a triangle's edge or vertex
+// crosses it. It is evaluated in the pair's canonical order (lower index first), so both sides
+// of a pair reach the same decision. In float (GPU) and double (CPU) decisions can differ only
+// for pairs with an endpoint within kCutTieTolerance of the plane of a swept triangle or
+// passing within it of a triangle's edge.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "engine/surgery/tool.h"
+
+namespace phyxel {
+
+// The documented float-against-double band of the crossing test (m): CPU and GPU may decide a
+// pair differently only when it passes this close to a swept triangle's plane or edge.
+inline constexpr double kCutTieTolerance = 1e-6;
+
+// The edge direction at a pose: `edge` turned by the shortest rotation from the reference axis
+// to the pose's axis.
+Vec3 blade_edge(const Blade& blade, const ToolPose& pose);
+
+// The quad the blade swept over one substep's motion, as corners p0..p3 (triangles p0 p1 p2 and
+// p0 p2 p3): p0, p1 the blade's tip and end at the start pose; p2, p3 its end and tip at the
+// end pose, moved `reach` ahead along the edge there.
+struct CutQuad {
+  std::array<Vec3, 4> corner;
+  Vec3 edge = Vec3::UnitX();  // the edge direction at the end pose
+};
+CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach);
+
+// The force pressing the edge into the tissue for a force `on_tool` (N) felt by the tool: its
+// component against the edge, max(0, -on_tool . edge).
+double edge_force(const Vec3& on_tool, const Vec3& edge);
+
+// Whether the segment p -> q crosses triangle a b c (tie rule above). `t` gets the crossing's
+// fraction along p -> q when it does.
+template <class Real>
+bool segment_crosses_triangle(const Eigen::Matrix<Real, 3, 1>& p,
+                              const Eigen::Matrix<Real, 3, 1>& q,
+                              const Eigen::Matrix<Real, 3, 1>& a,
+                              const Eigen::Matrix<Real, 3, 1>& b,
+                              const Eigen::Matrix<Real, 3, 1>& c, Real* t = nullptr);
+
+// Whether the segment crosses the quad (either triangle); t as above.
+template <class Real>
+bool segment_crosses_quad(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 3, 1>& q,
+                          const std::array<Eigen::Matrix<Real, 3, 1>, 4>& quad, Real* t = nullptr);
+
+// How close (m) the segment p -> q comes to a tie of the crossing test against the quad: the
+// smallest of the endpoints' distances to each triangle's plane and of the distances from the
+// segment's plane crossing to each triangle's edges. Pairs below kCutTieTolerance are the ones
+// CPU and GPU may decide differently.
+double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3, 4>& quad);
+
+// One severed pair (i < j): where the blade crossed it, as the fraction t along x_i -> x_j.
+struct SeveredPair {
+  uint32_t i = 0, j = 0;
+  float t = 0.5f;
+};
+
+}  // namespace phyxel

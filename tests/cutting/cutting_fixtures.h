@@ -1,0 +1,60 @@
+// Scenes and drivers shared by the cutting tests: a clamped beam and a scalpel that crosses it.
+#pragma once
+
+#include <vector>
+
+#include "../physics/physics_fixtures.h"
+#include "engine/solver/cpu_solver.h"
+#include "engine/surgery/tool_track.h"
+
+namespace phyxel::test {
+
+// A beam along x, [0, 0.04] x [0, 0.01] x [0, 0.01] m, spacing 2 mm, clamped at x <= 0.5 mm.
+inline Scene clamped_beam(double young = 5e4, double damping = 0) {
+  Scene scene =
+      box_scene(Vec3(0, 0, 0), Vec3(0.04, 0.01, 0.01), 0.002, tissue(young, 0.3, damping));
+  scene.objects[0].fixed.push_back(box_shape(Vec3(-1, -1, -1), Vec3(0.0005, 1, 1)));
+  scene.simulation.dt = 1e-4;
+  scene.simulation.gravity = Vec3(0, 0, -9.81);
+  return scene;
+}
+
+// A scalpel whose vertical blade (tip at z = tip_z, `length` up) crosses the plane x = x_cut
+// along +y from y = -3 mm to y = 13 mm during [t0, t0 + duration].
+inline ToolDesc crossing_scalpel(double x_cut, double tip_z, double length, double t0,
+                                 double duration, double threshold = 0) {
+  ToolDesc t;
+  t.name = "scalpel";
+  t.type = ToolDesc::Type::Scalpel;
+  t.shape.type = ToolShape::Type::Capsule;
+  t.shape.radius = 0.0002;
+  t.shape.length = length;
+  t.path = {{t0, Vec3(x_cut, -0.003, tip_z), Vec3::UnitZ()},
+            {t0 + duration, Vec3(x_cut, 0.013, tip_z), Vec3::UnitZ()}};
+  t.blade.length = length;
+  t.blade.edge = Vec3::UnitY();
+  t.blade.reference_axis = Vec3::UnitZ();
+  t.blade.threshold = threshold;
+  return t;
+}
+
+// Steps a CPU solver with the scene's tools along their paths, one substep per step.
+template <class Real>
+struct ToolStepper {
+  CpuSolver<Real>& solver;
+  ToolTrack track;
+  double dt;
+  int64_t step = 0;
+  ToolStepper(CpuSolver<Real>& s, const std::vector<ToolDesc>& tools, double dt_)
+      : solver(s), track(tools, {}), dt(dt_) {
+    solver.set_tools(contact_tools(tools));
+  }
+  void run(int64_t steps) {
+    for (int64_t k = 0; k < steps; ++k, ++step) {
+      solver.set_tool_motion(track.motions(step, 1, dt), Real(dt));
+      solver.step(Real(dt));
+    }
+  }
+};
+
+}  // namespace phyxel::test
