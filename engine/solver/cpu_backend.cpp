@@ -1,6 +1,7 @@
 // Adapts CpuSolver<Real> to the Solver interface.
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -29,6 +30,8 @@ class CpuBackend final : public Solver {
     if (!motion_.empty()) solver_->set_tool_motion(motion_, Real(dt));
     motion_.clear();
     for (int64_t s = 0; s < substeps; ++s) solver_->step(Real(dt));
+    solver_->sort_severed_from(logged_);  // the advance's pairs ascending, as on the GPU
+    logged_ = solver_->severed_log().size();
   }
   Energies energies() override { return solver_->energies(); }
   long first_non_finite() override { return solver_->first_non_finite(); }
@@ -74,8 +77,11 @@ class CpuBackend final : public Solver {
   std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
   size_t contact_candidates() const override { return solver_->contact_candidates(); }
   bool supports_cutting() const override { return true; }
-  std::vector<SeveredPair> take_severed_pairs() override { return solver_->take_severed(); }
-  size_t severed_pairs() const override { return solver_->severed_count(); }
+  size_t severed_pairs() const override { return solver_->severed_log().size(); }
+  std::vector<SeveredPair> severed_since(size_t first) override {
+    const auto& log = solver_->severed_log();
+    return {log.begin() + std::min(first, log.size()), log.end()};
+  }
   std::vector<uint8_t> pair_alive() override {
     const auto& w = solver_->pair_weights();
     std::vector<uint8_t> alive(w.size());
@@ -84,13 +90,15 @@ class CpuBackend final : public Solver {
   }
   void sever_pairs(const std::vector<SeveredPair>& pairs) override {
     solver_->sever_pairs(pairs);
-    solver_->take_severed();  // given, not found: not reported again
+    solver_->sort_severed_from(logged_);
+    logged_ = solver_->severed_log().size();
   }
 
  private:
   int threads_;
   std::unique_ptr<CpuSolver<Real>> solver_;
   std::vector<ToolMotion> motion_;  // for the next advance()
+  size_t logged_ = 0;               // severed pairs before the current advance
 };
 
 }  // namespace

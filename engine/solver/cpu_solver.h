@@ -83,9 +83,11 @@ class CpuSolver {
   // radius when a tool cuts). A severed pair gets weight 0 on both sides, for good; the moment
   // matrices, inverses and hourglass stiffness of its two phyxels are recomputed from their
   // remaining pairs before the forces. A phyxel left without pairs moves as a free particle.
-  // The pairs severed since the last call, ascending by (i, j).
-  std::vector<SeveredPair> take_severed();
-  size_t severed_count() const { return severed_count_; }  // over the solver's life
+  // Every pair severed so far (i < j), in the order found; sort_severed_from(k) sorts the
+  // entries from k on by (i, j).
+  const std::vector<SeveredPair>& severed_log() const { return severed_; }
+  void sort_severed_from(size_t first);
+  size_t severed_count() const { return severed_.size(); }
   // w_ij aligned with neighbours().index (0: severed).
   const std::vector<Real>& pair_weights() const { return w_; }
   // Severs the pairs (i, j) given (both sides; a pair not in the lists is refused) and
@@ -155,8 +157,7 @@ class CpuSolver {
   std::vector<double> support_;       // per object
   std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)
   std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
-  std::vector<SeveredPair> severed_;  // since take_severed()
-  size_t severed_count_ = 0;
+  std::vector<SeveredPair> severed_;  // the log
 
   std::vector<V3> u_, v_, f_;
   std::vector<M3> d_;  // pass-1 result

@@ -20,7 +20,6 @@ bool CpuSolver<Real>::sever(uint32_t i, uint32_t k, float t) {
   const auto back = std::lower_bound(row, end, i);  // rows are sorted and symmetric
   if (back != end && *back == i) w_[back - nbr_.index.begin()] = Real(0);
   severed_.push_back(i < j ? SeveredPair{i, j, t} : SeveredPair{j, i, 1.0f - t});
-  ++severed_count_;
   return true;
 }
 
@@ -67,13 +66,11 @@ void CpuSolver<Real>::apply_cuts() {
 }
 
 template <class Real>
-std::vector<SeveredPair> CpuSolver<Real>::take_severed() {
-  std::vector<SeveredPair> out;
-  out.swap(severed_);
-  std::sort(out.begin(), out.end(), [](const SeveredPair& a, const SeveredPair& b) {
-    return a.i != b.i ? a.i < b.i : a.j < b.j;
-  });
-  return out;
+void CpuSolver<Real>::sort_severed_from(size_t first) {
+  std::sort(severed_.begin() + std::min(first, severed_.size()), severed_.end(),
+            [](const SeveredPair& a, const SeveredPair& b) {
+              return a.i != b.i ? a.i < b.i : a.j < b.j;
+            });
 }
 
 template <class Real>
@@ -104,10 +101,10 @@ void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>& pairs) {
 }
 
 // The members defined here (the class itself is instantiated in cpu_solver.cpp).
-#define PHYXEL_CUTTING_MEMBERS(Real)                                 \
-  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);   \
-  template void CpuSolver<Real>::apply_cuts();                       \
-  template std::vector<SeveredPair> CpuSolver<Real>::take_severed(); \
+#define PHYXEL_CUTTING_MEMBERS(Real)                               \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float); \
+  template void CpuSolver<Real>::apply_cuts();                     \
+  template void CpuSolver<Real>::sort_severed_from(size_t);        \
   template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);
 PHYXEL_CUTTING_MEMBERS(double)
 PHYXEL_CUTTING_MEMBERS(float)

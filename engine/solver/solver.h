@@ -65,12 +65,17 @@ class Solver {
   // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
   virtual size_t contact_candidates() const { return 0; }
   // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
-  // pairs during advance(). take_severed_pairs: the pairs severed since the last call (i < j,
-  // ascending); severed_pairs: how many over the solver's life; pair_alive: 1 per CSR pair of
-  // neighbours() still joined. sever_pairs: severs the given pairs as a cut would (resume).
+  // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
+  // pairs ascending by (i, j), appended in order): severed_pairs() is its length and
+  // severed_since(k) its entries from k on, so each reader keeps its own cursor. pair_alive: 1
+  // per CSR pair of neighbours() still joined. sever_pairs: severs the given pairs as a cut
+  // would and logs them (checkpoint resume, tests).
   virtual bool supports_cutting() const { return false; }
-  virtual std::vector<SeveredPair> take_severed_pairs() { return {}; }
   virtual size_t severed_pairs() const { return 0; }
+  virtual std::vector<SeveredPair> severed_since(size_t first) {
+    (void)first;
+    return {};
+  }
   virtual std::vector<uint8_t> pair_alive() {
     return std::vector<uint8_t>(neighbours().index.size(), 1);
   }
