@@ -110,7 +110,10 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   mass_ = set.mass;
   objects_ = set.objects;
   awake_.assign(set.objects.size(), 1);
-  for (const ObjectRange& o : set.objects) contact_spacing_ = std::max(contact_spacing_, o.spacing);
+  for (const ObjectRange& o : set.objects) {
+    contact_spacing_ = std::max(contact_spacing_, o.spacing);
+    max_support_ = std::max(max_support_, o.support_radius);
+  }
 
   upload(ctx, classes_, host.classes);
   upload(ctx, rest_, host.rest);

@@ -128,6 +128,17 @@ class GpuSolver final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
   size_t contact_candidates() const override { return candidates_; }
+  // Cutting, with CpuSolver's semantics (engine/solver/cpu_solver.h): after each substep's
+  // contact reduction, tool_sever over the candidates (dispatched indirectly) for every blade
+  // whose edge force reached its threshold, then solver_precompute over the phyxels it touched
+  // (indirectly, from the count the sever pass grew): nothing is read back during the advance.
+  // The pairs it severed come back once per advance (a log in a Readback buffer, sorted on the
+  // host; when it overflows, the pair weights are compared with the last known ones).
+  bool supports_cutting() const override { return true; }
+  size_t severed_pairs() const override { return severed_.size(); }
+  std::vector<SeveredPair> severed_since(size_t first) override;
+  std::vector<uint8_t> pair_alive() override;
+  void sever_pairs(const std::vector<SeveredPair>& pairs) override;
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -188,6 +199,13 @@ class GpuSolver final : public Solver {
   void finish_contact(int64_t substeps, bool ran);
   void record_broad_phase(Recorder& rec);  // max norms, then the candidates and their count
   void record_max_norms(Recorder& rec);    // into max_norm_readback_
+  // Cutting (gpu_solver_cutting.cpp): buffers for set_tools, the cut table of a new chunk,
+  // the sever and precompute passes of a substep, the log after an advance.
+  void prepare_cutting();
+  void upload_cut_quads(Recorder& rec);
+  void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
+  void finish_cutting();
+  void apply_severed(const std::vector<SeveredPair>& pairs);  // host edit (sever_pairs)
   bool contact_recorded() const { return contact_active_; }
 
   std::unique_ptr<Context> owned_ctx_;
@@ -259,6 +277,17 @@ class GpuSolver final : public Solver {
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_upload_;
+
+  // Cutting (gpu_solver_cutting.cpp).
+  bool cutting_ = false;                // a tool has a blade
+  double max_support_ = 0;              // the largest support radius (the broad phase's margin)
+  Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
+  Buffer cut_dirty_;                    // uint: count, groups x y z, phyxels (indirect)
+  Buffer cut_dirty_reset_;              // Upload: (0, 0, 1, 1)
+  Buffer cut_log_;                      // Readback: uvec4 count, then (i, j, t bits, 0)
+  uint32_t log_capacity_ = 0;
+  std::vector<SeveredPair> severed_;  // the log (Solver::severed_since)
+  std::vector<uint8_t> alive_;        // per pair, as the log says (overflow and pair_alive)
 
   std::unique_ptr<Recorder> rec_[2];
 };

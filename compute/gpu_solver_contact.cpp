@@ -52,6 +52,8 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
          {capsule ? kToolCapsule : kToolSphere, 0u, 0u, 0u}});
   }
   tools_ = tools;
+  cutting_ = false;
+  for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
   pending_motion_.clear();
   motion_.clear();
   motion_steps_ = motion_step_ = 0;
@@ -70,6 +72,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
       contact_count_ = Buffer(ctx, sizeof(ContactCount), MemoryIntent::Readback,
                               "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
   }
+  if (cutting_) prepare_cutting();
   if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);
     rec_[0]->fill(contact_count_, 0);
@@ -130,7 +133,9 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
   rec.barrier();
   const Bounds b = swept_bounds(tools_, motion_);
   BroadPhasePush push{
-      {float(b.min.x()), float(b.min.y()), float(b.min.z()), float(contact_spacing_)},
+      // A blade severs pairs reaching up to a support radius beyond the phyxels it touches.
+      {float(b.min.x()), float(b.min.y()), float(b.min.z()),
+       float(contact_spacing_ + (cutting_ ? max_support_ : 0.0))},
       {float(b.max.x()), float(b.max.y()), float(b.max.z()), float(chunk_duration_)},
       n,
       0u,
@@ -178,6 +183,7 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
     reserve(ctx, motion_table_, table_bytes, MemoryIntent::Device, "contact motion");
     std::memcpy(motion_upload_.mapped(), table.data(), table_bytes);
     rec.copy(motion_upload_, motion_table_, table_bytes);
+    if (cutting_) upload_cut_quads(rec);
     broad_pending_ = true;
   }
   if (broad_pending_ && motion_steps_ > 0) {
@@ -187,6 +193,7 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
   reserve(ctx, samples_buffer_, uint64_t(substeps) * nt * sizeof(vec4), MemoryIntent::Readback,
           "contact samples");
   contact_active_ = motion_steps_ > 0 && force_count_ > 0;
+  if (cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));  // the advance's log starts empty
 }
 
 void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
@@ -211,6 +218,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
            ContactReducePush{0u, nt, candidate_capacity_, static_cast<uint32_t>(step)},
            {candidate_force_, samples_buffer_, contact_count_},
            nt * kernels_->contact_reduce.workgroup_size()[0]);
+  if (cutting_) record_sever(rec, step, disp);
 }
 
 void GpuSolver::finish_contact(int64_t substeps, bool ran) {
@@ -232,6 +240,7 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
     }
   }
   motion_step_ += size_t(substeps);
+  if (cutting_ && ran) finish_cutting();
 }
 
 }  // namespace phyxel::gpu

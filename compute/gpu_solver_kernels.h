@@ -33,6 +33,7 @@ class SolverKernels {
   Pipeline contact_reduce;  // layout::ContactReducePush; kContactReduce* bindings
   Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
+  Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
 };
 
 // Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for

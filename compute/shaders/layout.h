@@ -70,6 +70,8 @@ PHYXEL_CONST uint kFlagRegularised = 256u;  // set by solver_precompute: A_i was
 // Some of the phyxel's pairs were deactivated (weight 0 in the pair-weight buffer): the passes
 // read its stored weights instead of recomputing them from x0 (see kWeightsAuto).
 PHYXEL_CONST uint kFlagPairsEdited = 512u;
+// In the current substep's cut list (tool_sever); solver_precompute's cut mode clears it.
+PHYXEL_CONST uint kFlagCutDirty = 1024u;
 PHYXEL_CONST uint kFlagClassShift = 16u;  // flags >> 16 = index into the SolverClass array
 PHYXEL_CONST uint kMaxSolverClasses = 65536u;
 
@@ -146,8 +148,11 @@ PHYXEL_CONST uint kScanAddBindingSums = 1;
 // phyxels they touch.
 struct PrecomputePush {
   uint count;
-  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = invocation
+  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = invocation; kPrecomputeCutList:
+                 // the count and phyxels of a CutDirty list (list[0], list[4 + invocation]),
+                 // dispatched indirectly from list[1..3], clearing kFlagCutDirty
 };
+PHYXEL_CONST uint kPrecomputeCutList = 2u;
 PHYXEL_ASSERT_SIZE(PrecomputePush, 8);
 PHYXEL_CONST uint kPrecomputeBindingOffset = 0;
 PHYXEL_CONST uint kPrecomputeBindingIndex = 1;
@@ -325,20 +330,20 @@ PHYXEL_CONST uint kContactReduceBindingCount = 2;
 // of the force list (moving phyxels of awake objects) that are not fixed or removed and whose
 // current position rest + u lies inside the tools' swept bounds grown by the margin
 // 2 duration max(max|v|, tool speed) + spacing (contact_margin in engine/surgery/contact.h;
-// max|v| from the solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0 counts each
-// workgroup's hits into group[g]; tool_broad_scan turns the counts into exclusive offsets (one
-// workgroup), the total and the indirect dispatch of tool_contact; mode 1 writes the hits at
-// their offsets, in list order, so the candidates are ascending and the same on every run.
+// max|v| from the solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0
+// counts each workgroup's hits into group[g]; tool_broad_scan turns the counts into exclusive
+// offsets (one workgroup), the total and the indirect dispatch of tool_contact; mode 1 writes the
+// hits at their offsets, in list order, so the candidates are ascending and the same on every run.
 struct BroadPhasePush {
-  vec4 lo;         // xyz: swept bounds min (world, m); w: spacing (m)
-  vec4 hi;         // xyz: swept bounds max (world, m); w: chunk duration (s)
-  uint count;      // entries of the force list
-  uint mode;       // 0: count per workgroup; 1: write
-  uint groups;     // workgroups of tool_broad_phase (entries of group[])
+  vec4 lo;           // xyz: swept bounds min (world, m); w: spacing (m)
+  vec4 hi;           // xyz: swept bounds max (world, m); w: chunk duration (s)
+  uint count;        // entries of the force list
+  uint mode;         // 0: count per workgroup; 1: write
+  uint groups;       // workgroups of tool_broad_phase (entries of group[])
   float tool_speed;  // m/s: the fastest point of a tool over the chunk (contact_margin)
 };
 PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
-PHYXEL_CONST uint kBroadBindingList = 0;    // force list
+PHYXEL_CONST uint kBroadBindingList = 0;  // force list
 PHYXEL_CONST uint kBroadBindingRest = 1;
 PHYXEL_CONST uint kBroadBindingDisp = 2;
 PHYXEL_CONST uint kBroadBindingFlags = 3;
@@ -356,6 +361,49 @@ struct ContactCount {
   uint groups_z;
 };
 PHYXEL_ASSERT_SIZE(ContactCount, 16);
+
+// ---------------------------------------------------------------------------------------
+// Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors
+// engine/solver/cpu_solver_cutting.cpp and engine/surgery/cutting.cpp).
+
+// The quad one tool's blade swept in one substep (engine swept_quad), relative to the contact
+// origin, row-major [row][tool]; rows are the chunk's substeps then one for holding the last
+// pose. edge.w: the cut force threshold (N), negative for a tool without a blade.
+struct CutQuad {
+  vec4 p0;
+  vec4 p1;
+  vec4 p2;
+  vec4 p3;
+  vec4 edge;
+};
+PHYXEL_ASSERT_SIZE(CutQuad, 80);
+
+// tool_sever: over the candidates, after tool_contact_reduce: for every tool whose sample of
+// this substep presses its edge with at least its threshold, each candidate tests its live
+// pairs (canonical order, lower index first) against the tool's quad. The pair's slot in the
+// lower index's row is claimed by an atomic exchange (so each pair is severed and logged once);
+// the winner zeroes both slots, logs (i, j, t) and puts both phyxels in the dirty list (once
+// each, by kFlagCutDirty), growing its indirect dispatch.
+struct SeverPush {
+  vec4 origin;  // the motion table's frame (ContactPush.origin)
+  uint tools;
+  uint row;     // row of the cut table
+  uint sample_row;  // row of the samples (substep of the advance)
+  uint log_capacity;
+};
+PHYXEL_ASSERT_SIZE(SeverPush, 32);
+PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
+PHYXEL_CONST uint kSeverBindingRest = 1;
+PHYXEL_CONST uint kSeverBindingDisp = 2;
+PHYXEL_CONST uint kSeverBindingOffset = 3;
+PHYXEL_CONST uint kSeverBindingIndex = 4;
+PHYXEL_CONST uint kSeverBindingWeight = 5;  // the pair weights, as uint bits
+PHYXEL_CONST uint kSeverBindingFlags = 6;
+PHYXEL_CONST uint kSeverBindingQuads = 7;    // CutQuad [row][tool]
+PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on the tool
+PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, groups x y z, then phyxels
+PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, 0)
+PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

@@ -48,8 +48,9 @@ void rotate(inout mat3 m, inout mat3 q, int a, int b) {
 
 void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
-  if (invocation >= p.count) return;
-  const uint i = p.indexed != 0u ? list[invocation] : invocation;
+  const bool cut_list = p.indexed == kPrecomputeCutList;
+  if (invocation >= (cut_list ? list[0] : p.count)) return;
+  const uint i = cut_list ? list[4u + invocation] : p.indexed != 0u ? list[invocation] : invocation;
   const vec3 xi = local_pos[i].xyz;
   mat3 a = mat3(0.0);
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
@@ -90,5 +91,6 @@ void main() {
   ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, 0.0);
   resid[2u * i] = vec4(residual[0][0], residual[1][0], residual[2][0], residual[1][1]);
   resid[2u * i + 1u] = vec4(residual[2][1], residual[2][2], 0.0, 0.0);
-  flags[i] = regularised ? (fl | kFlagRegularised) : (fl & ~kFlagRegularised);
+  const uint kept = cut_list ? (fl & ~kFlagCutDirty) : fl;
+  flags[i] = regularised ? (kept | kFlagRegularised) : (kept & ~kFlagRegularised);
 }

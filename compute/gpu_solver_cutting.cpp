@@ -1,0 +1,209 @@
+// GpuSolver: cutting with CpuSolver's semantics (engine/solver/cpu_solver_cutting.cpp,
+// engine/surgery/cutting.h). Per substep, after the contact reduction and in the same command
+// buffer: the dirty list's header reset, tool_sever over the candidates (indirect), and
+// solver_precompute over the phyxels it put in the dirty list (indirect, from the group count
+// tool_sever grew). Severed pairs keep their CSR slots with weight 0, which the step passes
+// read for phyxels flagged kFlagPairsEdited. After the advance, the log of severed pairs is
+// read back once, sorted and appended to the host's log.
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "compute/gpu_solver.h"
+#include "compute/gpu_solver_kernels.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+namespace {
+
+vec4 to_vec4(const Vec3& x, float w = 0.0f) {
+  return {float(x.x()), float(x.y()), float(x.z()), w};
+}
+
+bool by_pair(const SeveredPair& a, const SeveredPair& b) {
+  return a.i != b.i ? a.i < b.i : a.j < b.j;
+}
+
+}  // namespace
+
+void GpuSolver::prepare_cutting() {
+  Context& ctx = *ctx_;
+  if (!cut_dirty_)
+    cut_dirty_ = Buffer(ctx, (uint64_t{count_} + 4) * sizeof(uint32_t), MemoryIntent::Device,
+                        "cut dirty phyxels", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  if (!cut_dirty_reset_) {
+    cut_dirty_reset_ = Buffer(ctx, 4 * sizeof(uint32_t), MemoryIntent::Upload, "cut dirty reset");
+    const uint32_t header[4] = {0, 0, 1, 1};
+    std::memcpy(cut_dirty_reset_.mapped(), header, sizeof header);
+  }
+  if (!cut_log_) {
+    log_capacity_ = 4096;
+    cut_log_ = Buffer(ctx, (uint64_t{log_capacity_} + 1) * sizeof(uvec4), MemoryIntent::Readback,
+                      "cut log");
+  }
+  if (alive_.empty()) alive_.assign(pairs_, 1);
+}
+
+void GpuSolver::upload_cut_quads(Recorder& rec) {
+  // Rows: the chunk's substeps, then the last end pose held (CpuSolver: from = to).
+  const size_t nt = tools_.size();
+  const Vec3 origin(contact_origin_.x, contact_origin_.y, contact_origin_.z);
+  std::vector<CutQuad> table((motion_steps_ + 1) * nt);
+  for (size_t row = 0; row <= motion_steps_; ++row) {
+    for (size_t t = 0; t < nt; ++t) {
+      const Blade& blade = tools_[t].blade;
+      CutQuad& q = table[row * nt + t];
+      if (!blade.cuts()) {
+        q.edge = {0, 0, 0, -1};
+        continue;
+      }
+      ToolMotion m = motion_[std::min(row, motion_steps_ - 1) * nt + t];
+      if (row == motion_steps_) m.from = m.to;
+      const phyxel::CutQuad quad =
+          swept_quad(blade, m.from, m.to, blade.reach > 0 ? blade.reach : contact_spacing_);
+      q.p0 = to_vec4(quad.corner[0] - origin);
+      q.p1 = to_vec4(quad.corner[1] - origin);
+      q.p2 = to_vec4(quad.corner[2] - origin);
+      q.p3 = to_vec4(quad.corner[3] - origin);
+      q.edge = to_vec4(quad.edge, float(blade.threshold));
+    }
+  }
+  Context& ctx = *ctx_;
+  const uint64_t bytes = table.size() * sizeof(CutQuad);
+  if (!cut_quad_upload_ || cut_quad_upload_.size() < bytes) {
+    cut_quad_upload_ = Buffer(ctx, bytes * 2, MemoryIntent::Upload, "cut quads staging");
+    cut_quads_ = Buffer(ctx, bytes * 2, MemoryIntent::Device, "cut quads");
+  }
+  std::memcpy(cut_quad_upload_.mapped(), table.data(), bytes);
+  rec.copy(cut_quad_upload_, cut_quads_, bytes);
+}
+
+void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
+  const uint64_t k = motion_step_ + uint64_t(step);
+  const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_));
+  rec.barrier();  // the samples of this substep
+  rec.copy(cut_dirty_reset_, cut_dirty_, 4 * sizeof(uint32_t));
+  rec.barrier();
+  const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
+                       log_capacity_};
+  dispatch_indirect(rec, kernels_->sever, push,
+                    {candidate_list_, rest_, disp, nbr_offset_, nbr_index_, weight_, flags_,
+                     cut_quads_, samples_buffer_, cut_dirty_, cut_log_, contact_count_},
+                    contact_count_, offsetof(ContactCount, groups_x));
+  rec.indirect_barrier();
+  dispatch_indirect(rec, kernels_->precompute, PrecomputePush{0u, kPrecomputeCutList},
+                    {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_,
+                     resid_, cut_dirty_},
+                    cut_dirty_, sizeof(uint32_t));
+}
+
+void GpuSolver::finish_cutting() {
+  cut_log_.invalidate();
+  uvec4 header;
+  std::memcpy(&header, cut_log_.mapped(), sizeof header);
+  const uint32_t found = header.x;
+  if (found == 0) return;
+  std::vector<SeveredPair> fresh;
+  if (found <= log_capacity_) {
+    std::vector<uvec4> entries(found);
+    std::memcpy(entries.data(), static_cast<const uvec4*>(cut_log_.mapped()) + 1,
+                found * sizeof(uvec4));
+    fresh.reserve(found);
+    for (const uvec4& e : entries) {
+      float t;
+      std::memcpy(&t, &e.z, sizeof t);
+      fresh.push_back({e.x, e.y, t});
+    }
+  } else {
+    // More than the log holds: compare the weights with the last known pairs (t unknown: the
+    // middle), then grow the log for the next advance.
+    const std::vector<float> w = download<float>(*ctx_, weight_, pairs_);
+    const NeighbourLists& nbr = neighbours_;
+    for (uint32_t i = 0; i < count_; ++i)
+      for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
+        if (nbr.index[k] > i && alive_[k] && w[k] == 0.0f) fresh.push_back({i, nbr.index[k], 0.5f});
+    while (log_capacity_ < found) log_capacity_ *= 2;
+    cut_log_ = Buffer(*ctx_, (uint64_t{log_capacity_} + 1) * sizeof(uvec4), MemoryIntent::Readback,
+                      "cut log");
+  }
+  std::sort(fresh.begin(), fresh.end(), by_pair);
+  const NeighbourLists& nbr = neighbours_;
+  for (const SeveredPair& p : fresh) {
+    for (const auto& [a, b] : {std::pair{p.i, p.j}, std::pair{p.j, p.i}}) {
+      const auto row = nbr.index.begin() + nbr.offset[a];
+      const auto end = nbr.index.begin() + nbr.offset[a + 1];
+      const auto at = std::lower_bound(row, end, b);
+      if (at != end && *at == b) alive_[at - nbr.index.begin()] = 0;
+    }
+  }
+  severed_.insert(severed_.end(), fresh.begin(), fresh.end());
+}
+
+std::vector<SeveredPair> GpuSolver::severed_since(size_t first) {
+  return {severed_.begin() + std::min(first, severed_.size()), severed_.end()};
+}
+
+std::vector<uint8_t> GpuSolver::pair_alive() {
+  if (!alive_.empty()) return alive_;
+  // Without cuts: every pair with a weight (removed phyxels' pairs have none).
+  const std::vector<float> w = download<float>(*ctx_, weight_, pairs_);
+  std::vector<uint8_t> alive(w.size());
+  for (size_t k = 0; k < w.size(); ++k) alive[k] = w[k] != 0.0f;
+  return alive;
+}
+
+void GpuSolver::sever_pairs(const std::vector<SeveredPair>& pairs) {
+  if (pairs.empty()) return;
+  if (alive_.empty()) alive_.assign(pairs_, 1);
+  std::vector<uint32_t> flags = download<uint32_t>(*ctx_, flags_, count_);
+  std::vector<float> weights = download<float>(*ctx_, weight_, pairs_);
+  const NeighbourLists& nbr = neighbours_;
+  std::vector<uint32_t> touched;
+  std::vector<SeveredPair> fresh;
+  for (const SeveredPair& p : pairs) {
+    if (p.i >= count_ || p.j >= count_)
+      throw std::invalid_argument("sever_pairs: no phyxel " + std::to_string(std::max(p.i, p.j)));
+    bool was_alive = false;
+    for (const auto& [a, b] : {std::pair{p.i, p.j}, std::pair{p.j, p.i}}) {
+      const auto row = nbr.index.begin() + nbr.offset[a];
+      const auto end = nbr.index.begin() + nbr.offset[a + 1];
+      const auto at = std::lower_bound(row, end, b);
+      if (at == end || *at != b)
+        throw std::invalid_argument("sever_pairs: phyxels " + std::to_string(p.i) + " and " +
+                                    std::to_string(p.j) + " are not neighbours");
+      const size_t k = size_t(at - nbr.index.begin());
+      was_alive = was_alive || weights[k] != 0.0f;
+      weights[k] = 0.0f;
+      alive_[k] = 0;
+      flags[a] |= kFlagPairsEdited;
+    }
+    if (!was_alive) continue;
+    touched.push_back(p.i);
+    touched.push_back(p.j);
+    fresh.push_back(p.i < p.j ? p : SeveredPair{p.j, p.i, 1.0f - p.t});
+  }
+  std::sort(fresh.begin(), fresh.end(), by_pair);
+  severed_.insert(severed_.end(), fresh.begin(), fresh.end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  if (touched.empty()) return;
+  upload(*ctx_, flags_, flags);
+  upload(*ctx_, weight_, weights);
+  if (list_.size() < touched.size() * sizeof(uint32_t))
+    list_ =
+        Buffer(*ctx_, touched.size() * sizeof(uint32_t), MemoryIntent::Device, "precompute list");
+  upload(*ctx_, list_, touched);
+  Recorder& rec = *rec_[0];
+  dispatch(
+      rec, kernels_->precompute, PrecomputePush{uint32_t(touched.size()), 1},
+      {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
+      uint32_t(touched.size()));
+  rec.submit_and_wait();
+  count_flags();
+  compute_forces();
+}
+
+}  // namespace phyxel::gpu

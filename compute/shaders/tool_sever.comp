@@ -1,0 +1,95 @@
+// Cutting after a substep's contacts (SeverPush in layout.h; the CPU twin is
+// CpuSolver::apply_cuts in engine/solver/cpu_solver_cutting.cpp): each candidate tests its live
+// pairs against the quad each cutting blade swept, in the canonical order (lower index first)
+// with the tie rule of engine/surgery/cutting.cpp (an endpoint on the plane is on the positive
+// side; a segment through an edge crosses). Positions relative to the motion table's origin.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { SeverPush p; };
+layout(std430, binding = kSeverBindingList) readonly buffer List { uint list[]; };
+layout(std430, binding = kSeverBindingRest) readonly buffer Rest { vec4 rest[]; };
+layout(std430, binding = kSeverBindingDisp) readonly buffer Disp { vec4 disp[]; };
+layout(std430, binding = kSeverBindingOffset) readonly buffer Offset { uint offset[]; };
+layout(std430, binding = kSeverBindingIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kSeverBindingWeight) buffer Weight { uint weight_bits[]; };
+layout(std430, binding = kSeverBindingFlags) buffer Flags { uint flags[]; };
+layout(std430, binding = kSeverBindingQuads) readonly buffer Quads { CutQuad quads[]; };
+layout(std430, binding = kSeverBindingSamples) readonly buffer Samples { vec4 samples[]; };
+layout(std430, binding = kSeverBindingDirty) buffer Dirty { uint dirty[]; };
+layout(std430, binding = kSeverBindingLog) buffer Log { uvec4 cut_log[]; };
+layout(std430, binding = kSeverBindingCount) readonly buffer Count { ContactCount count; };
+
+// segment_crosses_triangle of engine/surgery/cutting.cpp, in float.
+bool crosses_triangle(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, out float t) {
+  t = 0.0;
+  const vec3 pa = p - a, qa = q - a, ba = b - a, ca = c - a;
+  const vec3 n = cross(ba, ca);
+  const float sp = dot(n, pa), sq = dot(n, qa);
+  if ((sp >= 0.0) == (sq >= 0.0)) return false;
+  const vec3 d = qa - pa;
+  const vec3 ap = -pa, bp = ba - pa, cp = ca - pa;
+  const float s1 = dot(d, cross(ap, bp));
+  const float s2 = dot(d, cross(bp, cp));
+  const float s3 = dot(d, cross(cp, ap));
+  const bool inside = (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0);
+  if (inside) t = sp / (sp - sq);
+  return inside;
+}
+
+bool crosses_quad(vec3 p, vec3 q, CutQuad c, out float t) {
+  return crosses_triangle(p, q, c.p0.xyz, c.p1.xyz, c.p2.xyz, t) ||
+         crosses_triangle(p, q, c.p0.xyz, c.p2.xyz, c.p3.xyz, t);
+}
+
+// The slot of `target` in the sorted row of phyxel `row`.
+uint find_slot(uint row, uint target) {
+  uint lo = offset[row], hi = offset[row + 1u];
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2u;
+    if (nbr_index[mid] < target) lo = mid + 1u; else hi = mid;
+  }
+  return lo;
+}
+
+void mark_dirty(uint x) {
+  const uint before = atomicOr(flags[x], kFlagCutDirty | kFlagPairsEdited);
+  if ((before & kFlagCutDirty) != 0u) return;
+  const uint at = atomicAdd(dirty[0], 1u);
+  dirty[4u + at] = x;
+  atomicMax(dirty[1], at / gl_WorkGroupSize.x + 1u);
+}
+
+void main() {
+  const uint slot = PHYXEL_GLOBAL_INDEX;
+  if (slot >= count.total) return;
+  const uint i = list[slot];
+  const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
+  for (uint tool = 0u; tool < p.tools; ++tool) {
+    const CutQuad quad = quads[p.row * p.tools + tool];
+    const float threshold = quad.edge.w;
+    if (threshold < 0.0) continue;  // no blade
+    const vec3 felt = samples[p.sample_row * p.tools + tool].xyz;
+    if (max(0.0, -dot(felt, quad.edge.xyz)) < threshold) continue;
+    for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
+      if (weight_bits[k] == 0u) continue;
+      const uint j = nbr_index[k];
+      const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
+      float t;
+      const bool crosses = i < j ? crosses_quad(xi, xj, quad, t) : crosses_quad(xj, xi, quad, t);
+      if (!crosses) continue;
+      const uint lo = min(i, j), hi = max(i, j);
+      const uint lo_slot = i < j ? k : find_slot(j, i);
+      if (atomicExchange(weight_bits[lo_slot], 0u) == 0u) continue;  // another thread has it
+      const uint hi_slot = i < j ? find_slot(j, i) : k;
+      weight_bits[hi_slot] = 0u;
+      mark_dirty(lo);
+      mark_dirty(hi);
+      const uint at = atomicAdd(cut_log[0].x, 1u);
+      if (at < p.log_capacity) cut_log[1u + at] = uvec4(lo, hi, floatBitsToUint(t), 0u);
+    }
+  }
+}

@@ -1,0 +1,125 @@
+// Cutting on the GPU against the CPU reference (engine/solver/cpu_solver_cutting.cpp): the
+// same severed pairs and positions after a scalpel crosses a beam, with the tools' motions
+// given chunk by chunk as the run loop does; two GPU runs give the same bits; a cut along a
+// lattice plane and a second crossing cut leave every value finite.
+#include <set>
+#include <utility>
+
+#include "engine/surgery/tool_track.h"
+#include "tests/cutting/cutting_fixtures.h"
+#include "tests/gpu_solver/gpu_solver_fixture.h"
+
+namespace phyxel::gpu::test {
+namespace {
+
+using phyxel::test::clamped_beam;
+using phyxel::test::crossing_scalpel;
+
+struct CutRun {
+  std::vector<SeveredPair> severed;
+  std::vector<Vec3> u;
+  std::vector<uint8_t> alive;
+  size_t candidates = 0;
+};
+
+CutRun run(Solver& solver, const Scene& scene, int64_t steps, int64_t chunk = 16) {
+  ToolTrack track(scene.tools, {});
+  solver.set_tools(contact_tools(scene.tools));
+  const double dt = scene.simulation.dt;
+  CutRun out;
+  for (int64_t s = 0; s < steps; s += chunk) {
+    const int64_t n = std::min(chunk, steps - s);
+    solver.set_tool_motion(track.motions(s, n, dt));
+    solver.advance(n, dt);
+    out.candidates = std::max(out.candidates, solver.contact_candidates());
+  }
+  out.severed = solver.severed_since(0);
+  out.u = solver.read_state(false).displacement;
+  out.alive = solver.pair_alive();
+  return out;
+}
+
+std::set<std::pair<uint32_t, uint32_t>> pair_set(const std::vector<SeveredPair>& v) {
+  std::set<std::pair<uint32_t, uint32_t>> s;
+  for (const SeveredPair& p : v) s.insert({p.i, p.j});
+  return s;
+}
+
+TEST_F(GpuSolverTest, CuttingABeamSeversTheCpusPairsAndMovesAlike) {
+  Scene scene = clamped_beam();
+  scene.tools.push_back(crossing_scalpel(0.009, -0.003, 0.016, 0.002, 0.016));
+  const PhyxelSet set = sample_scene(scene);
+  auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+  const CutRun c = run(*cpu, scene, 400);
+  const CutRun g = run(gpu, scene, 400);
+  ASSERT_GT(c.severed.size(), 100u);
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+  EXPECT_EQ(g.alive, c.alive);
+  for (size_t k = 0; k < std::min(c.severed.size(), g.severed.size()); ++k)
+    EXPECT_NEAR(g.severed[k].t, c.severed[k].t, 1e-4) << k;
+  // The free piece falls: positions agree to float precision of the fall.
+  const double scale = max_norm(c.u);
+  EXPECT_GT(scale, 1e-3);
+  EXPECT_LT(max_difference(c.u, g.u), 1e-4 * scale);
+}
+
+TEST_F(GpuSolverTest, CuttingBelowAndAboveTheThresholdMatchesTheCpu) {
+  Scene scene = clamped_beam();
+  scene.simulation.gravity = Vec3::Zero();
+  // A blade pressing 1 mm into the side: it feels well under 1 N (no cut), then a sharper
+  // one that cuts once the force passes 0.02 N.
+  scene.tools.push_back(crossing_scalpel(0.02, -0.003, 0.016, 0.0, 0.016, 1.0));
+  scene.tools[0].path[1].position.y() = 0.004;
+  const PhyxelSet set = sample_scene(scene);
+  {
+    GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+    EXPECT_TRUE(run(gpu, scene, 300).severed.empty());
+  }
+  scene.tools[0].blade.threshold = 0.02;
+  auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+  const CutRun c = run(*cpu, scene, 300);
+  const CutRun g = run(gpu, scene, 300);
+  EXPECT_GT(c.severed.size(), 0u);
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+}
+
+TEST_F(GpuSolverTest, TwoGpuRunsOfACutGiveTheSameBits) {
+  Scene scene = clamped_beam();
+  scene.tools.push_back(crossing_scalpel(0.013, -0.003, 0.016, 0.0, 0.02));
+  const PhyxelSet set = sample_scene(scene);
+  GpuSolver a(ctx(), set, scene.simulation.gravity);
+  GpuSolver b(ctx(), set, scene.simulation.gravity);
+  const CutRun ra = run(a, scene, 300, 64);
+  const CutRun rb = run(b, scene, 300, 64);
+  ASSERT_GT(ra.severed.size(), 0u);
+  ASSERT_EQ(ra.severed.size(), rb.severed.size());
+  for (size_t k = 0; k < ra.severed.size(); ++k) {
+    EXPECT_EQ(ra.severed[k].i, rb.severed[k].i);
+    EXPECT_EQ(ra.severed[k].j, rb.severed[k].j);
+    EXPECT_EQ(ra.severed[k].t, rb.severed[k].t);
+  }
+  for (size_t i = 0; i < ra.u.size(); ++i) ASSERT_EQ(ra.u[i], rb.u[i]) << i;
+  EXPECT_EQ(a.pair_weights(), b.pair_weights());
+}
+
+TEST_F(GpuSolverTest, CutsAlongALatticePlaneAndAcrossEachOtherStayFinite) {
+  Scene scene = clamped_beam();
+  scene.tools.push_back(crossing_scalpel(0.010, -0.003, 0.016, 0.0, 0.016));  // lattice plane
+  ToolDesc second = crossing_scalpel(0.0, -0.003, 0.016, 0.02, 0.02);
+  second.name = "second";
+  second.path = {{0.02, Vec3(0.002, 0.005, -0.003), Vec3::UnitZ()},
+                 {0.04, Vec3(0.03, 0.005, -0.003), Vec3::UnitZ()}};
+  second.blade.edge = Vec3::UnitX();
+  scene.tools.push_back(second);
+  const PhyxelSet set = sample_scene(scene);
+  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+  const CutRun g = run(gpu, scene, 600, 64);
+  EXPECT_GT(g.severed.size(), 0u);
+  EXPECT_EQ(gpu.first_non_finite(), -1);
+  EXPECT_TRUE(std::isfinite(gpu.energies().total()));
+}
+
+}  // namespace
+}  // namespace phyxel::gpu::test
