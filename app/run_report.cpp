@@ -82,14 +82,22 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
   j["wall_split_seconds"] = wall_split_json(result.split);
   if (!result.tools.empty()) {
     json tools = json::array();
-    for (const ToolRunStats& t : result.tools)
-      tools.push_back({{"name", t.name},
-                       {"force", {t.last_force.x(), t.last_force.y(), t.last_force.z()}},
-                       {"max_force", t.max_force},
-                       {"contacts", t.contacts},
-                       {"max_contacts", t.max_contacts},
-                       {"steps_in_contact", t.steps_in_contact}});
+    for (const ToolRunStats& t : result.tools) {
+      json tool = {{"name", t.name},
+                   {"force", {t.last_force.x(), t.last_force.y(), t.last_force.z()}},
+                   {"max_force", t.max_force},
+                   {"contacts", t.contacts},
+                   {"max_contacts", t.max_contacts},
+                   {"steps_in_contact", t.steps_in_contact}};
+      if (t.cuts) {
+        tool["max_cut_force"] = t.max_cut_force;
+        tool["cutting_substeps"] = t.cutting_substeps;
+      }
+      tools.push_back(tool);
+    }
     j["tools"] = tools;
+    if (solver.supports_cutting() && solver.severed_pairs() > 0)
+      j["cutting"] = {{"severed_pairs", solver.severed_pairs()}};
   }
   if (haptics != nullptr && !haptics->empty()) {
     json loops = json::array();

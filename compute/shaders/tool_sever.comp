@@ -73,7 +73,9 @@ void main() {
     const float threshold = quad.edge.w;
     if (threshold < 0.0) continue;  // no blade
     const vec3 felt = samples[p.sample_row * p.tools + tool].xyz;
-    if (max(0.0, -dot(felt, quad.edge.xyz)) < threshold) continue;
+    // cut_force of engine/surgery/cutting.cpp: the edge pressed in, or the point (a stab).
+    const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
+    if (max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) < threshold) continue;
     for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
       if (weight_bits[k] == 0u) continue;
       const uint j = nbr_index[k];

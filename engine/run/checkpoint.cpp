@@ -25,6 +25,7 @@ enum Section : uint32_t {
   kChecks = 6,
   kTools = 7,
   kTopology = 8,
+  kCuts = 9,  // severed pairs (i, j, t) and the scalpels' cutting statistics
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -184,6 +185,20 @@ void write_sections(Writer& w, const Checkpoint& c) {
   w.begin_section(kTopology);
   w.put_array(c.flags);
   w.end_section();
+
+  w.begin_section(kCuts);
+  w.put<uint64_t>(c.severed.size());
+  for (const SeveredPair& p : c.severed) {
+    w.put<uint32_t>(p.i);
+    w.put<uint32_t>(p.j);
+    w.put<float>(p.t);
+  }
+  w.put<uint64_t>(c.tool_stats.size());
+  for (const ToolRunStats& s : c.tool_stats) {
+    w.put<double>(s.max_cut_force);
+    w.put<int64_t>(s.cutting_substeps);
+  }
+  w.end_section();
 }
 
 void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -242,6 +257,26 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
     case kTopology:
       c.flags = r.get_array<uint32_t>();
       break;
+    case kCuts: {  // after kTools (written in that order)
+      const uint64_t n = r.get<uint64_t>();
+      for (uint64_t k = 0; k < n; ++k) {
+        SeveredPair p;
+        p.i = r.get<uint32_t>();
+        p.j = r.get<uint32_t>();
+        p.t = r.get<float>();
+        c.severed.push_back(p);
+      }
+      const uint64_t tools = r.get<uint64_t>();
+      for (uint64_t t = 0; t < tools; ++t) {
+        const double max_cut = r.get<double>();
+        const int64_t cutting = r.get<int64_t>();
+        if (t < c.tool_stats.size()) {
+          c.tool_stats[t].max_cut_force = max_cut;
+          c.tool_stats[t].cutting_substeps = cutting;
+        }
+      }
+      break;
+    }
     default:  // a section this version does not know: skipped
       break;
   }

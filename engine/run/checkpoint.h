@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
+#include "engine/surgery/cutting.h"
 #include "engine/surgery/tool_track.h"
 
 namespace phyxel {
@@ -55,8 +56,10 @@ struct Checkpoint {
   // Tools: the pose each ended the last chunk at and its statistics so far.
   std::vector<ToolPose> tool_poses;
   std::vector<ToolRunStats> tool_stats;
-  // Topology: the per-phyxel flags (PhyxelFlags, kRemoved for removed phyxels).
+  // Topology: the per-phyxel flags (PhyxelFlags, kRemoved for removed phyxels) and the pairs
+  // cut so far (the solver's log, in its order; resumed through Solver::sever_pairs).
   std::vector<uint32_t> flags;
+  std::vector<SeveredPair> severed;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

@@ -271,6 +271,7 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       last_u = c.last_check_u;
       tools.restore(c.tool_poses, c.tool_stats);
     }
+    solver.sever_pairs(c.severed);                 // the cuts, before the state's forces
     solver.set_state(c.displacement, c.velocity);  // last: the forces for this u and state
     // A load switching exactly at the step a shorter run ended on: it never applied it.
     if (next_event < events.size() && events[next_event] == step) switch_loads(step - 1);
@@ -296,6 +297,7 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       c.tool_poses = tools.poses();
       c.tool_stats = tools.stats();
     }
+    c.severed = solver.severed_since(0);
     write_checkpoint(options.out_dir / kCheckpointFile, c);
     if (std::find(result.outputs.begin(), result.outputs.end(), kCheckpointFile) ==
         result.outputs.end())

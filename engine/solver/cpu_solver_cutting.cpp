@@ -36,7 +36,7 @@ void CpuSolver<Real>::apply_cuts() {
     const CutQuad quad =
         swept_quad(blade, m.from, m.to, blade.reach > 0 ? blade.reach : contact_spacing_);
     const Vec3 felt = samples_[samples_.size() - nt + tool].force;
-    if (edge_force(felt, quad.edge) < blade.threshold) continue;
+    if (cut_force(felt, quad) < blade.threshold) continue;
     const std::array<Vec3, 4>& c = quad.corner;
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();

@@ -26,6 +26,11 @@ double edge_force(const Vec3& on_tool, const Vec3& edge) {
   return std::max(0.0, -on_tool.dot(edge));
 }
 
+double cut_force(const Vec3& on_tool, const CutQuad& quad) {
+  const Vec3 axis = (quad.corner[1] - quad.corner[0]).normalized();
+  return std::max({0.0, -on_tool.dot(quad.edge), on_tool.dot(axis)});
+}
+
 template <class Real>
 bool segment_crosses_triangle(const Eigen::Matrix<Real, 3, 1>& p,
                               const Eigen::Matrix<Real, 3, 1>& q,

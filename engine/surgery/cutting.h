@@ -48,6 +48,11 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
 // component against the edge, max(0, -on_tool . edge).
 double edge_force(const Vec3& on_tool, const Vec3& edge);
 
+// The force with which the blade cuts in a substep, compared with the threshold: the larger of
+// the edge force and the force pressing the point in (a stab along the blade: on_tool . axis,
+// the axis at the quad's start pose, from p0 to p1).
+double cut_force(const Vec3& on_tool, const CutQuad& quad);
+
 // Whether the segment p -> q crosses triangle a b c (tie rule above). `t` gets the crossing's
 // fraction along p -> q when it does.
 template <class Real>

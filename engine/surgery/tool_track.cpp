@@ -1,5 +1,7 @@
 #include "engine/surgery/tool_track.h"
 
+#include "engine/surgery/cutting.h"
+
 #include <stdexcept>
 #include <utility>
 
@@ -10,6 +12,7 @@ ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source)
   for (const ToolDesc& t : tools_) {
     last_.push_back(pose_at(t.path, 0.0));
     stats_.push_back({t.name, Vec3::Zero(), 0, 0, 0, 0});
+    stats_.back().cuts = t.blade.cuts();
   }
   if (live() && !source_)
     throw std::invalid_argument("ToolTrack: a haptic tool needs a pose source");
@@ -83,13 +86,21 @@ std::vector<ToolStepRecord> ToolTrack::fold(const std::vector<ToolContactSample>
   for (int64_t s = 0; s < steps; ++s)
     for (size_t t = 0; t < nt; ++t) {
       ToolStepRecord& r = records[static_cast<size_t>(s) * nt + t];
-      for (int64_t k = 0; k < substeps; ++k)
-        r.force += samples[static_cast<size_t>(s * substeps + k) * nt + t].force;
+      ToolRunStats& st = stats_[t];
+      const Blade& blade = tools_[t].blade;
+      for (int64_t k = 0; k < substeps; ++k) {
+        const size_t at = static_cast<size_t>(s * substeps + k) * nt + t;
+        r.force += samples[at].force;
+        if (!blade.cuts()) continue;
+        const double pressing =
+            cut_force(samples[at].force, swept_quad(blade, motions_[at].from, motions_[at].to, 0));
+        st.max_cut_force = std::max(st.max_cut_force, pressing);
+        if (pressing >= blade.threshold) ++st.cutting_substeps;
+      }
       r.force /= double(substeps);
       const size_t last = static_cast<size_t>(s * substeps + substeps - 1) * nt + t;
       r.contacts = samples[last].contacts;
       r.pose = motions_[last].to;
-      ToolRunStats& st = stats_[t];
       st.last_force = r.force;
       st.max_force = std::max(st.max_force, r.force.norm());
       st.contacts = r.contacts;
@@ -106,6 +117,7 @@ void ToolTrack::restore(const std::vector<ToolPose>& poses,
                                 " tools, got " + std::to_string(poses.size()));
   last_ = poses;
   stats_ = stats;
+  for (size_t t = 0; t < tools_.size(); ++t) stats_[t].cuts = tools_[t].blade.cuts();
 }
 
 }  // namespace phyxel

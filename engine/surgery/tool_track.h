@@ -21,6 +21,12 @@ struct ToolRunStats {
   uint32_t contacts = 0;           // phyxels in contact at the last substep
   uint32_t max_contacts = 0;
   int64_t steps_in_contact = 0;
+  // Scalpels: the largest cutting force of any substep (N; cut_force in
+  // engine/surgery/cutting.h: the edge or the point pressed into the tissue), and the substeps
+  // at or above the threshold (cutting).
+  bool cuts = false;
+  double max_cut_force = 0;
+  int64_t cutting_substeps = 0;
 };
 
 // One step's record of one tool (a row of tools.csv).

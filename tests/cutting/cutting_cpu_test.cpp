@@ -79,6 +79,11 @@ TEST(CutCrossing, TheEdgeTurnsWithTheAxisAndTheQuadReachesAheadOfIt) {
   EXPECT_TRUE(q.corner[3].isApprox(Vec3(0, 0.003, 0)));
   EXPECT_DOUBLE_EQ(edge_force(Vec3(0, -2, 1), Vec3::UnitY()), 2.0);
   EXPECT_DOUBLE_EQ(edge_force(Vec3(0, 2, 1), Vec3::UnitY()), 0.0);
+  // The cutting force: the edge pushed back (-y here), or the point (the tissue pushing the
+  // blade back up its axis, +z), whichever is larger; pulling the blade away cuts nothing.
+  EXPECT_DOUBLE_EQ(cut_force(Vec3(0, -2, 1), q), 2.0);
+  EXPECT_DOUBLE_EQ(cut_force(Vec3(0, -0.5, 3), q), 3.0);
+  EXPECT_DOUBLE_EQ(cut_force(Vec3(0, 1, -1), q), 0.0);
 }
 
 // Pairs still joined across the plane x = x_cut (rest positions).
