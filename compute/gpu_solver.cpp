@@ -142,7 +142,7 @@ std::string GpuSolver::device() const {
 }
 
 SolverBuffers GpuSolver::buffers() const {
-  return {&rest_, &disp_[0], &nbr_offset_, &nbr_index_, count_};
+  return {&rest_, &disp_[0], &nbr_offset_, &nbr_index_, count_, &weight_};
 }
 
 StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode) const {

@@ -40,12 +40,14 @@ namespace phyxel::gpu {
 //   displacement  vec4 per phyxel: u.xyz (m), 0      (the state between advance() calls)
 //   nbr_offset    uint[count + 1]  CSR row starts, as NeighbourLists::offset
 //   nbr_index     uint[pairs]      CSR neighbour indices, as NeighbourLists::index
+//   pair_weight   float[pairs]     the pair weights; 0: a severed or removed pair
 struct SolverBuffers {
   const Buffer* rest;
   const Buffer* displacement;
   const Buffer* nbr_offset;
   const Buffer* nbr_index;
   uint32_t count;
+  const Buffer* pair_weight;
 };
 
 struct GpuSolverOptions {

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <utility>
 
+#include "render/cut_surfels.h"
+
 namespace phyxel::render {
 namespace {
 
@@ -78,10 +80,28 @@ std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displaceme
   return write(step, host_->inputs());
 }
 
+bool FrameWriter::follow_cuts(Solver& solver, bool host_state) {
+  const size_t severed = solver.severed_pairs();
+  const bool changed = severed != cut_cursor_;
+  if (changed) {
+    const std::vector<SeveredPair> pairs = solver.severed_since(cut_cursor_);
+    cut_cursor_ += pairs.size();
+    cuts_.add(*set_, pairs);
+    renderer_->update_cut_surfels(cut_face_surfels(*set_, cuts_, cuts_.take_changed()));
+  }
+  if (host_state && severed != alive_at_) {
+    if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, solver.neighbours());
+    host_->set_pair_alive(solver.pair_alive());
+    alive_at_ = severed;
+  }
+  return changed;
+}
+
 std::string write_solver_frame(FrameWriter& writer, Solver& solver, int64_t step,
                                const std::vector<ToolDrawable>& tools,
                                const std::function<RenderInputs()>& gpu_inputs) {
   writer.set_tools(tools);
+  writer.follow_cuts(solver, !gpu_inputs);
   if (gpu_inputs) return writer.write(step, gpu_inputs());
   return writer.write(step, solver.read_state(false).displacement, solver.neighbours());
 }

@@ -4,7 +4,9 @@
 //   FrameWriter     the renderer of one scene: surfel table, texture (the scene's
 //                   render.texture or the procedural tissue texture), camera, frame setup
 //   write_solver_frame  one frame of a solver's current state and the tools' poses: from the
-//                   GPU solver's buffers, or (CPU solver) from read_state through HostInputs.
+//                   GPU solver's buffers, or (CPU solver) from read_state through HostInputs;
+//                   first the cuts made since the last frame (follow_cuts): cut-face surfels,
+//                   and for the CPU solver the pairs' alive mask.
 //                   The run loop calls it at step 0, every render.every steps and at the end
 //                   (RunOptions::on_frame), with tool_drawables(scene.tools, step x dt).
 #pragma once
@@ -18,6 +20,7 @@
 
 #include "compute/context.h"
 #include "engine/solver/solver.h"
+#include "engine/surgery/cut_faces.h"
 #include "render/splat_renderer.h"
 
 namespace phyxel::render {
@@ -49,6 +52,15 @@ class FrameWriter {
   RgbaImage render(const RenderInputs& inputs);
   // The tools of the frames from now on (SplatRenderer::set_tools; none at first).
   void set_tools(std::vector<ToolDrawable> tools);
+  // Cuts: reads the pairs `solver` severed since the last call (its severed_since log, from
+  // this writer's cursor), adds them to the cut faces and updates the renderer's cut-face
+  // surfels of the phyxels they touched. With `host_state` (a CPU solver, frames through
+  // write(step, displacement, ...)), also uploads solver.pair_alive() to the host inputs when
+  // the severed count changed, so the deform pass skips severed pairs; a GPU solver's buffers
+  // carry its pair weights themselves. Returns whether anything was severed since last time.
+  bool follow_cuts(Solver& solver, bool host_state);
+  const CutFaces& cut_faces() const { return cuts_; }
+  SplatRenderer& renderer() { return *renderer_; }
 
   gpu::Context& context() { return *ctx_; }
   const FrameSetup& setup() const { return setup_; }
@@ -67,6 +79,9 @@ class FrameWriter {
   std::unique_ptr<SplatRenderer> renderer_;
   std::unique_ptr<HostInputs> host_;
   std::vector<std::string> written_;
+  CutFaces cuts_;
+  size_t cut_cursor_ = 0;  // entries of the solver's severed log already in cuts_
+  size_t alive_at_ = 0;    // severed count of the last pair_alive upload to host_
 };
 
 // Renders the frame of `step` from `solver` with the tools at `tools` (their poses at the

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "render/vk_images.h"
@@ -97,6 +98,7 @@ struct SplatRenderer::Impl {
   ~Impl();
   void create_texture_set();
   void ensure_targets(const FrameSetup& setup);
+  void grow(size_t slots);
 
   gpu::Context& ctx;
   Images images;
@@ -108,7 +110,14 @@ struct SplatRenderer::Impl {
   gpu::Buffer tool_staging, tool_buffer;
   size_t tool_capacity = 0;
   uint32_t count = 0, table_phyxels = 0;
+  // The surfel table as uploaded (radii scaled): the outer surface from the constructor, then
+  // the cut faces appended by update_cut_surfels (cut_slot: the slot of each cut phyxel's
+  // face). The device buffers hold `capacity` slots and grow by doubling.
+  std::vector<layout::SurfelStatic> table;
+  std::unordered_map<uint32_t, uint32_t> cut_slot;
+  size_t capacity = 0;
   gpu::Buffer surfels, splats;
+  gpu::Buffer no_weights;  // bound as the pair weights when the inputs have none
   Texture texture;
   VkDescriptorSetLayout texture_layout = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
@@ -197,6 +206,24 @@ void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
   eyes = n;
 }
 
+// Room for `slots` surfels: new buffers of max(slots, 2 x capacity) when they are too small
+// (the uploaded surfels are copied over on the GPU; splats are rewritten every frame).
+void SplatRenderer::Impl::grow(size_t slots) {
+  slots = std::max<size_t>(slots, 1);
+  if (slots <= capacity) return;
+  const size_t grown = std::max(slots, 2 * capacity);
+  gpu::Buffer s(ctx, grown * sizeof(layout::SurfelStatic), gpu::MemoryIntent::Device,
+                "render surfels");
+  if (count > 0 && surfels) {
+    recorder->copy(surfels, s, VkDeviceSize{count} * sizeof(layout::SurfelStatic));
+    recorder->submit_and_wait();
+  }
+  surfels = std::move(s);
+  splats =
+      gpu::Buffer(ctx, grown * sizeof(layout::Splat), gpu::MemoryIntent::Device, "render splats");
+  capacity = grown;
+}
+
 SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const RgbaImage& texture,
                              const RendererOptions& options)
     : impl_(std::make_unique<Impl>(ctx, options)) {
@@ -206,7 +233,7 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.limits = props.limits;
   m.texture = Texture(m.images, texture, m.limits.maxImageDimension2D);
   m.create_texture_set();
-  m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 6, sizeof(layout::DeformPush));
+  m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 7, sizeof(layout::DeformPush));
   m.visibility = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_visibility), 2, sizeof(layout::RasterPush));
   m.accumulate = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_accumulate), 3, sizeof(layout::RasterPush),
                                m.texture_layout);
@@ -214,15 +241,12 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.tool_pass = gpu::Pipeline(ctx, PHYXEL_SHADER(tool_visibility), 3, sizeof(layout::ToolPush));
   m.count = static_cast<uint32_t>(table.surfels.size());
   m.table_phyxels = table.phyxels;
-  const size_t slots = std::max<size_t>(table.surfels.size(), 1);
-  m.surfels = gpu::Buffer(ctx, slots * sizeof(layout::SurfelStatic), gpu::MemoryIntent::Device,
-                          "render surfels");
-  m.splats =
-      gpu::Buffer(ctx, slots * sizeof(layout::Splat), gpu::MemoryIntent::Device, "render splats");
-  std::vector<layout::SurfelStatic> surfels = table.surfels;
-  for (layout::SurfelStatic& s : surfels) s.radius *= options.radius_scale;
-  if (m.count > 0) gpu::upload(ctx, m.surfels, surfels);
+  m.table = table.surfels;
+  for (layout::SurfelStatic& s : m.table) s.radius *= options.radius_scale;
   m.recorder = std::make_unique<gpu::Recorder>(ctx, "render frame");
+  m.grow(m.table.size());
+  if (m.count > 0) gpu::upload(ctx, m.surfels, m.table);
+  m.no_weights = gpu::Buffer(ctx, sizeof(float), gpu::MemoryIntent::Device, "render no weights");
 }
 
 SplatRenderer::~SplatRenderer() = default;
@@ -242,7 +266,9 @@ std::string SplatRenderer::frame_error(const FrameSetup& setup) const {
   const uint64_t range = m.ctx.info().max_storage_buffer_range;
   if (accum > range) {
     return "a frame of " + size + " needs " + std::to_string(accum >> 20) +
-           " MiB of accumulation buffer (32 bytes per pixel), more than " + m.ctx.info().name +
+           " MiB of accumulation buffer (" +
+           std::to_string(layout::kAccumChannels * sizeof(int32_t)) +
+           " bytes per pixel), more than " + m.ctx.info().name +
            " binds at once (maxStorageBufferRange " + std::to_string(range >> 20) +
            " MiB); render smaller frames";
   }
@@ -270,6 +296,37 @@ const std::vector<ToolDrawable>& SplatRenderer::tools() const {
 
 uint32_t SplatRenderer::surfel_count() const {
   return impl_->count;
+}
+
+uint32_t SplatRenderer::cut_surfel_count() const {
+  return static_cast<uint32_t>(impl_->cut_slot.size());
+}
+
+void SplatRenderer::update_cut_surfels(const std::vector<layout::SurfelStatic>& faces) {
+  Impl& m = *impl_;
+  if (faces.empty()) return;
+  size_t first = m.table.size(), last = 0;  // the slots written, [first, last]
+  for (const layout::SurfelStatic& face : faces) {
+    if (face.index >= m.table_phyxels || (face.flags & layout::kSurfelCutFace) == 0) {
+      throw std::invalid_argument("SplatRenderer::update_cut_surfels: surfel of phyxel " +
+                                  std::to_string(face.index) +
+                                  " is not a cut face of the table's phyxels");
+    }
+    const auto [it, added] =
+        m.cut_slot.try_emplace(face.index, static_cast<uint32_t>(m.table.size()));
+    if (added) m.table.emplace_back();
+    layout::SurfelStatic& slot = m.table[it->second];
+    slot = face;
+    slot.radius *= m.options.radius_scale;
+    first = std::min<size_t>(first, it->second);
+    last = std::max<size_t>(last, it->second);
+  }
+  m.grow(m.table.size());
+  m.count = static_cast<uint32_t>(m.table.size());
+  // One upload of the range written (the changed faces are usually recent, hence adjacent).
+  gpu::upload(m.ctx, m.surfels, m.table.data() + first,
+              (last - first + 1) * sizeof(layout::SurfelStatic),
+              first * sizeof(layout::SurfelStatic));
 }
 
 uint32_t SplatRenderer::max_frame_side() const {
@@ -325,11 +382,16 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   }
   end();
   begin("render deform");
-  gpu::dispatch(
-      rec, m.deform,
-      layout::DeformPush{m.count, in.count, m.options.min_inverse_condition, m.options.max_stretch},
-      {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, m.surfels, m.splats},
-      m.count * layout::kDeformLanes);
+  layout::DeformPush deform{};
+  deform.count = m.count;
+  deform.phyxels = in.count;
+  deform.min_inverse_condition = m.options.min_inverse_condition;
+  deform.max_stretch = m.options.max_stretch;
+  deform.pair_weights = in.pair_weight != nullptr ? 1u : 0u;
+  gpu::dispatch(rec, m.deform, deform,
+                {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, m.surfels, m.splats,
+                 in.pair_weight != nullptr ? *in.pair_weight : m.no_weights},
+                m.count * layout::kDeformLanes);
   end();
   rec.barrier();
   // The eyes write disjoint ranges: their dispatches need no barrier between them.
@@ -389,6 +451,11 @@ RgbaImage SplatRenderer::read_frame() const {
   m.readback.invalidate();
   std::memcpy(image.pixels.data(), m.readback.mapped(), image.pixels.size());
   return image;
+}
+
+std::vector<layout::Splat> SplatRenderer::read_splats() const {
+  const Impl& m = *impl_;
+  return gpu::download<layout::Splat>(m.ctx, m.splats, m.count);
 }
 
 RgbaImage SplatRenderer::render(const RenderInputs& inputs, const FrameSetup& setup) {

@@ -96,12 +96,24 @@ class SplatRenderer {
   void record(gpu::Recorder& rec, const RenderInputs& inputs, const FrameSetup& setup,
               gpu::PassTimer* timer = nullptr);
   RgbaImage read_frame() const;
+  // The deformed splats of the last frame (surface surfels first, then the cut faces in the
+  // order they were added): a blocking download, for tests.
+  std::vector<layout::Splat> read_splats() const;
 
   // Why a frame of `setup` cannot be rendered on this device (an empty frame, a side over
   // max_frame_side(), buffers over maxStorageBufferRange), or "" when it can.
   std::string frame_error(const FrameSetup& setup) const;
 
-  uint32_t surfel_count() const;
+  // Cut faces (render/cut_surfels.h): adds the given surfels (kSurfelCutFace set, radius at
+  // rest before radius_scale) to those drawn, or replaces the cut-face surfel of a phyxel that
+  // has one. Only the slots written are uploaded; the surfel and splat buffers double when
+  // they run out, so the table built by the constructor is never rebuilt. Blocking; call
+  // between frames. Throws std::invalid_argument for a surfel that is no cut face or whose
+  // phyxel the table does not have.
+  void update_cut_surfels(const std::vector<layout::SurfelStatic>& faces);
+
+  uint32_t surfel_count() const;      // outer surface and cut faces
+  uint32_t cut_surfel_count() const;  // cut faces
   // The largest frame side the renderer accepts (maxImageDimension2D and viewport limits, as
   // a window could show it).
   uint32_t max_frame_side() const;

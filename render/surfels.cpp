@@ -52,7 +52,7 @@ SurfelTable build_surfel_table(const PhyxelSet& set) {
 }
 
 HostInputs::HostInputs(gpu::Context& ctx, const PhyxelSet& set, const NeighbourLists& nbr)
-    : count_(static_cast<uint32_t>(set.size())) {
+    : ctx_(&ctx), count_(static_cast<uint32_t>(set.size())), pairs_(nbr.index.size()) {
   if (nbr.offset.size() != set.size() + 1) {
     throw std::invalid_argument("HostInputs: neighbour lists of " +
                                 std::to_string(nbr.offset.size()) + " rows for " +
@@ -91,8 +91,24 @@ void HostInputs::set_displacement(const std::vector<Vec3>& u) {
   recorder_->submit_and_wait();
 }
 
+void HostInputs::set_pair_alive(const std::vector<uint8_t>& alive) {
+  if (alive.size() != pairs_) {
+    throw std::invalid_argument("HostInputs::set_pair_alive: " + std::to_string(alive.size()) +
+                                " entries for " + std::to_string(pairs_) + " pairs");
+  }
+  if (pairs_ == 0) return;
+  std::vector<float> weight(alive.size());
+  for (size_t e = 0; e < alive.size(); ++e) weight[e] = alive[e] != 0 ? 1.0f : 0.0f;
+  if (!pair_weight_) {
+    pair_weight_ =
+        gpu::Buffer(*ctx_, pairs_ * sizeof(float), gpu::MemoryIntent::Device, "render pair weight");
+  }
+  gpu::upload(*ctx_, pair_weight_, weight);  // blocking, so no frame reads it meanwhile
+}
+
 RenderInputs HostInputs::inputs() const {
-  return {&rest_, &displacement_, &nbr_offset_, &nbr_index_, count_};
+  return {&rest_,      &displacement_, &nbr_offset_,
+          &nbr_index_, count_,         pair_weight_ ? &pair_weight_ : nullptr};
 }
 
 }  // namespace phyxel::render

@@ -132,6 +132,7 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   std::unique_ptr<gpu::GpuSolver> gpu_solver;
   std::unique_ptr<Solver> cpu_solver;
   std::unique_ptr<HostInputs> host;
+  size_t alive_at = 0;  // the CPU solver's severed count when its alive mask was last uploaded
   if (on_gpu) {
     gpu_solver = std::make_unique<gpu::GpuSolver>(ctx, set, scene.simulation.gravity);
   } else {
@@ -250,9 +251,16 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
       writer.set_tools(viewer_tools(scene.tools, double(step) * scene.simulation.dt,
                                     controls.haptic_tools(), haptic_pose));
     }
+    // Cuts since the last frame: cut-face surfels; the GPU solver's buffers carry its pair
+    // weights, the CPU solver's alive mask is uploaded when its severed count changed.
+    writer.follow_cuts(solver, false);
     if (on_gpu) {
       presenter.present(writer.render(gpu_solver->buffers()));
     } else {
+      if (const size_t severed = solver.severed_pairs(); severed != alive_at) {
+        host->set_pair_alive(solver.pair_alive());
+        alive_at = severed;
+      }
       host->set_displacement(cpu_solver->read_state(false).displacement);
       presenter.present(writer.render(host->inputs()));
     }

@@ -30,6 +30,7 @@
 #include "engine/geometry/shape.h"
 #include "engine/sampling/phyxel_set.h"
 #include "engine/sampling/sampling_region.h"
+#include "engine/sampling/splat_radius.h"
 
 namespace phyxel {
 namespace {
@@ -37,11 +38,8 @@ namespace {
 // Boundary tolerance of the inside tests, in units of the spacing: lattice points exactly on
 // a face, edge or pole are inside despite rounding.
 constexpr double kBoundaryTolerance = 1e-9;
-// Splat radius of a surface phyxel, in units of the spacing. Discs centred on a square lattice
-// of spacing s cover the plane when their radius is at least s / sqrt(2) ~ 0.707 s (the
-// distance from a cell's centre to its corner); 0.8 s also closes the gaps where the surface
-// cuts the lattice obliquely.
-constexpr double kSplatRadius = 0.8;
+// Splat radius of a surface phyxel, in units of the spacing (splat_radius.h says why 0.8).
+constexpr double kSplatRadius = kSplatRadiusSpacings;
 // Largest lattice (sites over an object's bounds) we agree to scan: one byte per site.
 constexpr double kMaxSites = 2147483648.0;  // 2^31
 

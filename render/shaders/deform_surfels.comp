@@ -10,6 +10,14 @@
 // CSR row (so the lanes read the row's indices side by side and keep several gathers in
 // flight), the partial sums meet in shared memory, and lane 0 finishes the splat.
 //
+// Severed pairs (cutting): with DeformPush::pair_weights set, pair e of the CSR lists is left
+// out where pair_weight[e] == 0 (the GPU solver's weights, or HostInputs' 0/1 alive mask), so a
+// splat next to a cut deforms with its own piece only. Without it a placeholder is bound and
+// every pair counts.
+//
+// A cut-face surfel (kSurfelCutFace) sits on the face the blade left: its centre is moved from
+// the phyxel by normal.w along the rest normal, carried through F (x_i + u_i + F n0 d).
+//
 // When A is ill-conditioned (few or coplanar neighbours, e.g. after a cut) or F is singular,
 // the splat keeps its rest normal and texture gradients (normal.w = 0 says so).
 #version 450
@@ -25,6 +33,7 @@ layout(std430, binding = kDeformBindingNbrOffset) readonly buffer Offset { uint 
 layout(std430, binding = kDeformBindingNbrIndex) readonly buffer Index { uint nbr_index[]; };
 layout(std430, binding = kDeformBindingSurfels) readonly buffer Surfels { SurfelStatic surfels[]; };
 layout(std430, binding = kDeformBindingSplats) writeonly buffer Splats { Splat splats[]; };
+layout(std430, binding = kDeformBindingPairWeight) readonly buffer Weight { float weight[]; };
 
 // A unit vector perpendicular to the unit vector n.
 vec3 any_tangent(vec3 n) {
@@ -52,6 +61,7 @@ void main() {
     for (uint e = nbr_offset[i] + lane; e < end; e += kDeformLanes) {
       const uint j = nbr_index[e];
       if (j >= p.phyxels) continue;
+      if (p.pair_weights != 0u && weight[e] == 0.0) continue;  // severed
       const vec3 x = (rest[j].xyz - xi) * inv_h;
       const float q = 1.0 - dot(x, x);
       if (q <= 0.0) continue;
@@ -117,8 +127,10 @@ void main() {
   const float lambda = 0.5 * (c11 + c22) + sqrt(half_diff * half_diff + c12 * c12);
   const float stretch = clamp(sqrt(lambda), 1.0, p.max_stretch);
 
-  outp.centre = vec4(xi + ui, s.radius * stretch);
-  outp.normal = vec4(n, usable ? 1.0 : 0.0);
+  const bool cut = (s.flags & kSurfelCutFace) != 0u;
+  const vec3 offset = cut ? f * (n0 * s.normal.w) : vec3(0.0);
+  outp.centre = vec4(xi + ui + offset, s.radius * stretch);
+  outp.normal = vec4(n, float((usable ? kSplatUsable : 0u) | (cut ? kSplatCutFace : 0u)));
   outp.ds_dx = vec4(f_inv_t * s.ds_dx.xyz, s.ds_dx.w);
   outp.dt_dx = vec4(f_inv_t * s.dt_dx.xyz, s.dt_dx.w);
   splats[k] = outp;

@@ -25,25 +25,37 @@ PHYXEL_ASSERT_SIZE(mat4, 64);
 // ds_dx, dt_dx are their gradients along the rest tangent plane, so that a point at rest
 // offset d from the centre has s = s_c + dot(ds_dx, d) (the texture then varies inside a
 // splat, not only from splat to splat).
+//
+// Cut faces (render/cut_surfels.h): a phyxel next to a cut gets a second surfel with
+// kSurfelCutFace in `flags`, the normal of the face the blade left (out of the phyxel's piece),
+// its disc centred on that face (normal.w: the offset from the phyxel along the rest normal)
+// and (s, t) the face's own rest-plane coordinates in spacings, which the accumulation pass
+// turns into the procedural cut-tissue colour instead of sampling the texture.
 struct SurfelStatic {
   uint index;     // phyxel index into rest / displacement / nbr_offset
   float radius;   // splat radius at rest, m
   float support;  // the object's support radius h, m (poly6 weights of grad u)
-  uint flags;     // unused by the shaders; the phyxel flags at build time
-  vec4 normal;    // rest outward unit normal (w unused)
+  uint flags;     // the phyxel flags at build time; kSurfelCutFace for a cut face
+  vec4 normal;    // xyz: rest unit normal (outward); w: the disc centre's offset along it, m
   vec4 ds_dx;     // xyz: gradient of s at rest; w: s at the centre
   vec4 dt_dx;     // xyz: gradient of t at rest; w: t at the centre
 };
 PHYXEL_ASSERT_SIZE(SurfelStatic, 64);
+// SurfelStatic::flags bit of a cut-face surfel (the phyxel flags use the low bits).
+PHYXEL_CONST uint kSurfelCutFace = 0x80000000u;
 
 // One deformed splat, written by deform_surfels.comp every frame, read by the splat passes.
 struct Splat {
   vec4 centre;  // xyz: x0 + u; w: radius (0: not drawn)
-  vec4 normal;  // xyz: unit n' ~ (I + grad u)^-T n; w: 1 when grad u was usable, 0 fallback
+  vec4 normal;  // xyz: unit n' ~ (I + grad u)^-T n; w: kSplatUsable | kSplatCutFace bits
   vec4 ds_dx;   // xyz: gradient of s in the deformed state, (ds/dx0) F^-1; w: s at the centre
   vec4 dt_dx;   // the same for t
 };
 PHYXEL_ASSERT_SIZE(Splat, 64);
+// Bits of Splat::normal.w (a small integer stored as a float): grad u was usable (else the
+// rest normal), and the splat is a cut face (the accumulation pass draws cut tissue).
+PHYXEL_CONST uint kSplatUsable = 1;
+PHYXEL_CONST uint kSplatCutFace = 2;
 
 // deform_surfels.comp
 PHYXEL_CONST uint kDeformBindingRest = 0;
@@ -52,6 +64,9 @@ PHYXEL_CONST uint kDeformBindingNbrOffset = 2;
 PHYXEL_CONST uint kDeformBindingNbrIndex = 3;
 PHYXEL_CONST uint kDeformBindingSurfels = 4;
 PHYXEL_CONST uint kDeformBindingSplats = 5;
+// float per CSR pair (the GPU solver's pair weights; 0: severed or removed), read only when
+// DeformPush::pair_weights is 1 (else a one-word placeholder is bound).
+PHYXEL_CONST uint kDeformBindingPairWeight = 6;
 // Invocations per surfel (a divisor of PHYXEL_WORKGROUP_SIZE): dispatch count x kDeformLanes.
 PHYXEL_CONST uint kDeformLanes = 8;
 struct DeformPush {
@@ -59,8 +74,10 @@ struct DeformPush {
   uint phyxels;                 // entries of rest / displacement (indices are checked against it)
   float min_inverse_condition;  // det(A) / (tr(A)/3)^3 below this: A is ill-conditioned
   float max_stretch;            // radius growth limit under stretch
+  uint pair_weights;            // 1: skip pairs whose kDeformBindingPairWeight entry is 0
+  uint pad0, pad1, pad2;
 };
-PHYXEL_ASSERT_SIZE(DeformPush, 16);
+PHYXEL_ASSERT_SIZE(DeformPush, 32);
 
 // The splat passes, one eye at a time, one invocation per splat (splat_visibility.comp,
 // splat_accumulate.comp, both built on splat_raster.glsl). Per-pixel buffers of an eye have
@@ -70,10 +87,12 @@ PHYXEL_CONST uint kRasterBindingDepth = 1;   // uint per pixel: bits of the visi
 PHYXEL_CONST uint kRasterBindingAccum = 2;   // accumulation only: kAccumChannels ints per pixel
 PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, binding 0, the texture
 // Accumulated per pixel, in fixed point (kAccumScale = 1.0), so that sums are exact and the
-// same in any order: colour x w (3), w, normal x w (3), and in the last channel the nearest
-// tool's hit (kAccumTool, written by tool_visibility.comp). 2^16 leaves room for sums of
-// 32768 full-weight discs before a 32-bit int overflows.
-PHYXEL_CONST uint kAccumChannels = 8;
+// same in any order: colour x w (3), w, normal x w (3), the nearest tool's hit (kAccumTool,
+// written by tool_visibility.comp), and w of the cut-face discs alone (kAccumCut: the
+// shading pass makes that fraction of the pixel wet). 2^16 leaves room for sums of 32768
+// full-weight discs before a 32-bit int overflows.
+PHYXEL_CONST uint kAccumChannels = 9;
+PHYXEL_CONST uint kAccumCut = 8;
 // Channel of the tool hit: 0 for none, else kToolHitFlag | the eye-space unit normal of the
 // hit in octahedral coordinates, (u, v) in [-1, 1] to 15 bits each (u in bits 0-14, v in
 // bits 15-29).

@@ -3,11 +3,14 @@
 // the distance from the disc's centre. The texture coordinate varies across the disc with the
 // splat's texture gradient; the texture's level of detail comes from its change to the next
 // pixel right and down (on the disc's plane), as a fragment shader's derivatives would.
+// Cut faces (kSplatCutFace) take the procedural cut tissue of cut_tissue.glsl at their own
+// (s, t) instead of the texture, and add w to the cut channel (kAccumCut) as well.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
 #include "splat_common.glsl"
 #include "splat_raster.glsl"
+#include "cut_tissue.glsl"
 
 layout(std430, binding = kRasterBindingDepth) readonly buffer Depth { uint depth[]; };
 layout(std430, binding = kRasterBindingAccum) buffer Accum { int accum[]; };
@@ -39,7 +42,8 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   const vec2 st_dy = plane_st(s, dir + step_y) - st;
   // A truncated Gaussian: weight 1 at the centre, exp(-2) at the rim.
   const float w = exp(-2.0 * h.q2);
-  const vec3 colour = textureGrad(tissue, st, st_dx, st_dy).rgb;
+  const vec3 colour =
+      s.cut ? cut_tissue(st, st_dx, st_dy) : textureGrad(tissue, st, st_dx, st_dy).rgb;
   // Two-sided: the normal that faces the eye (cut or thin tissue shows its back).
   const vec3 n = dot(s.n, dir) > 0.0 ? -s.n : s.n;
   const uint at = pixel * kAccumChannels;
@@ -50,4 +54,5 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   add(at + 4, n.x * w);
   add(at + 5, n.y * w);
   add(at + 6, n.z * w);
+  if (s.cut) add(at + kAccumCut, w);
 }

@@ -20,6 +20,7 @@ struct EyeSplat {
   vec3 n;    // unit normal
   vec4 ds;   // xyz: gradient of the texture coordinate s; w: s at the centre
   vec4 dt;   // the same for t
+  bool cut;  // a cut face (kSplatCutFace): cut tissue instead of the texture
 };
 
 EyeSplat eye_splat(uint k) {
@@ -31,6 +32,7 @@ EyeSplat eye_splat(uint k) {
   e.n = rot * s.normal.xyz;
   e.ds = vec4(rot * s.ds_dx.xyz, s.ds_dx.w);
   e.dt = vec4(rot * s.dt_dx.xyz, s.dt_dx.w);
+  e.cut = (uint(s.normal.w) & kSplatCutFace) != 0u;
   return e;
 }
 

@@ -2,7 +2,8 @@
 // colour = sum(c w) / sum(w), normal = normalize(sum(n w)); a key light above left of the
 // camera and a head light, eye space. A pixel where no splat was accumulated but a tool was
 // hit (tool_visibility.comp) shows the tool: polished steel, Phong with a sharp highlight and
-// a reflected sky/floor gradient. Writes the frame in its layout: one eye, both side by
+// a reflected sky/floor gradient. The fraction of a pixel's weight from cut faces makes it wet
+// (a sharper, brighter highlight). Writes the frame in its layout: one eye, both side by
 // side, or the red/cyan anaglyph of the two.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -22,6 +23,9 @@ const float kKeyDiffuse = 0.5;
 const float kHeadDiffuse = 0.35;
 const float kSpecular = 0.25;
 const float kShininess = 32.0;
+// Cut tissue is wet: a brighter, tighter highlight (mixed in by the pixel's cut-face weight).
+const float kWetSpecular = 0.55;
+const float kWetShininess = 90.0;
 
 // Steel: a dark, slightly blue grey base that mirrors a studio (eye space): a bright sky
 // above a sharp horizon and a dark floor below, a soft box around the key light and a dimmer
@@ -63,8 +67,11 @@ vec3 shade(uint eye, uint x, uint y) {
   const vec3 n = len > 0.0 ? sum_n / len : view;
   const float key = max(dot(n, kKeyLight), 0.0);
   const float head = max(dot(n, view), 0.0);
-  const float spec = pow(max(dot(reflect(-kKeyLight, n), view), 0.0), kShininess);
-  const vec3 colour = albedo * (kAmbient + kKeyDiffuse * key + kHeadDiffuse * head) + kSpecular * spec;
+  const float wet = clamp(float(accum[at + kAccumCut]) / w, 0.0, 1.0);
+  const float r_dot_v = max(dot(reflect(-kKeyLight, n), view), 0.0);
+  const float spec = mix(kSpecular * pow(r_dot_v, kShininess),
+                         kWetSpecular * pow(r_dot_v, kWetShininess), wet);
+  const vec3 colour = albedo * (kAmbient + kKeyDiffuse * key + kHeadDiffuse * head) + spec;
   return min(colour, vec3(1.0));
 }
 
