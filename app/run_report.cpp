@@ -1,5 +1,7 @@
 #include "app/run_report.h"
 
+#include "engine/surgery/resection.h"
+
 #include "engine/run/atomic_file.h"
 
 #include <algorithm>
@@ -96,8 +98,21 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       tools.push_back(tool);
     }
     j["tools"] = tools;
-    if (solver.supports_cutting() && solver.severed_pairs() > 0)
-      j["cutting"] = {{"severed_pairs", solver.severed_pairs()}};
+    if (solver.supports_cutting() && solver.severed_pairs() > 0) {
+      // What the cuts freed from the fixed tissue (engine/surgery/resection.h).
+      const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
+      json inclusions = json::array();
+      for (const InclusionRemoval& c : r.inclusions)
+        inclusions.push_back({{"name", c.name},
+                              {"mass_g", 1e3 * c.mass},
+                              {"removed_percent", c.mass > 0 ? 100 * c.removed / c.mass : 0.0},
+                              {"healthy_removed_g", 1e3 * c.healthy_removed},
+                              {"whole", c.whole}});
+      j["cutting"] = {{"severed_pairs", solver.severed_pairs()},
+                      {"freed_pieces", r.pieces},
+                      {"freed_mass_g", 1e3 * r.freed_mass},
+                      {"inclusions", inclusions}};
+    }
   }
   if (haptics != nullptr && !haptics->empty()) {
     json loops = json::array();

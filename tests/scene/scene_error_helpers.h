@@ -9,6 +9,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "engine/scene/scene.h"
 
@@ -41,7 +42,7 @@ inline std::string error_with(const std::function<void(json&)>& edit) {
 
 // One line, starting "FILE: PATH: ", with a "; what is allowed" part, containing every part.
 inline void expect_error(const std::string& msg, const std::string& path,
-                         std::initializer_list<std::string> parts) {
+                         const std::vector<std::string>& parts) {
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   EXPECT_EQ(msg.rfind(std::string(kFile) + ": " + path + ": ", 0), 0u) << msg;
   EXPECT_NE(msg.find("; "), std::string::npos) << msg;

@@ -174,10 +174,79 @@ TEST(SceneToolsErrors, TypeRequired) {
 }
 
 TEST(SceneToolsErrors, ComingTypesAreNotAvailableYet) {
-  for (const char* type : {"scalpel", "suction", "grasper"}) {
+  for (const char* type : {"suction", "grasper"}) {
     const std::string msg = tools_error([&](json& j) { tool0(j)["type"] = type; });
     expect_error(msg, "tools[0].type",
-                 {"tool type \"" + std::string(type) + "\" is not available yet", "allowed probe"});
+                 {"tool type \"" + std::string(type) + "\" is not available yet",
+                  "allowed probe or scalpel"});
+  }
+}
+
+// --- scalpel ---
+
+json& make_scalpel(json& j) {
+  json& t = tool0(j);
+  t["type"] = "scalpel";
+  t["blade"] = {{"length", 0.02}, {"edge", {1, 0, 0.5}}};
+  t["cut_force_threshold"] = 0.5;
+  return t;
+}
+
+TEST(SceneTools, AScalpelsBladeIsRead) {
+  json j = with_tools();
+  make_scalpel(j)["blade"]["reach"] = 0.001;
+  const Scene s = parse_scene(j.dump(), kFile);
+  const ToolDesc& t = s.tools[0];
+  EXPECT_EQ(t.type, ToolDesc::Type::Scalpel);
+  EXPECT_TRUE(t.blade.cuts());
+  EXPECT_DOUBLE_EQ(t.blade.length, 0.02);
+  EXPECT_DOUBLE_EQ(t.blade.threshold, 0.5);
+  EXPECT_DOUBLE_EQ(t.blade.reach, 0.001);
+  // The edge is made perpendicular to the first key's axis (z) and unit.
+  EXPECT_NEAR((t.blade.edge - Vec3(1, 0, 0)).norm(), 0, 1e-15);
+  EXPECT_NEAR((t.blade.reference_axis - Vec3(0, 0, 1)).norm(), 0, 1e-15);
+  EXPECT_FALSE(s.tools[1].blade.cuts());  // a probe has no blade
+}
+
+TEST(SceneToolsErrors, BadScalpelInput) {
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string path;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {[](json& j) { make_scalpel(j).erase("blade"); },
+       "tools[0].blade",
+       {"missing required key \"blade\""}},
+      {[](json& j) { make_scalpel(j)["blade"]["length"] = 0; }, "tools[0].blade.length", {"0"}},
+      {[](json& j) {
+         make_scalpel(j)["blade"]["edge"] = {0, 0, 3};
+       },
+       "tools[0].blade.edge",
+       {"edge along the tool's axis", "not parallel to the axis of path[0]"}},
+      {[](json& j) {
+         make_scalpel(j)["blade"]["edge"] = {0, 0, 0};
+       },
+       "tools[0].blade.edge",
+       {"zero edge"}},
+      {[](json& j) { make_scalpel(j)["cut_force_threshold"] = -1; },
+       "tools[0].cut_force_threshold",
+       {"-1"}},
+      {[](json& j) { make_scalpel(j)["blade"]["sharpness"] = 1; },
+       "tools[0].blade.sharpness",
+       {"unknown key"}},
+      {[](json& j) {
+         tool0(j)["blade"] = {{"length", 0.02}, {"edge", {1, 0, 0}}};
+       },
+       "tools[0].blade",
+       {"\"blade\" applies only to a scalpel"}},
+      {[](json& j) { tool0(j)["cut_force_threshold"] = 1; },
+       "tools[0].cut_force_threshold",
+       {"\"cut_force_threshold\" applies only to a scalpel"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.path);
+    expect_error(tools_error(c.edit), c.path, c.parts);
   }
 }
 
