@@ -190,6 +190,7 @@ int bench_command(const Args& args) {
   if (has("--stability")) return bench_stability(args);
   if (has("--render")) return bench_render_command(args);
   if (has("--haptics")) return bench_haptics(args);
+  if (has("--cutting")) return bench_cutting(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")

@@ -114,6 +114,17 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
     contact_spacing_ = std::max(contact_spacing_, o.spacing);
     max_support_ = std::max(max_support_, o.support_radius);
   }
+  {
+    // The contact frame: tools work on the tissue, so positions relative to its centre keep
+    // the per-substep motion's precision in float; the same for the solver's life.
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (const Vec3& x : set.rest) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    const Vec3 centre = set.rest.empty() ? Vec3::Zero() : Vec3(0.5 * (lo + hi));
+    contact_origin_ = {float(centre.x()), float(centre.y()), float(centre.z()), 0.0f};
+  }
 
   upload(ctx, classes_, host.classes);
   upload(ctx, rest_, host.rest);
@@ -191,7 +202,10 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
                  {disp_[0], disp_[target], vel_, force_, ext_, flags_, classes_, force_list_}, n);
       });
       cur = target;
-      if (contact_recorded()) timed("contact", [&] { record_contact(rec, 0, dt, disp_[cur]); });
+      if (contact_recorded()) {
+        timed("contact", [&] { record_contact(rec, 0, dt, disp_[cur]); });
+        if (cutting_) timed("cut", [&] { record_sever(rec, 0, disp_[cur]); });
+      }
     }
     timed("stress", [&] { record_stress(rec, disp_[cur]); });
     if (step == total - 1) {
@@ -199,8 +213,10 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     } else {
       timed("force", [&] { record_force(rec, kForceKickDrift, dt, disp_[cur], disp_[1 - cur]); });
       cur = 1 - cur;
-      if (contact_recorded())
+      if (contact_recorded()) {
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
+        if (cutting_) timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
+      }
     }
   }
 }

@@ -263,13 +263,13 @@ class GpuSolver final : public Solver {
   std::vector<ToolMotion> pending_motion_;     // for the next advance
   std::vector<ToolMotion> motion_;             // the chunk's motions (substeps x tools)
   size_t motion_steps_ = 0, motion_step_ = 0;  // substeps in motion_, substeps consumed
-  layout::vec4 contact_origin_{};              // the motion table's frame (world, float)
-  bool broad_pending_ = false;                 // the broad phase to run at the next advance
-  size_t candidates_ = 0;                      // of the last advance (read with its samples)
-  std::vector<ToolContactSample> samples_;     // of the last advance
-  bool contact_active_ = false;                // contact passes recorded in this advance
-  uint32_t candidate_capacity_ = 0;            // elements of the candidate buffers
-  Buffer tool_shapes_;                         // ContactToolShape per tool
+  layout::vec4 contact_origin_{};           // the motion table's frame: rest bounds centre (float)
+  bool broad_pending_ = false;              // the broad phase to run at the next advance
+  size_t candidates_ = 0;                   // of the last advance (read with its samples)
+  std::vector<ToolContactSample> samples_;  // of the last advance
+  bool contact_active_ = false;             // contact passes recorded in this advance
+  uint32_t candidate_capacity_ = 0;         // elements of the candidate buffers
+  Buffer tool_shapes_;                      // ContactToolShape per tool
   Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
   Buffer candidate_list_;     // uint[capacity]: the broad phase's phyxels, ascending
   Buffer contact_count_;      // Readback, indirect: ContactCount of the broad phase

@@ -168,10 +168,10 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
     motion_steps_ = motion_.size() / nt;
     motion_step_ = 0;
     chunk_duration_ = dt * double(motion_steps_);
-    // The motion table in a frame at the first tool's first pose, rounded to float so that the
-    // shader subtracts exactly this origin from the rest positions.
-    const Vec3 origin = motion_[0].from.position.cast<float>().cast<double>();
-    contact_origin_ = to_vec4(origin);
+    // The motion table in the solver's contact frame (build(): the centre of the rest bounds,
+    // rounded to float, the same for every chunk so that where an advance starts changes no
+    // bit of the contact and cutting passes).
+    const Vec3 origin(contact_origin_.x, contact_origin_.y, contact_origin_.z);
     std::vector<ContactMotion> table(motion_.size());
     for (size_t k = 0; k < motion_.size(); ++k) {
       const ToolMotion& m = motion_[k];
@@ -218,7 +218,6 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
            ContactReducePush{0u, nt, candidate_capacity_, static_cast<uint32_t>(step)},
            {candidate_force_, samples_buffer_, contact_count_},
            nt * kernels_->contact_reduce.workgroup_size()[0]);
-  if (cutting_) record_sever(rec, step, disp);
 }
 
 void GpuSolver::finish_contact(int64_t substeps, bool ran) {

@@ -14,11 +14,29 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose) {
 CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach) {
   CutQuad q;
   q.edge = blade_edge(blade, to);
-  const Vec3 ahead = reach * q.edge;
+  // The blade cuts the way it moves: the sideways motion of its middle, where that has a part
+  // along the sharp side (a blade dragged backwards, or pushed along its axis, keeps `edge`).
+  // The turned `edge` alone drifts from the motion on paths that turn the axis around another
+  // axis (a conical cut turns it by up to 2 pi (1 - cos) of the cone's half-angle).
+  const Vec3 mid_from = from.position + 0.5 * blade.length * from.axis;
+  const Vec3 mid_to = to.position + 0.5 * blade.length * to.axis;
+  Vec3 side = mid_to - mid_from;
+  side -= side.dot(to.axis) * to.axis;
+  const double moved = side.norm();
+  if (moved > 1e-9 * std::max(blade.length, 1e-12) && side.dot(q.edge) > 0) q.edge = side / moved;
+  // Each end of the blade reaches ahead in proportion to how far it moves (a stab along the
+  // axis included): fully once it moves 5 % of the reach in the substep, not at all where it
+  // stands still (the pivot of a turning blade would otherwise cut a disc around itself).
+  auto ahead = [&](const Vec3& a, const Vec3& b) {
+    const double r = reach > 0 ? reach * std::min(1.0, (b - a).norm() / (0.05 * reach)) : 0.0;
+    return Vec3(r * q.edge);
+  };
+  const Vec3 end_from = from.position + blade.length * from.axis;
+  const Vec3 end_to = to.position + blade.length * to.axis;
   q.corner[0] = from.position;
-  q.corner[1] = from.position + blade.length * from.axis;
-  q.corner[2] = to.position + blade.length * to.axis + ahead;
-  q.corner[3] = to.position + ahead;
+  q.corner[1] = end_from;
+  q.corner[2] = end_to + ahead(end_from, end_to);
+  q.corner[3] = to.position + ahead(from.position, to.position);
   return q;
 }
 

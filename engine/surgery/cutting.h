@@ -37,7 +37,10 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose);
 
 // The quad the blade swept over one substep's motion, as corners p0..p3 (triangles p0 p1 p2 and
 // p0 p2 p3): p0, p1 the blade's tip and end at the start pose; p2, p3 its end and tip at the
-// end pose, moved `reach` ahead along the edge there.
+// end pose, moved ahead along the edge there by `reach` (each end in proportion to how far it
+// moved in the substep, fully from 5 % of the reach on). The edge of a substep is the direction
+// the blade's middle moves across its axis, where that has a part along blade_edge (it cuts
+// the way it is pushed), else blade_edge.
 struct CutQuad {
   std::array<Vec3, 4> corner;
   Vec3 edge = Vec3::UnitX();  // the edge direction at the end pose

@@ -88,6 +88,21 @@ constexpr const char* kProbe = R"({
               {"t": 0.06, "position": [0.01, 0.01, 0.009]}], "friction": 0.2}]
 })";
 
+// A scalpel cutting a slit through a small block (docs/cutting.md): cuts happen before and
+// after the checkpoints.
+constexpr const char* kScalpel = R"({
+  "simulation": {"dt": 2e-4, "steps": 200, "gravity": [0, 0, -9.81]},
+  "objects": [{"name": "block", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.02, 0.012, 0.01]},
+    "spacing": 0.002,
+    "material": {"young": 5e3, "poisson": 0.3, "density": 1000, "damping": 10},
+    "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 0.0005]}]}],
+  "output": {"every": 50, "format": "binary"},
+  "tools": [{"name": "scalpel", "type": "scalpel",
+     "shape": {"type": "capsule", "radius": 0.0003, "length": 0.02},
+     "blade": {"length": 0.015, "edge": [1, 0, 0]},
+     "path": [{"t": 0, "position": [-0.002, 0.0061, 0.004]}, {"t": 0.04, "position": [0.022, 0.0061, 0.004]}]}]
+})";
+
 fs::path write_scene(const fs::path& dir, const std::string& name, const std::string& json) {
   fs::create_directories(dir);
   const fs::path file = dir / name;
@@ -277,6 +292,31 @@ TEST(Checkpoint, PathToolResumeContinuesToolsCsv) {
   const Ran resumed = run(scene, "--threads 1 --resume " + (dir / "late").string(), dir);
   ASSERT_EQ(resumed.code, 0) << resumed.err;
   expect_same_file(dir / "plain" / "tools.csv", dir / "late" / "tools.csv");
+}
+
+TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
+  const fs::path dir = test::test_output_dir("checkpoint_scalpel");
+  const fs::path scene = write_scene(dir, "scalpel.json", kScalpel);
+  check_resume(dir / "cpu", scene, "--threads 1", 200, 50, 100);
+  expect_same_file(dir / "cpu" / "plain" / "tools.csv", dir / "cpu" / "part" / "tools.csv");
+  const nlohmann::json p = read_json(dir / "cpu" / "plain" / "summary.json");
+  const nlohmann::json s = read_json(dir / "cpu" / "part" / "summary.json");
+  ASSERT_TRUE(p.contains("cutting"));
+  EXPECT_GT(p["cutting"]["severed_pairs"].get<int>(), 0);
+  EXPECT_EQ(s["cutting"], p["cutting"]);
+  EXPECT_EQ(s["tools"], p["tools"]);
+  // The checkpoint at step 100 already holds cuts.
+  EXPECT_GT(read_checkpoint(dir / "cpu" / "full" / kCheckpointFile).severed.size(), 0u);
+  gpu::ContextOptions context;
+  try {
+    context = gpu::test_context_options();
+  } catch (const VulkanError& e) {
+    GTEST_SKIP() << e.what();
+  }
+  const std::string device =
+      "--device " + context.device + (context.validation ? " --validate" : "");
+  check_resume(dir / "gpu", scene, device, 200, 50, 100);
+  check_resume(dir / "gpu_inside", scene, device, 200, 50, 77);
 }
 
 // A valid checkpoint to corrupt: the probe scene at step 20.

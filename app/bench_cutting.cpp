@@ -1,0 +1,239 @@
+// phyxel bench --cutting: what a cut update costs per step (severing, the precompute of the
+// touched phyxels) and the step rate while cutting, on boxes of several sizes that a scalpel
+// crosses (docs/cutting.md). Each size runs twice, interleaved: the same blade body as a probe
+// (contact only) and as a scalpel (contact and cutting); the wall-time difference is the cut's
+// cost, and on a GPU the per-pass timestamps give the cut pass alone. Writes a table on stdout
+// and, with --out DIR, DIR/cutting.json.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/bench_extras.h"
+#include "app/options.h"
+#include "compute/gpu_solver.h"
+#include "engine/run/simulation.h"
+
+namespace phyxel::app {
+namespace {
+
+constexpr const char* kCuttingHelp =
+    "usage: phyxel bench --cutting [options]\n"
+    "\n"
+    "An elastic box per size (0.1 m, clamped at its base) that a scalpel crosses at 0.5 m/s,\n"
+    "its vertical blade 7 cm deep (threshold 0: it cuts wherever it moves through tissue).\n"
+    "Per size: seconds per step with the blade's body as a probe and as a scalpel (median of\n"
+    "the repeats, interleaved), the cut's share of the step, the step rate while cutting, pairs\n"
+    "severed per step; GPU rows add the cut pass's own time per step (timestamps).\n"
+    "\n"
+    "options:\n"
+    "  --device D        cpu (default), gpu, gpu:N or part of a GPU's name\n"
+    "  --sizes LIST      box sizes in phyxels (default 10000,100000 on the CPU,\n"
+    "                    10000,100000,1000000 on a GPU)\n"
+    "  --steps N         steps per timed repeat (default 64)\n"
+    "  --repeats N       timed repeats, the median is reported (default 5)\n"
+    "  --threads N       CPU solver threads (default: all cores)\n"
+    "  --out DIR         write DIR/cutting.json";
+
+constexpr double kSpeed = 0.5;  // m/s
+
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+Scene cutting_scene(int64_t size, bool blade) {
+  Scene scene = bench_scene(size);
+  ToolDesc t;
+  t.name = "scalpel";
+  t.shape.type = ToolShape::Type::Capsule;
+  t.shape.radius = 0.0005;
+  t.shape.length = 0.09;
+  // Across the box along x at y = 0.0503 (off the lattice planes), tip at z = 0.03.
+  const double y = 0.0503, z = 0.03;
+  t.path = {{0.0, Vec3(-0.005, y, z), Vec3::UnitZ()},
+            {0.11 / kSpeed, Vec3(0.105, y, z), Vec3::UnitZ()}};
+  t.friction = 0.2;
+  if (blade) {
+    t.type = ToolDesc::Type::Scalpel;
+    t.blade.length = 0.09;
+    t.blade.edge = Vec3::UnitX();
+    t.blade.reference_axis = Vec3::UnitZ();
+  }
+  scene.tools.push_back(t);
+  return scene;
+}
+
+std::unique_ptr<Solver> make_solver(const std::string& device, const PhyxelSet& set,
+                                    const Vec3& gravity, int threads) {
+  if (device == "cpu") return make_cpu_solver(set, gravity, threads);
+  gpu::ContextOptions context;
+  context.device = device;
+  context.validation = false;
+  return make_gpu_solver(set, gravity, context);
+}
+
+struct CutCase {
+  CutCase(const std::string& device, int threads, int64_t size, bool blade)
+      : scene(cutting_scene(size, blade)),
+        set(sample_scene(scene)),
+        dt(plan_time_step(scene, set).dt_stable),
+        solver(make_solver(device, set, scene.simulation.gravity, threads)),
+        track(scene.tools, nullptr) {
+    solver->set_tools(contact_tools(scene.tools));
+  }
+  double run(int64_t steps) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int64_t chunk = RunOptions{}.tool_chunk_substeps;
+    for (int64_t left = steps; left > 0;) {
+      const int64_t n = std::min(left, chunk);
+      advance_with_tools(*solver, track, done, n, 1, dt);
+      done += n;
+      left -= n;
+    }
+    return since(t0);
+  }
+  std::vector<gpu::PassTime> profile(int64_t steps) {
+    auto* g = dynamic_cast<gpu::GpuSolver*>(solver.get());
+    if (g == nullptr) return {};
+    solver->set_tool_motion(track.motions(done, steps, dt));
+    std::vector<gpu::PassTime> passes = g->profile(steps, dt);
+    solver->tool_samples();
+    done += steps;
+    return passes;
+  }
+  Scene scene;
+  PhyxelSet set;
+  double dt;
+  std::unique_ptr<Solver> solver;
+  ToolTrack track;
+  int64_t done = 0;
+};
+
+double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name) {
+  for (const gpu::PassTime& p : passes)
+    if (p.name == name) return p.ns;
+  return 0;
+}
+
+nlohmann::json cutting_row(const std::string& device, int threads, int64_t size, int64_t steps,
+                           int64_t repeats) {
+  CutCase probe(device, threads, size, false), scalpel(device, threads, size, true);
+  // Warm-up: the blade enters the box (1 cm of travel).
+  const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kSpeed / scalpel.dt));
+  probe.run(enter);
+  scalpel.run(enter);
+  const size_t severed_before = scalpel.solver->severed_pairs();
+  std::vector<double> t_probe, t_scalpel;
+  for (int64_t r = 0; r < repeats; ++r) {
+    t_probe.push_back(probe.run(steps) / double(steps));
+    t_scalpel.push_back(scalpel.run(steps) / double(steps));
+  }
+  const double s_probe = median(t_probe), s_scalpel = median(t_scalpel);
+  const double severed_per_step =
+      double(scalpel.solver->severed_pairs() - severed_before) / double(steps * repeats);
+  nlohmann::json row = {
+      {"device", scalpel.solver->device()},
+      {"phyxels", scalpel.set.size()},
+      {"dt", scalpel.dt},
+      {"steps", steps},
+      {"repeats", repeats},
+      {"step_ms_probe", s_probe * 1e3},
+      {"step_ms_scalpel", s_scalpel * 1e3},
+      {"cut_ms_per_step", (s_scalpel - s_probe) * 1e3},
+      {"cut_share_percent", 100 * (s_scalpel - s_probe) / std::max(s_scalpel, 1e-30)},
+      {"steps_per_s_cutting", 1 / std::max(s_scalpel, 1e-30)},
+      {"severed_per_step", severed_per_step},
+      {"severed_total", scalpel.solver->severed_pairs()},
+      {"candidates", scalpel.solver->contact_candidates()},
+      {"finite", probe.solver->first_non_finite() < 0 && scalpel.solver->first_non_finite() < 0}};
+  const std::vector<gpu::PassTime> passes = scalpel.profile(32);
+  if (!passes.empty()) {
+    row["gpu_cut_us"] = pass_ns(passes, "cut") * 1e-3;
+    row["gpu_step_us"] = (pass_ns(passes, "stress") + pass_ns(passes, "force") +
+                          pass_ns(passes, "contact") + pass_ns(passes, "cut")) *
+                         1e-3;
+  }
+  return row;
+}
+
+void print_row(const nlohmann::json& r) {
+  std::printf("%-40.40s %9lld %10.4g %10.4g %10.4g %8.1f%% %10.0f %9.1f",
+              r["device"].get<std::string>().c_str(), r["phyxels"].get<long long>(),
+              r["step_ms_probe"].get<double>(), r["step_ms_scalpel"].get<double>(),
+              r["cut_ms_per_step"].get<double>(), r["cut_share_percent"].get<double>(),
+              r["steps_per_s_cutting"].get<double>(), r["severed_per_step"].get<double>());
+  if (r.contains("gpu_cut_us"))
+    std::printf(" %9.1f %9.1f", r["gpu_cut_us"].get<double>(), r["gpu_step_us"].get<double>());
+  if (!r["finite"].get<bool>()) std::printf("  (non-finite: the figures mean nothing)");
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+std::vector<int64_t> parse_sizes(const std::string& text) {
+  std::vector<int64_t> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    char* end = nullptr;
+    const long long v = std::strtoll(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || v < 1000)
+      throw UsageError("phyxel bench: --sizes " + text +
+                       ": expected a comma-separated list of phyxel counts (at least 1000)");
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+int bench_cutting(const Args& args) {
+  OptionParser opts("bench", args);
+  opts.flag("--cutting");
+  if (opts.flag("--help")) {
+    std::puts(kCuttingHelp);
+    return 0;
+  }
+  const std::string device = opts.value("--device", "cpu");
+  const auto sizes =
+      parse_sizes(opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"));
+  const int64_t steps = opts.integer("--steps", 64, 1, 1 << 20);
+  const int64_t repeats = opts.integer("--repeats", 5, 1, 1000);
+  const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
+  const std::string out_dir = opts.value("--out", "");
+  opts.finish();
+
+  std::printf("cutting cost: a scalpel crossing an elastic box at %.1f m/s, blade 7 cm deep\n",
+              kSpeed);
+  std::printf("%-40s %9s %10s %10s %10s %9s %10s %9s", "device", "phyxels", "probe ms",
+              "scalpel ms", "cut ms", "share", "steps/s", "severed");
+  if (device != "cpu") std::printf(" %9s %9s", "cut us", "step us");
+  std::printf("\n");
+  nlohmann::json rows = nlohmann::json::array();
+  for (const int64_t size : sizes) {
+    rows.push_back(cutting_row(device, threads, size, steps, repeats));
+    print_row(rows.back());
+  }
+  std::printf(
+      "(ms per step: wall time, median of %lld repeats of %lld steps, blade body as a probe and "
+      "as a scalpel; cut ms: the difference; severed: pairs per step; cut us: the GPU's cut "
+      "pass per step, timestamps)\n",
+      static_cast<long long>(repeats), static_cast<long long>(steps));
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    std::ofstream json(std::filesystem::path(out_dir) / "cutting.json");
+    json << nlohmann::json{{"cutting", rows}}.dump(2) << "\n";
+    if (!json) throw std::runtime_error("cannot write " + out_dir + "/cutting.json");
+  }
+  return 0;
+}
+
+}  // namespace phyxel::app
