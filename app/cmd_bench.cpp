@@ -57,7 +57,10 @@ constexpr const char* kBenchHelp =
     "  --haptics             the 1 kHz haptic loop's tick timing while the solver runs in real\n"
     "                        time (and idle), and the cost of tool contact per step (--device\n"
     "                        D, --scene FILE, --refine K, --seconds S, --sizes LIST, --out DIR;\n"
-    "                        --haptics --help)";
+    "                        --haptics --help)\n"
+    "  --cutting             what a cut update costs per step and the step rate while cutting:\n"
+    "                        a scalpel crossing boxes of several sizes (--device D, --sizes\n"
+    "                        LIST, --steps N, --repeats N, --out DIR; --cutting --help)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# On the device machine (docs/performance.md, "Cutting"): the GPU cutting tests on the real
+# GPU, `phyxel bench --cutting` on boxes of 10k, 100k and 1M phyxels, and scenes/scalpel_cut.json
+# run on the GPU (its real-time factor). Expects binaries built on the development machine
+# without the window viewer, as scripts/device-haptics.sh says, and the Vulkan loader packages
+# in .gl/. Results go to $OUT: cutting.txt and cutting.json.
+set -uo pipefail
+b="${PHYXEL_BUILD:-build-device}"
+for f in .gl/*.deb; do dpkg -x "$f" /; done
+ldconfig
+out="${OUT:-/tmp/phyxel-out}"
+mkdir -p "$out"
+if ! "$b"/app/phyxel info >/dev/null 2>&1; then
+  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+fi
+nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,clocks.mem --format=csv
+if [ -x "$b/tests/test_gpu_solver" ]; then
+  PHYXEL_TEST_DEVICE=gpu "$b"/tests/test_gpu_solver --gtest_filter='*Cut*:*Contact*' 2>&1 |
+    tail -4 | tee "$out/cutting.txt"
+fi
+"$b"/app/phyxel bench --cutting --device gpu --sizes "${SIZES:-10000,100000,1000000}" \
+  --out /tmp/phyxel-cutting 2>&1 | tee -a "$out/cutting.txt"
+cp /tmp/phyxel-cutting/cutting.json "$out/cutting.json"
+"$b"/app/phyxel run scenes/scalpel_cut.json --device gpu --out /tmp/phyxel-scalpel 2>&1 |
+  tail -2 | tee -a "$out/cutting.txt"
+python3 -c "import json; s = json.load(open('/tmp/phyxel-scalpel/summary.json')); print('scalpel_cut on the GPU: real-time factor', s['real_time_factor'], 'severed', s.get('cutting'))" 2>&1 |
+  tee -a "$out/cutting.txt"
