@@ -14,16 +14,17 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose) {
 CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach) {
   CutQuad q;
   q.edge = blade_edge(blade, to);
-  // The blade cuts the way it moves: the sideways motion of its middle, where that has a part
-  // along the sharp side (a blade dragged backwards, or pushed along its axis, keeps `edge`).
-  // The turned `edge` alone drifts from the motion on paths that turn the axis around another
-  // axis (a conical cut turns it by up to 2 pi (1 - cos) of the cone's half-angle).
+  // The blade cuts the way it moves: the edge of a substep is the sideways motion of the
+  // blade's middle; `edge` (turned with the axis) orients only a blade that does not move
+  // sideways (a stab along its axis). The turned `edge` cannot stand for the motion: on a path
+  // that turns the axis around another axis (a conical cut) the shortest rotation from the
+  // first key's axis turns it against the motion over half the turn.
   const Vec3 mid_from = from.position + 0.5 * blade.length * from.axis;
   const Vec3 mid_to = to.position + 0.5 * blade.length * to.axis;
   Vec3 side = mid_to - mid_from;
   side -= side.dot(to.axis) * to.axis;
   const double moved = side.norm();
-  if (moved > 1e-9 * std::max(blade.length, 1e-12) && side.dot(q.edge) > 0) q.edge = side / moved;
+  if (moved > 1e-9 * std::max(blade.length, 1e-12)) q.edge = side / moved;
   // Each end of the blade reaches ahead in proportion to how far it moves (a stab along the
   // axis included): fully once it moves 5 % of the reach in the substep, not at all where it
   // stands still (the pivot of a turning blade would otherwise cut a disc around itself).

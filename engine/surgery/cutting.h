@@ -39,8 +39,8 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose);
 // p0 p2 p3): p0, p1 the blade's tip and end at the start pose; p2, p3 its end and tip at the
 // end pose, moved ahead along the edge there by `reach` (each end in proportion to how far it
 // moved in the substep, fully from 5 % of the reach on). The edge of a substep is the direction
-// the blade's middle moves across its axis, where that has a part along blade_edge (it cuts
-// the way it is pushed), else blade_edge.
+// the blade's middle moves across its axis (it cuts the way it is pushed, its back too), or
+// blade_edge where it does not move sideways (a stab).
 struct CutQuad {
   std::array<Vec3, 4> corner;
   Vec3 edge = Vec3::UnitX();  // the edge direction at the end pose
