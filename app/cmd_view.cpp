@@ -22,7 +22,8 @@ constexpr const char* kViewHelp =
     "  mouse drag: orbit   wheel: zoom   space: pause   n: one step   s: mono/stereo   q: quit\n"
     "  tools with \"control\": \"haptic\": right drag (or shift + left drag) moves the one\n"
     "  nearest the cursor in the view plane through its tip; shift + wheel pushes it along\n"
-    "  the view (up: away). Path tools move along their paths.\n"
+    "  the view (up: away). Path tools move along their paths. A scalpel on the mouse cuts\n"
+    "  the way it is dragged; the title counts the pairs cut.\n"
     "\n"
     "options:\n"
     "  --device D          solver: cpu (the double-precision reference, default), gpu (the best\n"
@@ -33,6 +34,9 @@ constexpr const char* kViewHelp =
     "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu: the "
     "best)\n"
     "  --threads N         CPU solver threads (default: all cores)\n"
+    "  --hand TOOL         the scene's tool named TOOL follows the mouse instead of its path\n"
+    "                      (as \"control\": \"haptic\"), e.g. the scalpel of\n"
+    "                      scenes/breast_resection.json\n"
     "  --validate          Vulkan validation layers on for the renderer\n"
     "  --help              this text\n"
     "\n"
@@ -56,6 +60,7 @@ int view_command(const Args& args) {
   options.render_device = opts.value("--render-device", "gpu");
   options.threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
   options.validation = opts.flag("--validate");
+  const std::string hand = opts.value("--hand", "");
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {
     std::fprintf(stderr, "phyxel view: expected one SCENE file (see phyxel view --help)\n");
@@ -72,7 +77,23 @@ int view_command(const Args& args) {
   const InterruptGuard interrupts;  // SIGINT, SIGTERM: close the viewer cleanly
   options.stop_requested = [] { return InterruptGuard::received() != 0; };
   try {
-    render::run_viewer(load_scene(positional[0]), options);
+    Scene scene = load_scene(positional[0]);
+    if (!hand.empty()) {  // the named tool follows the mouse instead of its path
+      std::string names;
+      ToolDesc* chosen = nullptr;
+      for (ToolDesc& t : scene.tools) {
+        names += (names.empty() ? "" : ", ") + t.name;
+        if (t.name == hand) chosen = &t;
+      }
+      if (chosen == nullptr) {
+        std::fprintf(stderr, "phyxel view: --hand %s: %s has no tool of that name (%s)\n",
+                     hand.c_str(), positional[0].c_str(),
+                     names.empty() ? "it has no tools" : ("its tools: " + names).c_str());
+        return 1;
+      }
+      chosen->control = ToolDesc::Control::Haptic;
+    }
+    render::run_viewer(scene, options);
     if (const int signal = InterruptGuard::received(); signal != 0) {
       std::fprintf(stderr, "phyxel view: closed by %s\n", signal_name(signal));
       return interrupted_exit_status(signal);

@@ -277,6 +277,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
                       scene.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
         note += text;
       }
+      if (const size_t cut = solver.severed_pairs(); cut > 0 && halted.empty())
+        note += (note.empty() ? "" : ", ") + std::to_string(cut) + " pairs cut";
       glfwSetWindowTitle(
           window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
                                frames / seconds, note, controls.paused() ? -1 : real_time)

@@ -162,6 +162,42 @@ awk -v f="$force" 'BEGIN { exit !(f > 0) }' || fail "the probe in the block feel
 quit_viewer
 grep -q "haptic tools: right drag" "$log" || fail "the viewer did not list the tool controls ($log)"
 
+# 4b. A scalpel put on the mouse (--hand): a right drag pulls its vertical blade through the
+# block, and the title counts the pairs it cut. --hand with a name the scene lacks is refused.
+cat >"$out/scalpel.json" <<'JSON'
+{
+  "simulation": {"dt": 2e-4, "steps": 100000, "gravity": [0, 0, 0]},
+  "objects": [{
+    "name": "block",
+    "shape": {"type": "box", "min": [0, 0, 0], "max": [0.04, 0.04, 0.02]},
+    "spacing": 0.004,
+    "material": {"young": 3000, "poisson": 0.45, "density": 1040, "damping": 20},
+    "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 0.001]}]
+  }],
+  "tools": [{
+    "name": "scalpel", "type": "scalpel",
+    "shape": {"type": "capsule", "radius": 0.0005, "length": 0.03},
+    "blade": {"length": 0.03, "edge": [1, 0, 0]},
+    "path": [{"t": 0, "position": [-0.003, 0.0201, 0.005], "axis": [0, 0, 1]}]
+  }],
+  "camera": {"position": [0.02, -0.1, 0.027], "target": [0.02, 0.02, 0.027], "up": [0, 0, 1]},
+  "render": {"mode": "mono", "width": 320, "height": 240, "every": 5}
+}
+JSON
+"$phyxel" view "$out/scalpel.json" --hand knife >"$out/view_hand.log" 2>&1 &&
+  fail "--hand with an unknown tool was accepted"
+grep -q "its tools: scalpel" "$out/view_hand.log" || fail "--hand knife: no clear message"
+start_viewer view_scalpel.log "$out/scalpel.json" --threads 1 --hand scalpel
+wait_for ' scalpel 0\.000 N \(0 contacts\)' 120
+# The blade's tip is 3 mm left of the block; 150 pixels right at its depth (0.12 m, 45
+# degrees over 240 pixels) is 6 cm: across the block, through the middle.
+xdotool mousemove --window "$win" 100 167 sleep 0.3 mousedown 3 mousemove --window "$win" 150 167 \
+  sleep 0.5 mousemove --window "$win" 200 167 sleep 0.5 mousemove --window "$win" 250 167 sleep 0.5 \
+  mouseup 3
+wait_for ' [1-9][0-9]* pairs cut' 120
+cut="$(title | sed -nE 's/.* ([0-9]+) pairs cut.*/\1/p')"
+quit_viewer
+
 # 5. SIGINT and SIGTERM close the viewer as closing its window does, with status 130 and 143.
 # The viewer has no output folder: it writes no file (run in an empty folder, which stays empty).
 for sig in INT TERM; do
@@ -195,4 +231,4 @@ for sig in INT TERM; do
 done
 
 trap - EXIT
-echo "window_e2e: ok (CPU: paused at step $paused_at, one step, stereo, drag; GPU solver; runaway halted at step $halted_at; haptic probe pressed with $force N; SIGINT 130, SIGTERM 143)"
+echo "window_e2e: ok (CPU: paused at step $paused_at, one step, stereo, drag; GPU solver; runaway halted at step $halted_at; haptic probe pressed with $force N; scalpel on the mouse cut $cut pairs; SIGINT 130, SIGTERM 143)"
