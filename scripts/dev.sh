@@ -30,14 +30,14 @@ else
   # Sanitizer job: a Debug build (-O1, asserts on) with AddressSanitizer (leaks included) and
   # UndefinedBehaviorSanitizer in build-asan, the first error fatal (docs/decisions.md
   # "Sanitizers in CI"). These test areas: the scene and OBJ readers (with the fuzzing
-  # regressions), sampling, the CPU solver, contact, surgery (tools, cutting), the skipping of
+  # regressions), sampling, the CPU solver, contact, surgery (tools), cutting, the skipping of
   # settled regions and haptics (the 1 kHz loop's threads, UDP devices). They link only the
   # engine, so the job compiles no Vulkan, render or command-line code. Left out for time:
   # stability and validation (long runs of the solver code that physics covers), run and bench
   # (the whole command line), and the Vulkan areas (gpu_solver, vulkan, render). Also left
   # out: the six tests that run longer than 20 s each under ASan (san_slow; their code runs
   # in the areas' other tests).
-  san_areas=(scene sampling physics contact skip surgery haptics)
+  san_areas=(scene sampling physics contact skip surgery cutting haptics)
   san_targets=("${san_areas[@]/#/test_}")
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DPHYXEL_SANITIZE=ON -DPHYXEL_WITH_WINDOW=OFF
   cmake --build build-asan -j"$jobs" --target "${san_targets[@]}"
