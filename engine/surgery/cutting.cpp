@@ -25,19 +25,22 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
   side -= side.dot(to.axis) * to.axis;
   const double moved = side.norm();
   if (moved > 1e-9 * std::max(blade.length, 1e-12)) q.edge = side / moved;
-  // Each end of the blade reaches ahead in proportion to how far it moves (a stab along the
-  // axis included): fully once it moves 5 % of the reach in the substep, not at all where it
-  // stands still (the pivot of a turning blade would otherwise cut a disc around itself).
-  auto ahead = [&](const Vec3& a, const Vec3& b) {
-    const double r = reach > 0 ? reach * std::min(1.0, (b - a).norm() / (0.05 * reach)) : 0.0;
-    return Vec3(r * q.edge);
-  };
+  // Each end of the blade reaches ahead by `reach` times its motion along the edge over the
+  // faster end's: a blade moved straight reaches `reach` ahead at both ends; a blade turned
+  // about a point of its own reaches ahead in proportion to the distance from that pivot, and
+  // not at all at the pivot (which would otherwise cut a disc around itself).
   const Vec3 end_from = from.position + blade.length * from.axis;
   const Vec3 end_to = to.position + blade.length * to.axis;
+  const double tip_moved = (to.position - from.position).dot(q.edge);
+  const double end_moved = (end_to - end_from).dot(q.edge);
+  const double fastest = std::max(std::abs(tip_moved), std::abs(end_moved));
+  auto ahead = [&](double moved) {
+    return Vec3((fastest > 0 ? reach * moved / fastest : reach) * q.edge);
+  };
   q.corner[0] = from.position;
   q.corner[1] = end_from;
-  q.corner[2] = end_to + ahead(end_from, end_to);
-  q.corner[3] = to.position + ahead(from.position, to.position);
+  q.corner[2] = end_to + ahead(end_moved);
+  q.corner[3] = to.position + ahead(tip_moved);
   return q;
 }
 

@@ -37,8 +37,8 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose);
 
 // The quad the blade swept over one substep's motion, as corners p0..p3 (triangles p0 p1 p2 and
 // p0 p2 p3): p0, p1 the blade's tip and end at the start pose; p2, p3 its end and tip at the
-// end pose, moved ahead along the edge there by `reach` (each end in proportion to how far it
-// moved in the substep, fully from 5 % of the reach on). The edge of a substep is the direction
+// end pose, moved ahead along the edge there by `reach` (each end in proportion to its motion
+// along the edge over the faster end's: a turned blade reaches nothing ahead at its pivot). The edge of a substep is the direction
 // the blade's middle moves across its axis (it cuts the way it is pushed, its back too), or
 // blade_edge where it does not move sideways (a stab).
 struct CutQuad {
