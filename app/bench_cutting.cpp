@@ -14,9 +14,8 @@
 #include <sstream>
 
 #include "app/bench_extras.h"
+#include "app/bench_tools.h"
 #include "app/options.h"
-#include "compute/gpu_solver.h"
-#include "engine/run/simulation.h"
 
 namespace phyxel::app {
 namespace {
@@ -41,15 +40,6 @@ constexpr const char* kCuttingHelp =
 
 constexpr double kSpeed = 0.5;  // m/s
 
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
-
 Scene cutting_scene(int64_t size, bool blade) {
   Scene scene = bench_scene(size);
   ToolDesc t;
@@ -72,61 +62,10 @@ Scene cutting_scene(int64_t size, bool blade) {
   return scene;
 }
 
-std::unique_ptr<Solver> make_solver(const std::string& device, const PhyxelSet& set,
-                                    const Vec3& gravity, int threads) {
-  if (device == "cpu") return make_cpu_solver(set, gravity, threads);
-  gpu::ContextOptions context;
-  context.device = device;
-  context.validation = false;
-  return make_gpu_solver(set, gravity, context);
-}
-
-struct CutCase {
-  CutCase(const std::string& device, int threads, int64_t size, bool blade)
-      : scene(cutting_scene(size, blade)),
-        set(sample_scene(scene)),
-        dt(plan_time_step(scene, set).dt_stable),
-        solver(make_solver(device, set, scene.simulation.gravity, threads)),
-        track(scene.tools, nullptr) {
-    solver->set_tools(contact_tools(scene.tools));
-  }
-  double run(int64_t steps) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const int64_t chunk = RunOptions{}.tool_chunk_substeps;
-    for (int64_t left = steps; left > 0;) {
-      const int64_t n = std::min(left, chunk);
-      advance_with_tools(*solver, track, done, n, 1, dt);
-      done += n;
-      left -= n;
-    }
-    return since(t0);
-  }
-  std::vector<gpu::PassTime> profile(int64_t steps) {
-    auto* g = dynamic_cast<gpu::GpuSolver*>(solver.get());
-    if (g == nullptr) return {};
-    solver->set_tool_motion(track.motions(done, steps, dt));
-    std::vector<gpu::PassTime> passes = g->profile(steps, dt);
-    solver->tool_samples();
-    done += steps;
-    return passes;
-  }
-  Scene scene;
-  PhyxelSet set;
-  double dt;
-  std::unique_ptr<Solver> solver;
-  ToolTrack track;
-  int64_t done = 0;
-};
-
-double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name) {
-  for (const gpu::PassTime& p : passes)
-    if (p.name == name) return p.ns;
-  return 0;
-}
-
 nlohmann::json cutting_row(const std::string& device, int threads, int64_t size, int64_t steps,
                            int64_t repeats) {
-  CutCase probe(device, threads, size, false), scalpel(device, threads, size, true);
+  ToolBenchCase probe(device, threads, cutting_scene(size, false)),
+      scalpel(device, threads, cutting_scene(size, true));
   // Warm-up: the blade enters the box (1 cm of travel).
   const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kSpeed / scalpel.dt));
   probe.run(enter);
@@ -137,7 +76,7 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
     t_probe.push_back(probe.run(steps) / double(steps));
     t_scalpel.push_back(scalpel.run(steps) / double(steps));
   }
-  const double s_probe = median(t_probe), s_scalpel = median(t_scalpel);
+  const double s_probe = median_of(t_probe), s_scalpel = median_of(t_scalpel);
   const double severed_per_step =
       double(scalpel.solver->severed_pairs() - severed_before) / double(steps * repeats);
   nlohmann::json row = {
@@ -178,20 +117,6 @@ void print_row(const nlohmann::json& r) {
   std::fflush(stdout);
 }
 
-std::vector<int64_t> parse_sizes(const std::string& text) {
-  std::vector<int64_t> out;
-  std::stringstream ss(text);
-  for (std::string item; std::getline(ss, item, ',');) {
-    char* end = nullptr;
-    const long long v = std::strtoll(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0' || v < 1000)
-      throw UsageError("phyxel bench: --sizes " + text +
-                       ": expected a comma-separated list of phyxel counts (at least 1000)");
-    out.push_back(v);
-  }
-  return out;
-}
-
 }  // namespace
 
 int bench_cutting(const Args& args) {
@@ -202,8 +127,8 @@ int bench_cutting(const Args& args) {
     return 0;
   }
   const std::string device = opts.value("--device", "cpu");
-  const auto sizes =
-      parse_sizes(opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"));
+  const auto sizes = parse_phyxel_sizes(
+      opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"), 1000);
   const int64_t steps = opts.integer("--steps", 64, 1, 1 << 20);
   const int64_t repeats = opts.integer("--repeats", 5, 1, 1000);
   const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "app/bench_extras.h"
+#include "app/bench_tools.h"
 #include "app/options.h"
 #include "app/run_report.h"
 #include "compute/gpu_solver.h"
@@ -69,24 +70,6 @@ std::vector<std::string> columns() {
   std::stringstream ss(kHeader);
   for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
   return out;
-}
-
-double since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
-
-std::unique_ptr<Solver> make_solver(const std::string& device, const PhyxelSet& set,
-                                    const Vec3& gravity, int threads) {
-  if (device == "cpu") return make_cpu_solver(set, gravity, threads);
-  gpu::ContextOptions context;
-  context.device = device;
-  context.validation = false;
-  return make_gpu_solver(set, gravity, context);
 }
 
 // The part-1 scene: refined, its first tool (the others dropped) haptic.
@@ -182,8 +165,8 @@ nlohmann::json idle_loop(Scene scene, const PhyxelSet& set, const std::string& f
   haptics.start();
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   haptics.stop();
-  nlohmann::json row =
-      loop_row("loop_idle", file, 0, refine, since(t0), haptics.loops().front().loop->stats());
+  nlohmann::json row = loop_row("loop_idle", file, 0, refine, seconds_since(t0),
+                                haptics.loops().front().loop->stats());
   row["device"] = "none";
   return row;
 }
@@ -191,7 +174,7 @@ nlohmann::json idle_loop(Scene scene, const PhyxelSet& set, const std::string& f
 // The loop while `device` simulates the scene paced to the wall clock, for `seconds`.
 nlohmann::json solver_loop(Scene scene, const PhyxelSet& set, const std::string& file,
                            double refine, const std::string& device, int threads, double seconds) {
-  auto solver = make_solver(device, set, scene.simulation.gravity, threads);
+  auto solver = make_bench_solver(device, set, scene.simulation.gravity, threads);
   std::printf("(%s refine %g: %zu phyxels on %s)\n", file.c_str(), refine, set.size(),
               solver->device().c_str());
   std::fflush(stdout);
@@ -211,7 +194,7 @@ nlohmann::json solver_loop(Scene scene, const PhyxelSet& set, const std::string&
     for (const ToolStepRecord& r : records) max_contacts = std::max(max_contacts, r.contacts);
   };
   const auto t0 = std::chrono::steady_clock::now();
-  options.stop_requested = [&] { return since(t0) >= seconds; };
+  options.stop_requested = [&] { return seconds_since(t0) >= seconds; };
   haptics.start();
   const RunResult result = run_simulation(scene, set, *solver, options);
   haptics.stop();
@@ -256,54 +239,6 @@ Scene contact_scene(int64_t size, bool with_tool) {
   return scene;
 }
 
-// One box of part 2, with or without the probe, and its solver.
-struct ContactCase {
-  ContactCase(const std::string& device, int threads, int64_t size, bool with_tool)
-      : scene(contact_scene(size, with_tool)),
-        set(sample_scene(scene)),
-        dt(plan_time_step(scene, set).dt_stable),
-        solver(make_solver(device, set, scene.simulation.gravity, threads)),
-        track(scene.tools, nullptr) {
-    if (with_tool) solver->set_tools(contact_tools(scene.tools));
-  }
-  // `steps` steps in chunks of the run loop's size (RunOptions::tool_chunk_substeps): one
-  // broad phase and one submit per chunk, as a run that is not paced to the wall clock does.
-  double run(int64_t steps) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const int64_t chunk = RunOptions{}.tool_chunk_substeps;
-    for (int64_t left = steps; left > 0;) {
-      const int64_t n = std::min(left, chunk);
-      advance_with_tools(*solver, track, done, n, 1, dt);
-      done += n;
-      left -= n;
-    }
-    return since(t0);
-  }
-  // GPU only: the per-pass timestamps of `steps` steps in one submit (empty on the CPU).
-  std::vector<gpu::PassTime> profile(int64_t steps) {
-    auto* g = dynamic_cast<gpu::GpuSolver*>(solver.get());
-    if (g == nullptr) return {};
-    if (!track.empty()) solver->set_tool_motion(track.motions(done, steps, dt));
-    std::vector<gpu::PassTime> passes = g->profile(steps, dt);
-    if (!track.empty()) solver->tool_samples();
-    done += steps;
-    return passes;
-  }
-
-  Scene scene;
-  PhyxelSet set;
-  double dt;
-  std::unique_ptr<Solver> solver;
-  ToolTrack track;
-  int64_t done = 0;
-};
-
-double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name) {
-  for (const gpu::PassTime& p : passes)
-    if (p.name == name) return p.ns;
-  return 0;
-}
-
 // GPU time of one step: the per-step passes (kick_drift runs once per submit).
 double gpu_step_ns(const std::vector<gpu::PassTime>& passes) {
   return pass_ns(passes, "stress") + pass_ns(passes, "force") + pass_ns(passes, "contact");
@@ -313,7 +248,8 @@ double gpu_step_ns(const std::vector<gpu::PassTime>& passes) {
 // both alike.
 nlohmann::json contact_row(const std::string& device, int threads, int64_t size,
                            int64_t fixed_steps, int64_t repeats) {
-  ContactCase plain(device, threads, size, false), tool(device, threads, size, true);
+  ToolBenchCase plain(device, threads, contact_scene(size, false)),
+      tool(device, threads, contact_scene(size, true));
   // Warm-up: first submits, and the probe presses in (the plain box takes as many steps).
   const int64_t press = static_cast<int64_t>(std::ceil(kProbeDepth / kProbeSpeed / tool.dt));
   plain.run(press);
@@ -328,7 +264,7 @@ nlohmann::json contact_row(const std::string& device, int threads, int64_t size,
     t_plain.push_back(plain.run(steps) / double(steps));
     t_tool.push_back(tool.run(steps) / double(steps));
   }
-  const double s_plain = median(t_plain), s_tool = median(t_tool);
+  const double s_plain = median_of(t_plain), s_tool = median_of(t_tool);
   nlohmann::json row = {
       {"part", "contact"},
       {"device", tool.solver->device()},
@@ -427,20 +363,6 @@ void print_contact_row(const nlohmann::json& r) {
   std::fflush(stdout);
 }
 
-std::vector<int64_t> parse_sizes(const std::string& text) {
-  std::vector<int64_t> out;
-  std::stringstream ss(text);
-  for (std::string item; std::getline(ss, item, ',');) {
-    char* end = nullptr;
-    const long long v = std::strtoll(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0' || v < 8)
-      throw UsageError("phyxel bench: --sizes " + text +
-                       ": expected a comma-separated list of phyxel counts (at least 8)");
-    out.push_back(v);
-  }
-  return out;
-}
-
 }  // namespace
 
 int bench_haptics(const Args& args) {
@@ -454,8 +376,8 @@ int bench_haptics(const Args& args) {
   const std::string scene_file = opts.value("--scene", "scenes/probe_indent.json");
   const double refine = opts.number("--refine", 1, 1, 16);
   const double seconds = opts.number("--seconds", 10, 0.01, 3600);
-  const auto sizes =
-      parse_sizes(opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"));
+  const auto sizes = parse_phyxel_sizes(
+      opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"), 8);
   const int64_t fixed_steps = opts.integer("--steps", 0, 0, 1 << 30);
   const int64_t repeats = opts.integer("--repeats", 5, 1, 1000);
   const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/bench_extras.h"
+#include "app/bench_tools.h"
 #include "app/options.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
@@ -26,15 +27,6 @@ double median_step_seconds(Solver& solver, double dt, int64_t steps, int repeats
   }
   std::sort(t.begin(), t.end());
   return t[t.size() / 2];
-}
-
-std::unique_ptr<Solver> make_solver(const std::string& device, const PhyxelSet& set,
-                                    const Vec3& gravity, int threads) {
-  if (device == "cpu") return make_cpu_solver(set, gravity, threads);
-  gpu::ContextOptions context;
-  context.device = device;
-  context.validation = false;
-  return make_gpu_solver(set, gravity, context);
 }
 
 }  // namespace
@@ -66,7 +58,7 @@ int bench_skips(const Args& args) {
     const double dt = plan_time_step(scene, set).dt_stable;
     size_t fixed = 0;
     for (uint32_t f : set.flags) fixed += (f & kFixed) ? 1 : 0;
-    auto solver = make_solver(device, set, scene.simulation.gravity, threads);
+    auto solver = make_bench_solver(device, set, scene.simulation.gravity, threads);
     if (rows.empty()) {
       std::printf("%s\n", solver->device().c_str());
       std::printf("%-28s %8s %8s %12s %12s %12s %8s %12s\n", "scene", "phyxels", "fixed",

@@ -207,7 +207,11 @@ class GpuSolver final : public Solver {
   void upload_cut_quads(Recorder& rec);
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
   void finish_cutting();
-  void apply_severed(const std::vector<SeveredPair>& pairs);  // host edit (sever_pairs)
+  // A host edit (remove_phyxels, sever_pairs): uploads the flags and weights and reruns the
+  // precompute for the touched phyxels (ascending).
+  void apply_edit(const std::vector<uint32_t>& flags, const std::vector<float>& weights,
+                  const std::vector<uint32_t>& touched);
+  void mark_severed(const SeveredPair& p);  // alive_ of both slots
   bool contact_recorded() const { return contact_active_; }
 
   std::unique_ptr<Context> owned_ctx_;
@@ -285,7 +289,6 @@ class GpuSolver final : public Solver {
   double max_support_ = 0;              // the largest support radius (the broad phase's margin)
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
   Buffer cut_dirty_;                    // uint: count, groups x y z, phyxels (indirect)
-  Buffer cut_dirty_reset_;              // Upload: (0, 0, 1, 1)
   Buffer cut_log_;                      // Readback: uvec4 count, then (i, j, t bits, 0)
   uint32_t log_capacity_ = 0;
   std::vector<SeveredPair> severed_;  // the log (Solver::severed_since)

@@ -34,11 +34,6 @@ void GpuSolver::prepare_cutting() {
   if (!cut_dirty_)
     cut_dirty_ = Buffer(ctx, (uint64_t{count_} + 4) * sizeof(uint32_t), MemoryIntent::Device,
                         "cut dirty phyxels", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
-  if (!cut_dirty_reset_) {
-    cut_dirty_reset_ = Buffer(ctx, 4 * sizeof(uint32_t), MemoryIntent::Upload, "cut dirty reset");
-    const uint32_t header[4] = {0, 0, 1, 1};
-    std::memcpy(cut_dirty_reset_.mapped(), header, sizeof header);
-  }
   if (!cut_log_) {
     log_capacity_ = 4096;
     cut_log_ = Buffer(ctx, (uint64_t{log_capacity_} + 1) * sizeof(uvec4), MemoryIntent::Readback,
@@ -84,8 +79,9 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   const uint64_t k = motion_step_ + uint64_t(step);
   const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_));
-  rec.barrier();  // the samples of this substep
-  rec.copy(cut_dirty_reset_, cut_dirty_, 4 * sizeof(uint32_t));
+  rec.barrier();                                     // the samples of this substep
+  rec.fill(cut_dirty_, 0, 0, 2 * sizeof(uint32_t));  // count, groups x
+  rec.fill(cut_dirty_, 1, 2 * sizeof(uint32_t), 2 * sizeof(uint32_t));  // groups y, z
   rec.barrier();
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
@@ -130,16 +126,13 @@ void GpuSolver::finish_cutting() {
                       "cut log");
   }
   std::sort(fresh.begin(), fresh.end(), by_pair);
-  const NeighbourLists& nbr = neighbours_;
-  for (const SeveredPair& p : fresh) {
-    for (const auto& [a, b] : {std::pair{p.i, p.j}, std::pair{p.j, p.i}}) {
-      const auto row = nbr.index.begin() + nbr.offset[a];
-      const auto end = nbr.index.begin() + nbr.offset[a + 1];
-      const auto at = std::lower_bound(row, end, b);
-      if (at != end && *at == b) alive_[at - nbr.index.begin()] = 0;
-    }
-  }
+  for (const SeveredPair& p : fresh) mark_severed(p);
   severed_.insert(severed_.end(), fresh.begin(), fresh.end());
+}
+
+void GpuSolver::mark_severed(const SeveredPair& p) {
+  for (const size_t k : {neighbours_.slot(p.i, p.j), neighbours_.slot(p.j, p.i)})
+    if (k != NeighbourLists::kNoSlot) alive_[k] = 0;
 }
 
 std::vector<SeveredPair> GpuSolver::severed_since(size_t first) {
@@ -166,43 +159,25 @@ void GpuSolver::sever_pairs(const std::vector<SeveredPair>& pairs) {
   for (const SeveredPair& p : pairs) {
     if (p.i >= count_ || p.j >= count_)
       throw std::invalid_argument("sever_pairs: no phyxel " + std::to_string(std::max(p.i, p.j)));
-    bool was_alive = false;
-    for (const auto& [a, b] : {std::pair{p.i, p.j}, std::pair{p.j, p.i}}) {
-      const auto row = nbr.index.begin() + nbr.offset[a];
-      const auto end = nbr.index.begin() + nbr.offset[a + 1];
-      const auto at = std::lower_bound(row, end, b);
-      if (at == end || *at != b)
-        throw std::invalid_argument("sever_pairs: phyxels " + std::to_string(p.i) + " and " +
-                                    std::to_string(p.j) + " are not neighbours");
-      const size_t k = size_t(at - nbr.index.begin());
-      was_alive = was_alive || weights[k] != 0.0f;
-      weights[k] = 0.0f;
-      alive_[k] = 0;
-      flags[a] |= kFlagPairsEdited;
-    }
-    if (!was_alive) continue;
+    const size_t ij = nbr.slot(p.i, p.j), ji = nbr.slot(p.j, p.i);
+    if (ij == NeighbourLists::kNoSlot || ji == NeighbourLists::kNoSlot)
+      throw std::invalid_argument("sever_pairs: phyxels " + std::to_string(p.i) + " and " +
+                                  std::to_string(p.j) + " are not neighbours");
+    if (weights[ij] == 0.0f && weights[ji] == 0.0f) continue;  // severed before
+    weights[ij] = weights[ji] = 0.0f;
+    flags[p.i] |= kFlagPairsEdited;
+    flags[p.j] |= kFlagPairsEdited;
     touched.push_back(p.i);
     touched.push_back(p.j);
     fresh.push_back(p.i < p.j ? p : SeveredPair{p.j, p.i, 1.0f - p.t});
   }
   std::sort(fresh.begin(), fresh.end(), by_pair);
+  for (const SeveredPair& p : fresh) mark_severed(p);
   severed_.insert(severed_.end(), fresh.begin(), fresh.end());
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   if (touched.empty()) return;
-  upload(*ctx_, flags_, flags);
-  upload(*ctx_, weight_, weights);
-  if (list_.size() < touched.size() * sizeof(uint32_t))
-    list_ =
-        Buffer(*ctx_, touched.size() * sizeof(uint32_t), MemoryIntent::Device, "precompute list");
-  upload(*ctx_, list_, touched);
-  Recorder& rec = *rec_[0];
-  dispatch(
-      rec, kernels_->precompute, PrecomputePush{uint32_t(touched.size()), 1},
-      {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
-      uint32_t(touched.size()));
-  rec.submit_and_wait();
-  count_flags();
+  apply_edit(flags, weights, touched);
   compute_forces();
 }
 

@@ -3,7 +3,6 @@
 // slot with kRemoved set, and the precompute pass is rerun for the phyxels whose neighbourhood
 // changed (the indexed mode of solver_precompute). The step passes read the stored weights of
 // the phyxels flagged kFlagPairsEdited and recompute everyone else's from x0.
-#include <algorithm>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -29,29 +28,31 @@ void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
       const uint32_t j = nbr.index[k];
       weights[k] = 0.0f;
-      const auto row = nbr.index.begin() + nbr.offset[j];
-      const auto end = nbr.index.begin() + nbr.offset[j + 1];
-      const auto back = std::lower_bound(row, end, i);  // rows are sorted and symmetric
-      if (back != end && *back == i) weights[back - nbr.index.begin()] = 0.0f;
+      if (const size_t back = nbr.slot(j, i); back != NeighbourLists::kNoSlot) weights[back] = 0.0f;
       flags[j] |= kFlagPairsEdited;
       touched.insert(j);
     }
   }
-  upload(*ctx_, flags_, flags);
-  upload(*ctx_, weight_, weights);
-  const std::vector<uint32_t> list(touched.begin(), touched.end());
-  if (list_.size() < list.size() * sizeof(uint32_t))
-    list_ = Buffer(*ctx_, list.size() * sizeof(uint32_t), MemoryIntent::Device, "precompute list");
-  upload(*ctx_, list_, list);
-  Recorder& rec = *rec_[0];
-  dispatch(
-      rec, kernels_->precompute, PrecomputePush{uint32_t(list.size()), 1},
-      {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
-      uint32_t(list.size()));
-  rec.submit_and_wait();
-  count_flags();
+  apply_edit(flags, weights, std::vector<uint32_t>(touched.begin(), touched.end()));
   build_pass_lists();  // removed phyxels leave every pass
   compute_forces();
+}
+
+void GpuSolver::apply_edit(const std::vector<uint32_t>& flags, const std::vector<float>& weights,
+                           const std::vector<uint32_t>& touched) {
+  upload(*ctx_, flags_, flags);
+  upload(*ctx_, weight_, weights);
+  if (list_.size() < touched.size() * sizeof(uint32_t))
+    list_ =
+        Buffer(*ctx_, touched.size() * sizeof(uint32_t), MemoryIntent::Device, "precompute list");
+  upload(*ctx_, list_, touched);
+  Recorder& rec = *rec_[0];
+  dispatch(
+      rec, kernels_->precompute, PrecomputePush{uint32_t(touched.size()), 1},
+      {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
+      uint32_t(touched.size()));
+  rec.submit_and_wait();
+  count_flags();
 }
 
 }  // namespace phyxel::gpu

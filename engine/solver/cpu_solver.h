@@ -118,6 +118,7 @@ class CpuSolver {
   void apply_cuts();             // after apply_contacts (cpu_solver_cutting.cpp)
   void precompute(size_t i);     // A_i^-1, its residual, kappa_i from the live pairs of i
   bool sever(uint32_t i, uint32_t k, float t);  // pair k of row i; false if already severed
+  void precompute_touched(std::vector<uint32_t>& touched);  // sorted, deduplicated, rerun
 
   Vec3 gravity_;
   std::vector<uint32_t> object_;

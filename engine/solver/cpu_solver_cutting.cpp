@@ -15,10 +15,7 @@ bool CpuSolver<Real>::sever(uint32_t i, uint32_t k, float t) {
   if (w_[k] == Real(0)) return false;
   const uint32_t j = nbr_.index[k];
   w_[k] = Real(0);
-  const auto row = nbr_.index.begin() + nbr_.offset[j];
-  const auto end = nbr_.index.begin() + nbr_.offset[j + 1];
-  const auto back = std::lower_bound(row, end, i);  // rows are sorted and symmetric
-  if (back != end && *back == i) w_[back - nbr_.index.begin()] = Real(0);
+  if (const size_t back = nbr_.slot(j, i); back != NeighbourLists::kNoSlot) w_[back] = Real(0);
   severed_.push_back(i < j ? SeveredPair{i, j, t} : SeveredPair{j, i, 1.0f - t});
   return true;
 }
@@ -55,7 +52,11 @@ void CpuSolver<Real>::apply_cuts() {
       }
     }
   }
-  if (severed_.size() == first) return;
+  if (severed_.size() != first) precompute_touched(touched);
+}
+
+template <class Real>
+void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>& touched) {
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   for (const uint32_t i : touched) {
@@ -79,32 +80,25 @@ void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>& pairs) {
   for (const SeveredPair& p : pairs) {
     if (p.i >= size() || p.j >= size())
       throw std::invalid_argument("sever_pairs: no phyxel " + std::to_string(std::max(p.i, p.j)));
-    const auto row = nbr_.index.begin() + nbr_.offset[p.i];
-    const auto end = nbr_.index.begin() + nbr_.offset[p.i + 1];
-    const auto at = std::lower_bound(row, end, p.j);
-    if (at == end || *at != p.j)
+    const size_t at = nbr_.slot(p.i, p.j);
+    if (at == NeighbourLists::kNoSlot)
       throw std::invalid_argument("sever_pairs: phyxels " + std::to_string(p.i) + " and " +
                                   std::to_string(p.j) + " are not neighbours");
-    if (sever(p.i, uint32_t(at - nbr_.index.begin()), p.t)) {
+    if (sever(p.i, uint32_t(at), p.t)) {
       touched.push_back(p.i);
       touched.push_back(p.j);
     }
   }
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (const uint32_t i : touched) {
-    regularised_count_ -= regularised_[i];
-    precompute(i);
-    regularised_count_ += regularised_[i];
-  }
+  precompute_touched(touched);
   compute_forces();
 }
 
 // The members defined here (the class itself is instantiated in cpu_solver.cpp).
-#define PHYXEL_CUTTING_MEMBERS(Real)                               \
-  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float); \
-  template void CpuSolver<Real>::apply_cuts();                     \
-  template void CpuSolver<Real>::sort_severed_from(size_t);        \
+#define PHYXEL_CUTTING_MEMBERS(Real)                                         \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);           \
+  template void CpuSolver<Real>::apply_cuts();                               \
+  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&); \
+  template void CpuSolver<Real>::sort_severed_from(size_t);                  \
   template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);
 PHYXEL_CUTTING_MEMBERS(double)
 PHYXEL_CUTTING_MEMBERS(float)

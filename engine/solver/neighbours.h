@@ -3,6 +3,7 @@
 // index[offset[i] .. offset[i+1]).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -15,6 +16,15 @@ struct NeighbourLists {
   std::vector<uint32_t> index;   // size offset[N]
 
   uint32_t count(size_t i) const { return offset[i + 1] - offset[i]; }
+  // The position of j in the row of i (the rows are sorted), or kNoSlot when j is not a
+  // neighbour of i.
+  static constexpr size_t kNoSlot = ~size_t{0};
+  size_t slot(uint32_t i, uint32_t j) const {
+    const auto row = index.begin() + offset[i];
+    const auto end = index.begin() + offset[i + 1];
+    const auto at = std::lower_bound(row, end, j);
+    return at != end && *at == j ? size_t(at - index.begin()) : kNoSlot;
+  }
 };
 
 // Pairs (i, j), i != j, of the same object with |x0_j - x0_i|^2 < h^2 (1 - 1e-9), h the

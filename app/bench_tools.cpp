@@ -1,0 +1,83 @@
+#include "app/bench_tools.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <sstream>
+
+#include "app/options.h"
+#include "compute/gpu_solver.h"
+
+namespace phyxel::app {
+
+std::unique_ptr<Solver> make_bench_solver(const std::string& device, const PhyxelSet& set,
+                                          const Vec3& gravity, int threads) {
+  if (device == "cpu") return make_cpu_solver(set, gravity, threads);
+  gpu::ContextOptions context;
+  context.device = device;
+  context.validation = false;
+  return make_gpu_solver(set, gravity, context);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+std::vector<int64_t> parse_phyxel_sizes(const std::string& text, int64_t least) {
+  std::vector<int64_t> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    char* end = nullptr;
+    const long long v = std::strtoll(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || v < least)
+      throw UsageError("phyxel bench: --sizes " + text +
+                       ": expected a comma-separated list of phyxel counts (at least " +
+                       std::to_string(least) + ")");
+    out.push_back(v);
+  }
+  return out;
+}
+
+double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name) {
+  for (const gpu::PassTime& p : passes)
+    if (p.name == name) return p.ns;
+  return 0;
+}
+
+ToolBenchCase::ToolBenchCase(const std::string& device, int threads, Scene scene_)
+    : scene(std::move(scene_)),
+      set(sample_scene(scene)),
+      dt(plan_time_step(scene, set).dt_stable),
+      solver(make_bench_solver(device, set, scene.simulation.gravity, threads)),
+      track(scene.tools, nullptr) {
+  if (!scene.tools.empty()) solver->set_tools(contact_tools(scene.tools));
+}
+
+double ToolBenchCase::run(int64_t steps) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int64_t chunk = RunOptions{}.tool_chunk_substeps;
+  for (int64_t left = steps; left > 0;) {
+    const int64_t n = std::min(left, chunk);
+    advance_with_tools(*solver, track, done, n, 1, dt);
+    done += n;
+    left -= n;
+  }
+  return seconds_since(t0);
+}
+
+std::vector<gpu::PassTime> ToolBenchCase::profile(int64_t steps) {
+  auto* g = dynamic_cast<gpu::GpuSolver*>(solver.get());
+  if (g == nullptr) return {};
+  if (!track.empty()) solver->set_tool_motion(track.motions(done, steps, dt));
+  std::vector<gpu::PassTime> passes = g->profile(steps, dt);
+  if (!track.empty()) solver->tool_samples();
+  done += steps;
+  return passes;
+}
+
+}  // namespace phyxel::app

@@ -1,0 +1,46 @@
+// Pieces the benches with tools share (bench_haptics.cpp, bench_cutting.cpp; make_bench_solver
+// also bench_skips.cpp): a solver by device name, a box scene with its tools stepped as the
+// run loop steps them, per-pass GPU timestamps, and small helpers.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "compute/timing.h"
+#include "engine/run/simulation.h"
+
+namespace phyxel::app {
+
+// "cpu": the CPU reference with `threads` (0: all cores); anything else: the GPU solver on
+// that device (validation off).
+std::unique_ptr<Solver> make_bench_solver(const std::string& device, const PhyxelSet& set,
+                                          const Vec3& gravity, int threads);
+
+double seconds_since(std::chrono::steady_clock::time_point t0);
+double median_of(std::vector<double> v);  // the upper median; 0 when empty
+// A comma-separated list of phyxel counts, each at least `least` (UsageError otherwise).
+std::vector<int64_t> parse_phyxel_sizes(const std::string& text, int64_t least);
+// The time of the pass `name` (ns), 0 when absent.
+double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name);
+
+// A scene, its phyxels, its stable step and a solver with the scene's tools, stepped in chunks
+// of the run loop's size (RunOptions::tool_chunk_substeps): one broad phase and one submit
+// per chunk, as a run that is not paced to the wall clock does.
+struct ToolBenchCase {
+  ToolBenchCase(const std::string& device, int threads, Scene scene);
+  double run(int64_t steps);  // wall seconds
+  // GPU only: the per-pass timestamps of `steps` steps in one submit (empty on the CPU).
+  std::vector<gpu::PassTime> profile(int64_t steps);
+
+  Scene scene;
+  PhyxelSet set;
+  double dt;
+  std::unique_ptr<Solver> solver;
+  ToolTrack track;
+  int64_t done = 0;
+};
+
+}  // namespace phyxel::app
