@@ -94,6 +94,9 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       if (t.cuts) {
         tool["max_cut_force"] = t.max_cut_force;
         tool["cutting_substeps"] = t.cutting_substeps;
+        tool["max_feedback_force"] = t.max_feedback;
+        tool["max_friction_force"] = t.max_friction;
+        tool["max_penetration_depth"] = t.max_depth;
       }
       tools.push_back(tool);
     }

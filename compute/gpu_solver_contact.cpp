@@ -47,8 +47,9 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
       throw std::invalid_argument(
           "GpuSolver::set_tools: a tool needs a radius > 0, a length "
           ">= 0 and a friction >= 0");
+    const float band = t.blade.cuts() ? float(contact_spacing_) : 0.0f;  // ToolContactSample
     shapes.push_back(
-        {{float(t.shape.radius), capsule ? float(t.shape.length) : 0.0f, float(t.friction), 0.0f},
+        {{float(t.shape.radius), capsule ? float(t.shape.length) : 0.0f, float(t.friction), band},
          {capsule ? kToolCapsule : kToolSphere, 0u, 0u, 0u}});
   }
   tools_ = tools;
@@ -123,7 +124,8 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
     candidate_capacity_ = std::max(std::max<uint32_t>(n, 1), 2 * candidate_capacity_);
   const uint64_t cap = candidate_capacity_;
   reserve(ctx, candidate_list_, cap * sizeof(uint32_t), MemoryIntent::Device, "contact candidates");
-  reserve(ctx, candidate_force_, cap * nt * sizeof(vec4), MemoryIntent::Device,
+  // Per (tool, candidate): the force, then (tools further on) the axial position of a contact.
+  reserve(ctx, candidate_force_, 2 * cap * nt * sizeof(vec4), MemoryIntent::Device,
           "contact force per candidate");
   const uint32_t wg = kernels_->broad_phase.workgroup_size()[0];
   const uint32_t groups = (n + wg - 1) / wg;
@@ -190,7 +192,7 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
     record_broad_phase(rec);  // after the copy: the barriers in it order the table too
     broad_pending_ = false;
   }
-  reserve(ctx, samples_buffer_, uint64_t(substeps) * nt * sizeof(vec4), MemoryIntent::Readback,
+  reserve(ctx, samples_buffer_, 2 * uint64_t(substeps) * nt * sizeof(vec4), MemoryIntent::Readback,
           "contact samples");
   contact_active_ = motion_steps_ > 0 && force_count_ > 0;
   if (cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));  // the advance's log starts empty
@@ -231,11 +233,18 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
   candidates_ = count.total;
   if (contact_active_ && ran) {
     samples_buffer_.invalidate();
-    std::vector<vec4> felt(samples_.size());
+    // Two rows per sample (tool_contact_reduce): force and count, the contacts' axial range.
+    std::vector<vec4> felt(2 * samples_.size());
     std::memcpy(felt.data(), samples_buffer_.mapped(), felt.size() * sizeof(vec4));
-    for (size_t k = 0; k < felt.size(); ++k) {
-      samples_[k].force = Vec3(felt[k].x, felt[k].y, felt[k].z);
-      samples_[k].contacts = static_cast<uint32_t>(felt[k].w);
+    for (size_t k = 0; k < samples_.size(); ++k) {
+      const vec4& f = felt[2 * k];
+      const vec4& range = felt[2 * k + 1];
+      samples_[k].force = Vec3(f.x, f.y, f.z);
+      samples_[k].contacts = static_cast<uint32_t>(f.w);
+      if (range.x <= range.y) {
+        samples_[k].axial_min = range.x;
+        samples_[k].axial_max = range.y;
+      }
     }
   }
   motion_step_ += size_t(substeps);

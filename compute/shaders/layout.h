@@ -267,10 +267,13 @@ PHYXEL_ASSERT_SIZE(CheckPush, 8);
 PHYXEL_CONST uint kToolSphere = 0u;
 PHYXEL_CONST uint kToolCapsule = 1u;
 struct ContactToolShape {
-  vec4 shape;  // radius (m), length (m; 0 for a sphere), Coulomb friction mu, 0
+  vec4 shape;  // radius (m), length (m; 0 for a sphere), Coulomb friction mu, and for a blade
+               // the band around it whose phyxels span its axial range (m; 0: contacts only)
   uvec4 kind;  // kToolSphere or kToolCapsule, 0, 0, 0
 };
 PHYXEL_ASSERT_SIZE(ContactToolShape, 32);
+// The axial range a (candidate, tool) without contact contributes (engine ToolContactSample).
+PHYXEL_CONST float kNoContactAxial = 1e30;
 
 // One substep's motion of one tool (engine ToolMotion), row-major [substep][tool]. Positions
 // are relative to ContactPush.origin (a point near the tools, so the small per-substep motion
@@ -387,8 +390,8 @@ PHYXEL_ASSERT_SIZE(CutQuad, 80);
 struct SeverPush {
   vec4 origin;  // the motion table's frame (ContactPush.origin)
   uint tools;
-  uint row;     // row of the cut table
-  uint sample_row;  // row of the samples (substep of the advance)
+  uint row;         // row of the cut table
+  uint sample_row;  // substep of the advance (its sample is rows 2 (substep tools + tool), +1)
   uint log_capacity;
 };
 PHYXEL_ASSERT_SIZE(SeverPush, 32);

@@ -2,7 +2,9 @@
 // dispatched indirectly by tool_broad_scan's count): every tool in turn, in the CPU's order
 // (CpuSolver::apply_contacts), corrects u and v of the phyxel in place on the displacement
 // buffer that holds the new u (u += dx, v += dv), writes the contact force m dv / dt of each
-// (candidate, tool) for tool_contact_reduce and sets the phyxel's contact flag. Fixed and
+// (candidate, tool) and, for a phyxel in contact or within a blade's band, where it lies along
+// the tool's axis from its tip (the rows of tools p.tools onwards) for tool_contact_reduce, and
+// sets the phyxel's contact flag. Fixed and
 // removed phyxels take no contact (sleeping objects are not in the list). Each invocation reads
 // and writes only its own phyxel: no atomics.
 #version 450
@@ -37,16 +39,24 @@ void main() {
   uint touched = 0u;
   for (uint t = 0u; t < p.tools; ++t) {
     vec4 felt = vec4(0.0);
+    vec4 along = vec4(kNoContactAxial, -kNoContactAxial, 0.0, 0.0);
     vec3 dx;
     vec3 dv;
-    if (takes && tool_contact_correction(tools[t], motion[p.motion * p.tools + t], p.hold != 0u,
-                                         p.dt, x0 + u, v, dx, dv)) {
+    const ContactMotion m = motion[p.motion * p.tools + t];
+    bool around = false;
+    if (takes && tool_contact_correction(tools[t], m, p.hold != 0u, p.dt, x0 + u, v, dx, dv)) {
       u += dx;
       v += dv;
       felt = vec4(mass * dv / p.dt, 1.0);
       touched = 1u;
+      around = true;
+    } else if (takes && tools[t].shape.w > 0.0) {
+      around = tool_distance(tools[t], m.to_position.xyz, m.to_axis.xyz, x0 + u).distance <
+               tools[t].shape.w;
     }
+    if (around) along.xy = vec2(dot(x0 + u - m.to_position.xyz, m.to_axis.xyz));
     contact_force[t * p.capacity + slot] = felt;
+    contact_force[(p.tools + t) * p.capacity + slot] = along;
   }
   if (touched != 0u) {
     disp[i] = vec4(u, 0.0);

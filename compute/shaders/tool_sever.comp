@@ -72,7 +72,7 @@ void main() {
     const CutQuad quad = quads[p.row * p.tools + tool];
     const float threshold = quad.edge.w;
     if (threshold < 0.0) continue;  // no blade
-    const vec3 felt = samples[p.sample_row * p.tools + tool].xyz;
+    const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
     // cut_force of engine/surgery/cutting.cpp: the edge pressed in, or the point (a stab).
     const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
     if (max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) < threshold) continue;

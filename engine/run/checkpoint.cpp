@@ -25,7 +25,8 @@ enum Section : uint32_t {
   kChecks = 6,
   kTools = 7,
   kTopology = 8,
-  kCuts = 9,  // severed pairs (i, j, t) and the scalpels' cutting statistics
+  kCuts = 9,          // severed pairs (i, j, t) and the scalpels' cutting statistics
+  kCutFeedback = 10,  // the scalpels' largest feedback, friction and depth (ToolRunStats)
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -199,6 +200,15 @@ void write_sections(Writer& w, const Checkpoint& c) {
     w.put<int64_t>(s.cutting_substeps);
   }
   w.end_section();
+
+  w.begin_section(kCutFeedback);
+  w.put<uint64_t>(c.tool_stats.size());
+  for (const ToolRunStats& s : c.tool_stats) {
+    w.put<double>(s.max_feedback);
+    w.put<double>(s.max_friction);
+    w.put<double>(s.max_depth);
+  }
+  w.end_section();
 }
 
 void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -273,6 +283,19 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
         if (t < c.tool_stats.size()) {
           c.tool_stats[t].max_cut_force = max_cut;
           c.tool_stats[t].cutting_substeps = cutting;
+        }
+      }
+      break;
+    }
+    case kCutFeedback: {  // after kTools
+      const uint64_t tools = r.get<uint64_t>();
+      for (uint64_t t = 0; t < tools; ++t) {
+        const double feedback = r.get<double>(), friction = r.get<double>(),
+                     depth = r.get<double>();
+        if (t < c.tool_stats.size()) {
+          c.tool_stats[t].max_feedback = feedback;
+          c.tool_stats[t].max_friction = friction;
+          c.tool_stats[t].max_depth = depth;
         }
       }
       break;

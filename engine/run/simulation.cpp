@@ -504,16 +504,25 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
     add("  render: %s frames at step 0, every %lld steps and at the end (offscreen, PNG)",
         scene.render.mode == RenderSettings::Mode::Stereo ? "stereo" : "mono",
         static_cast<long long>(scene.render.every));
+  const auto scalpels = std::count_if(scene.tools.begin(), scene.tools.end(),
+                                      [](const ToolDesc& t) { return t.blade.cuts(); });
   if (!scene.tools.empty()) {
     add("    contact        %zu tool(s): after every drift, on the phyxels whose current "
         "position is near the tools' swept bounds (broad phase once per advance of at most %lld "
         "substeps); the tools' forces are summed per substep",
         scene.tools.size(), static_cast<long long>(options.tool_chunk_substeps));
+    if (scalpels > 0)
+      add("    cut            %zu scalpel(s): after the contact, on the same candidates (their "
+          "margin grown by the support radius), the pairs crossing the blade's swept quad "
+          "severed in substeps whose cutting force reaches the threshold; then the precompute of "
+          "the phyxels they touched only",
+          static_cast<size_t>(scalpels));
     add("  tools: tools.csv (a row per step and tool) and summary.json tools");
   }
-  add("  not recorded: %s%sstress eigen pass (no tearing), cutting passes (no scalpel)",
+  add("  not recorded: %s%sstress eigen pass (no tearing)%s",
       rendering ? "" : "render passes (render.mode none), ",
-      scene.tools.empty() ? "contact passes (no tool), " : "");
+      scene.tools.empty() ? "contact passes (no tool), " : "",
+      scalpels > 0 ? "" : ", cutting passes (no scalpel)");
   return out.str();
 }
 

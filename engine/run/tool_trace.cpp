@@ -50,7 +50,9 @@ ToolTraceWriter::ToolTraceWriter(const std::filesystem::path& file,
                                  bool in_place)
     : file_(file) {
   for (const ToolDesc& t : tools) names_.push_back(t.name);
-  const char* header = "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts\n";
+  const char* header =
+      "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts,cut_force,theta,f_l,f_p,depth,f_cx,f_cy,"
+      "f_cz\n";
   if (resume_after >= 0) {
     // Appended to: cut back to the checkpoint's step, then the rows after it follow.
     std::error_code ec;
@@ -71,13 +73,18 @@ ToolTraceWriter::ToolTraceWriter(const std::filesystem::path& file,
 }
 
 void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRecord>& records) {
-  char row[512];
+  char row[1024];
   for (size_t k = 0; k < records.size() && k < names_.size(); ++k) {
     const ToolStepRecord& r = records[k];
-    std::snprintf(row, sizeof row, "%lld,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u\n",
-                  static_cast<long long>(step), t, names_[k].c_str(), r.pose.position.x(),
-                  r.pose.position.y(), r.pose.position.z(), r.pose.axis.x(), r.pose.axis.y(),
-                  r.pose.axis.z(), r.force.x(), r.force.y(), r.force.z(), r.contacts);
+    const CutFeedback& c = r.cut;
+    std::snprintf(
+        row, sizeof row,
+        "%lld,%.9g,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%u,%.6g,%.6g,%.6g,%.6g,"
+        "%.6g,%.6g,%.6g,%.6g\n",
+        static_cast<long long>(step), t, names_[k].c_str(), r.pose.position.x(),
+        r.pose.position.y(), r.pose.position.z(), r.pose.axis.x(), r.pose.axis.y(), r.pose.axis.z(),
+        r.force.x(), r.force.y(), r.force.z(), r.contacts, c.cut_force, c.theta, c.in_plane,
+        c.normal, c.depth, c.friction.x(), c.friction.y(), c.friction.z());
     if (atomic_)
       atomic_->append(row);
     else

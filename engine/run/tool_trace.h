@@ -1,7 +1,8 @@
 // DIR/tools.csv of a run with tools: one row per step and tool,
-//   step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts
+//   step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts,cut_force,theta,f_l,f_p,depth,f_cx,f_cy,f_cz
 // (the tip position and axis at the end of the step, the mean force on the tool over the
-// step's substeps in N, the phyxels in contact at its last substep). Written to tools.csv.tmp
+// step's substeps in N, the phyxels in contact at its last substep; a scalpel's cutting force
+// of eqs 21-26, ToolStepRecord::cut, zeros for other tools). Written to tools.csv.tmp
 // and renamed at close(), or when the writer is destroyed without close() (a run stopped by
 // an error keeps the rows of the steps it did); a failed write removes tools.csv.tmp. A run
 // with checkpoints writes it in place instead (flush() before each checkpoint), so that the

@@ -287,14 +287,21 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
       const V3 x_new = rest_[i] + u_[i];
       const V3 x_prev = x_new - dt * v_[i];
       V3 dx, dv;
-      if (!contact_correction<Real>(tools_[t], now[t], dt, x_prev, x_new, v_[i], dx, dv)) continue;
-      u_[i] += dx;
-      v_[i] += dv;
-      const V3 f = mass_[i] * dv / dt;
-      contact_force_[i] += f;
-      contact_[i] = 1;
-      felt[t].force -= f.template cast<double>();
-      ++felt[t].contacts;
+      const bool touches =
+          contact_correction<Real>(tools_[t], now[t], dt, x_prev, x_new, v_[i], dx, dv);
+      if (touches) {
+        u_[i] += dx;
+        v_[i] += dv;
+        const V3 f = mass_[i] * dv / dt;
+        contact_force_[i] += f;
+        contact_[i] = 1;
+        felt[t].force -= f.template cast<double>();
+        ++felt[t].contacts;
+      }
+      const Vec3 x = (rest_[i] + u_[i]).template cast<double>();
+      if (touches || (tools_[t].blade.cuts() &&
+                      tool_distance(tools_[t].shape, now[t].to, x).distance < contact_spacing_))
+        felt[t].add_axial((x - now[t].to.position).dot(now[t].to.axis));
     }
   }
   samples_.insert(samples_.end(), felt.begin(), felt.end());

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -41,10 +42,22 @@ struct ToolMotion {
 };
 
 // What one tool felt during one substep: the force on the tool (N, the negative sum of the
-// contact forces on the phyxels) and the number of phyxels in contact.
+// contact forces on the phyxels), the number of phyxels in contact, and the range along the
+// tool's axis from its tip at the substep's end pose (m; min > max where there is none) of the
+// phyxels around it after the substep's contact: those in contact, and for a blade those within
+// the largest object spacing of its surface (a blade thinner than the spacing touches few of
+// the phyxels it passes between). It says how much of a blade is in the tissue
+// (cut_feedback.h).
 struct ToolContactSample {
   Vec3 force = Vec3::Zero();
   uint32_t contacts = 0;
+  double axial_min = kNoContactAxial;
+  double axial_max = -kNoContactAxial;
+  static constexpr double kNoContactAxial = 1e30;
+  void add_axial(double s) {
+    axial_min = std::min(axial_min, s);
+    axial_max = std::max(axial_max, s);
+  }
 };
 
 // The correction of one phyxel over a substep of dt: x_new is its position after the drift,

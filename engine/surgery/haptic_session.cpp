@@ -84,7 +84,7 @@ void HapticSession::publish(double sim_time, const std::vector<ToolStepRecord>& 
   const double now = HapticLoop::clock();
   for (ToolLoop& l : loops_)
     if (l.tool < records.size())
-      l.loop->publish({sim_time, now, records[l.tool].force, records[l.tool].contacts});
+      l.loop->publish({sim_time, now, records[l.tool].hand_force(), records[l.tool].contacts});
 }
 
 }  // namespace phyxel

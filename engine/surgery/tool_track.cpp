@@ -2,6 +2,7 @@
 
 #include "engine/surgery/cutting.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -92,12 +93,26 @@ std::vector<ToolStepRecord> ToolTrack::fold(const std::vector<ToolContactSample>
         const size_t at = static_cast<size_t>(s * substeps + k) * nt + t;
         r.force += samples[at].force;
         if (!blade.cuts()) continue;
-        const double pressing =
-            cut_force(samples[at].force, swept_quad(blade, motions_[at].from, motions_[at].to, 0));
-        st.max_cut_force = std::max(st.max_cut_force, pressing);
-        if (pressing >= blade.threshold) ++st.cutting_substeps;
+        const CutFeedback f = cut_feedback(blade, tools_[t].friction, motions_[at], samples[at]);
+        st.max_cut_force = std::max(st.max_cut_force, f.cut_force);
+        if (f.cut_force >= blade.threshold) ++st.cutting_substeps;
+        r.cut.cut_force += f.cut_force;
+        r.cut.in_plane += f.in_plane;
+        r.cut.normal += f.normal;
+        r.cut.friction += f.friction;
+        r.cut.depth = f.depth;
       }
       r.force /= double(substeps);
+      if (blade.cuts()) {
+        r.cut.cut_force /= double(substeps);
+        r.cut.in_plane /= double(substeps);
+        r.cut.normal /= double(substeps);
+        r.cut.friction /= double(substeps);
+        r.cut.theta = std::atan2(r.cut.in_plane, r.cut.normal);
+        st.max_feedback = std::max(st.max_feedback, r.hand_force().norm());
+        st.max_friction = std::max(st.max_friction, r.cut.friction.norm());
+        st.max_depth = std::max(st.max_depth, r.cut.depth);
+      }
       const size_t last = static_cast<size_t>(s * substeps + substeps - 1) * nt + t;
       r.contacts = samples[last].contacts;
       r.pose = motions_[last].to;

@@ -10,6 +10,7 @@
 
 #include "engine/scene/scene.h"
 #include "engine/surgery/contact.h"
+#include "engine/surgery/cut_feedback.h"
 
 namespace phyxel {
 
@@ -27,6 +28,11 @@ struct ToolRunStats {
   bool cuts = false;
   double max_cut_force = 0;
   int64_t cutting_substeps = 0;
+  // Scalpels, per step (cut_feedback.h): the largest force sent to the hand |F_x + f_c| (N),
+  // the largest drag of the cut faces |f_c| (N) and the deepest the blade went (m).
+  double max_feedback = 0;
+  double max_friction = 0;
+  double max_depth = 0;
 };
 
 // One step's record of one tool (a row of tools.csv).
@@ -34,6 +40,12 @@ struct ToolStepRecord {
   ToolPose pose;              // at the end of the step
   Vec3 force = Vec3::Zero();  // N, on the tool, mean over the step's substeps
   uint32_t contacts = 0;      // at the step's last substep
+  // Scalpels: the cutting force of eqs 21-26, its forces the mean over the step's substeps
+  // (theta from the mean parts), the depth at its last substep. Zero for other tools.
+  CutFeedback cut;
+  // What the hand feels (the haptic loop's force): the contact reaction plus, for a scalpel,
+  // the drag of the cut faces.
+  Vec3 hand_force() const { return force + cut.friction; }
 };
 
 class ToolTrack {

@@ -20,6 +20,7 @@ struct CutRun {
   std::vector<Vec3> u;
   std::vector<uint8_t> alive;
   size_t candidates = 0;
+  std::vector<ToolContactSample> samples;  // every substep's
 };
 
 CutRun run(Solver& solver, const Scene& scene, int64_t steps, int64_t chunk = 16) {
@@ -32,6 +33,8 @@ CutRun run(Solver& solver, const Scene& scene, int64_t steps, int64_t chunk = 16
     solver.set_tool_motion(track.motions(s, n, dt));
     solver.advance(n, dt);
     out.candidates = std::max(out.candidates, solver.contact_candidates());
+    const std::vector<ToolContactSample> felt = solver.tool_samples();
+    out.samples.insert(out.samples.end(), felt.begin(), felt.end());
   }
   out.severed = solver.severed_since(0);
   out.u = solver.read_state(false).displacement;
@@ -62,6 +65,26 @@ TEST_F(GpuSolverTest, CuttingABeamSeversTheCpusPairsAndMovesAlike) {
   const double scale = max_norm(c.u);
   EXPECT_GT(scale, 1e-3);
   EXPECT_LT(max_difference(c.u, g.u), 1e-4 * scale);
+  // The blade's axial range in the tissue (its penetration depth, cut_feedback.h): the same but
+  // for a phyxel at the edge of the band around the blade in a few substeps (a spacing's jump).
+  ASSERT_EQ(g.samples.size(), c.samples.size());
+  size_t ranged = 0, outliers = 0;
+  double worst = 0;
+  for (size_t k = 0; k < c.samples.size(); ++k) {
+    const ToolContactSample &cs = c.samples[k], &gs = g.samples[k];
+    if (cs.axial_min > cs.axial_max && gs.axial_min > gs.axial_max) continue;
+    ++ranged;
+    const double d =
+        std::max(std::abs(gs.axial_min - cs.axial_min), std::abs(gs.axial_max - cs.axial_max));
+    if (d > 1e-5)
+      ++outliers;
+    else
+      worst = std::max(worst, d);
+  }
+  std::printf("[ cutting  ] blade range in %zu substeps: worst %.3g m, %zu beyond 1e-5 m\n", ranged,
+              worst, outliers);
+  EXPECT_GT(ranged, 100u);
+  EXPECT_LE(outliers, ranged / 50);
 }
 
 TEST_F(GpuSolverTest, CuttingBelowAndAboveTheThresholdMatchesTheCpu) {

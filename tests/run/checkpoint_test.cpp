@@ -99,7 +99,7 @@ constexpr const char* kScalpel = R"({
   "output": {"every": 50, "format": "binary"},
   "tools": [{"name": "scalpel", "type": "scalpel",
      "shape": {"type": "capsule", "radius": 0.0003, "length": 0.02},
-     "blade": {"length": 0.015, "edge": [1, 0, 0]},
+     "blade": {"length": 0.015, "edge": [1, 0, 0]}, "friction": 0.3,
      "path": [{"t": 0, "position": [-0.002, 0.0061, 0.004]}, {"t": 0.04, "position": [0.022, 0.0061, 0.004]}]}]
 })";
 
@@ -305,8 +305,13 @@ TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
   EXPECT_GT(p["cutting"]["severed_pairs"].get<int>(), 0);
   EXPECT_EQ(s["cutting"], p["cutting"]);
   EXPECT_EQ(s["tools"], p["tools"]);
-  // The checkpoint at step 100 already holds cuts.
-  EXPECT_GT(read_checkpoint(dir / "cpu" / "full" / kCheckpointFile).severed.size(), 0u);
+  // The checkpoint at step 100 already holds cuts and the cutting force's statistics.
+  const Checkpoint at_100 = read_checkpoint(dir / "cpu" / "full" / kCheckpointFile);
+  EXPECT_GT(at_100.severed.size(), 0u);
+  ASSERT_EQ(at_100.tool_stats.size(), 1u);
+  EXPECT_GT(at_100.tool_stats[0].max_feedback, 0.0);
+  EXPECT_GT(at_100.tool_stats[0].max_friction, 0.0);
+  EXPECT_GT(at_100.tool_stats[0].max_depth, 0.0);
   gpu::ContextOptions context;
   try {
     context = gpu::test_context_options();

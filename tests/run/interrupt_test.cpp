@@ -300,10 +300,13 @@ TEST(PhyxelRunInterrupt, ToolsCsvIsCompleteUpToTheLastStep) {
   std::istringstream lines(csv);
   std::string line, last;
   std::getline(lines, line);
-  EXPECT_EQ(line, "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts");
+  EXPECT_EQ(
+      line,
+      "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts,cut_force,theta,f_l,f_p,depth,f_cx,f_cy,"
+      "f_cz");
   int64_t rows = 0;
   while (std::getline(lines, line)) {
-    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 12) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 20) << line;
     last = line;
     ++rows;
   }

@@ -222,12 +222,17 @@ TEST(ToolsRun, PathProbeWritesToolsCsvSummaryAndContact) {
   ASSERT_EQ(r.code, 0) << r.err;
 
   const Csv csv = read_csv(dir / "tools.csv");
-  EXPECT_EQ(csv.header, "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts");
+  EXPECT_EQ(
+      csv.header,
+      "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts,cut_force,theta,f_l,f_p,depth,f_cx,f_cy,"
+      "f_cz");
   ASSERT_EQ(csv.rows.size(), 2u * 60);  // a row per step and tool
   int first_touch = -1;
   for (size_t k = 0; k < csv.rows.size(); ++k) {
     const auto& row = csv.rows[k];
-    ASSERT_EQ(row.size(), 13u) << k;
+    ASSERT_EQ(row.size(), 21u) << k;
+    // Probes do not cut: their cutting-force columns are zero.
+    for (int c = 13; c < 21; ++c) EXPECT_EQ(std::stod(row[c]), 0.0) << k << " " << c;
     const int step = std::stoi(row[0]);
     const double t = std::stod(row[1]);
     EXPECT_EQ(step, static_cast<int>(k / 2) + 1) << k;
@@ -315,7 +320,7 @@ TEST(ToolsRun, SceneWithoutToolsHasNoToolOutputs) {
   }
 }
 
-TEST(ToolsRun, ExplainListsTheContactPass) {
+TEST(ToolsRun, ExplainListsTheContactAndCutPasses) {
   const auto dir = test::test_output_dir("tools_run_explain");
   const auto with = write_scene(dir, SceneSpec{});
   Ran r = phyxel("run " + with.string() + " --explain --out " + dir.string(), dir);
@@ -323,6 +328,15 @@ TEST(ToolsRun, ExplainListsTheContactPass) {
   EXPECT_NE(r.out.find("contact        2 tool(s)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("tools.csv"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("contact passes (no tool)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("cutting passes (no scalpel)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("scalpel(s)"), std::string::npos) << r.out;
+
+  // A scalpel: the cut pass is listed, and not as skipped.
+  const std::string scalpel = std::string(PHYXEL_SOURCE_DIR) + "/scenes/scalpel_cut.json";
+  r = phyxel("run " + scalpel + " --explain --out " + dir.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("cut            1 scalpel(s)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("no scalpel"), std::string::npos) << r.out;
 
   SceneSpec spec;
   spec.tools = false;
