@@ -46,6 +46,8 @@ constexpr const char* kRunHelp =
     "  --render MODE       none, mono or stereo: also write DIR/frame_NNNNNN.png at step 0,\n"
     "                      every render.every steps and at the end (default: the scene's\n"
     "                      render.mode); offscreen, never needs a display\n"
+    "  --draw-only         with --render: draw and read back every frame, but write no PNG\n"
+    "                      (what drawing costs a run, e.g. with render.every at 60 frames/s)\n"
     "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu);\n"
     "                      with a GPU solver the renderer reads its buffers on its device\n"
     "  --haptic-device D   the device of tools with \"control\": \"haptic\": scripted (their\n"
@@ -115,6 +117,7 @@ int run_command(const Args& args) {
   const bool validate = opts.flag("--validate");
   const std::string precision = opts.value("--precision", gpu ? "float" : "double");
   const bool quiet = opts.flag("--quiet");
+  const bool draw_only = opts.flag("--draw-only");
   const bool explain = opts.flag("--explain");
   const bool no_skip = opts.flag("--no-skip");
   const std::string render_mode = opts.value("--render", "");
@@ -241,7 +244,9 @@ int run_command(const Args& args) {
     if (scene.render.mode != RenderSettings::Mode::None) {
       auto* gpu_solver = dynamic_cast<gpu::GpuSolver*>(solver.get());
       frames = std::make_unique<render::FrameWriter>(
-          scene, set, render::FrameWriterOptions{scene.render.mode, out_dir, render_device},
+          scene, set,
+          render::FrameWriterOptions{scene.render.mode, out_dir, render_device,
+                                     gpu::validation_default(), !draw_only},
           gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };

@@ -68,6 +68,7 @@ void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
 std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
   const RgbaImage image = render(inputs);
   const std::string name = frame_name(step);
+  if (!options_.write_files) return name;
   write_png(options_.out_dir / name, image);
   written_.push_back(name);
   return name;

@@ -30,6 +30,9 @@ struct FrameWriterOptions {
   std::filesystem::path out_dir;
   std::string device = "gpu";  // for a context of its own (see gpu::ContextOptions::device)
   bool validation = gpu::validation_default();
+  // false: every frame is drawn and read back as usual but no PNG is written (`phyxel run
+  // --draw-only`: what drawing costs a run, without the encoder's and the disk's share).
+  bool write_files = true;
 };
 
 class FrameWriter {

@@ -67,6 +67,30 @@ TEST_F(RenderFrames, RunWritesAFrameEveryRenderEveryStepsAndAtTheEnd) {
   EXPECT_NE(first.pixels, last.pixels);
 }
 
+// --draw-only: the same frames are drawn and read back (the cut faces followed), none written.
+TEST_F(RenderFrames, DrawOnlyDrawsEveryFrameAndWritesNone) {
+  const Scene scene = block_scene(R"({"mode": "mono", "width": 64, "height": 48, "every": 10})");
+  const PhyxelSet set = sample_scene(scene);
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  const std::filesystem::path dir = fresh_dir("frames_draw_only");
+  FrameWriterOptions o{scene.render.mode, dir};
+  o.write_files = false;
+  FrameWriter writer(scene, set, o, &ctx());
+  int drawn = 0;
+  RunOptions options;
+  options.steps = 25;
+  options.frame_every = scene.render.every;
+  options.on_frame = [&](int64_t step, Solver& s) {
+    EXPECT_EQ(write_solver_frame(writer, s, step, {}),
+              "frame_0000" + std::to_string(step) + ".png");
+    ++drawn;
+  };
+  run_simulation(scene, set, *solver, options);
+  EXPECT_EQ(drawn, 3);  // steps 10, 20 and the end
+  EXPECT_TRUE(writer.written().empty());
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
 TEST_F(RenderFrames, StereoLayoutsHaveTheirFrameSizes) {
   const Scene sbs = block_scene(R"({"mode": "stereo", "width": 40, "height": 30})");
   const PhyxelSet set = sample_scene(sbs);
