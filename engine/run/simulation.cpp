@@ -170,6 +170,12 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   const double step_time = result.plan.dt_requested;
   const bool select = options.pass_selection && solver.supports_pass_selection();
   if (solver.supports_pass_selection()) solver.set_pass_selection(select);
+  // Tearing: the largest principal stress of every stressed phyxel, each substep.
+  const bool tearing = scene.tearing_possible();
+  if (tearing && !solver.supports_principal_stress())
+    throw std::runtime_error(scene.file.string() + ": a material has tear_stress, which " +
+                             solver.device() + " cannot evaluate; use --device cpu");
+  if (solver.supports_principal_stress()) solver.set_principal_stress(tearing);
   const SleepSettings& sleep = scene.simulation.sleep;
   const bool sleeping = select && sleep.enabled;
   const UntilRest& rest = scene.simulation.until_rest;
