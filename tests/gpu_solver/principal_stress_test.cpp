@@ -66,6 +66,40 @@ TEST_F(GpuSolverTest, PrincipalStressOfADeformedStateMatchesTheCpuAtAwkwardSizes
   }
 }
 
+TEST_F(GpuSolverTest, RepeatedPrincipalStressesOfHomogeneousStretchesAreExact) {
+  // u = (F - I) x: the MLS gradient is F - I at every phyxel (patch test), so sigma is the
+  // closed form (F S F^T + k_v (J - 1) J I) / J everywhere, S = lambda' tr(E) I + 2 mu E. The
+  // stretches give no stress, a triple principal value (hydrostatic), the largest two equal
+  // (equibiaxial: where the plain trigonometric formula loses sqrt(eps), 3e-4, in float), the
+  // largest two 1e-6 apart, and the smallest two equal (uniaxial-like).
+  const Material m = tissue(1e5, 0.3);
+  const PhyxelSet set = lattice(9, 7, 6, m);
+  const double kv = volume_stiffness(m), lambda = lame_lambda(m) - kv, mu = lame_mu(m);
+  GpuSolver gpu(ctx(), set, Vec3::Zero());
+  gpu.set_principal_stress(true);
+  const Vec3 centre = set.rest[set.size() / 2];
+  for (const Vec3& stretch : {Vec3(1, 1, 1), Vec3(1.01, 1.01, 1.01), Vec3(1.02, 1.02, 0.99),
+                              Vec3(1.02, 1.02 + 1e-6, 0.99), Vec3(1.02, 0.99, 0.99)}) {
+    std::vector<Vec3> u(set.size()), v(set.size(), Vec3::Zero());
+    for (size_t i = 0; i < set.size(); ++i)
+      u[i] = (stretch - Vec3::Ones()).cwiseProduct(set.rest[i] - centre);
+    gpu.set_state(u, v);
+    const Vec3 green = 0.5 * (stretch.cwiseProduct(stretch) - Vec3::Ones());
+    const double j = stretch.prod();
+    double want = -1e300;
+    for (int a = 0; a < 3; ++a)
+      want = std::max(want, (stretch[a] * stretch[a] * (lambda * green.sum() + 2 * mu * green[a]) +
+                             kv * (j - 1) * j) /
+                                j);
+    const std::vector<double> got = gpu.read_state(true).max_principal_stress;
+    ASSERT_EQ(got.size(), set.size());
+    const double scale = std::max(std::abs(want), 1.0);
+    for (size_t i = 0; i < set.size(); ++i)
+      ASSERT_NEAR(got[i], want, 2e-5 * scale)
+          << "stretch " << stretch.transpose() << " phyxel " << i;
+  }
+}
+
 // A cantilever clamped at x = min, with a stiff inclusion, under gravity and a load pulling its
 // free end sideways: stresses of both signs and a non-uniform field.
 Scene loaded_cantilever() {
