@@ -45,7 +45,7 @@ Scene free_cube() {
   o.shape.max = Vec3::Constant(0.02);
   o.spacing = 0.0025;
   o.support_radius = 0.005;
-  o.material = {1e5, 0.45, 1000, 0, std::nullopt, 0.05};
+  o.material = {1e5, 0.45, 1000, 0, std::nullopt, 0.05, std::nullopt};
   s.objects.push_back(o);
   return s;
 }

@@ -91,7 +91,7 @@ Scene bench_scene(int64_t phyxels) {
   box.shape.max = Vec3::Constant(side);
   box.spacing = spacing;
   box.support_radius = 2 * spacing;
-  box.material = {1e5, 0.3, 1000, 1.0, std::nullopt, 0.05};
+  box.material = {1e5, 0.3, 1000, 1.0, std::nullopt, 0.05, std::nullopt};
   Shape base;
   base.type = Shape::Type::Box;
   base.min = Vec3(-1, -1, -1);

@@ -208,6 +208,7 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       }
     }
     timed("stress", [&] { record_stress(rec, disp_[cur]); });
+    if (principal_) timed("principal", [&] { record_principal(rec, disp_[cur]); });
     if (step == total - 1) {
       timed("force", [&] { record_force(rec, kForceKick, dt, disp_[cur], disp_[cur]); });
     } else {
@@ -285,6 +286,7 @@ void GpuSolver::compute_forces() {
   rec.copy(disp_[0], disp_[1]);
   rec.barrier();
   record_stress(rec, disp_[0]);
+  if (principal_) record_principal(rec, disp_[0]);  // reads u only, as the stress pass
   rec.barrier();
   record_force(rec, kForceOnly, 0.0f, disp_[0], disp_[0]);
   rec.submit_and_wait();
@@ -316,7 +318,10 @@ double GpuSolver::bytes_per_phyxel_step() const {
       4 + 4 + 16 + 16 + 4 + 32 + 32 * regularised + 48 + per_pair * pairs_per_phyxel;
   // force: list 4, offset 4, local 16, u in 16, D 48, ext 16, flags 4, v 16 + 16, f 16, u out 16
   const double force = 4 + 4 + 16 + 16 + 48 + 16 + 4 + 32 + 16 + 16 + per_pair * pairs_per_phyxel;
-  return (stress * double(stress_count_) + force * double(force_count_)) / n;
+  // principal (tearing): list 4, offset 4, local 16, u 16, flags 4, A^-1 32, out 4
+  const double principal =
+      principal_ ? 4 + 4 + 16 + 16 + 4 + 32 + 4 + per_pair * pairs_per_phyxel : 0.0;
+  return ((stress + principal) * double(stress_count_) + force * double(force_count_)) / n;
 }
 
 }  // namespace phyxel::gpu

@@ -8,7 +8,9 @@
 //                 (two command buffers in flight: the next is recorded while the GPU runs
 //                 the last); per step a stress pass (D_i) and a force pass (gather, half
 //                 kick, and fused with the next step's half kick and drift), each over its
-//                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp)
+//                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp);
+//                 while principal stress is on (tearing), a principal pass after the stress
+//                 pass
 //   contact       with tools (set_tools), after every drift: the tools' correction of u and v
 //                 over the chunk's candidate list, per-tool force samples by a fixed-order
 //                 reduction (gpu_solver_contact.cpp; CpuSolver's semantics)
@@ -130,6 +132,13 @@ class GpuSolver final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
   size_t contact_candidates() const override { return candidates_; }
+  // Principal stress (tearing), with CpuSolver's semantics (engine/solver/cpu_solver.h): while
+  // on, solver_principal follows every stress pass over the stress list, on the same u, into a
+  // float per phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
+  // Off (the default): the pass is not recorded.
+  bool supports_principal_stress() const override { return true; }
+  void set_principal_stress(bool on) override;
+  bool principal_stress() const { return principal_; }
   // Cutting, with CpuSolver's semantics (engine/solver/cpu_solver.h): after each substep's
   // contact reduction, tool_sever over the candidates (dispatched indirectly) for every blade
   // whose edge force reached its threshold, then solver_precompute over the phyxels it touched
@@ -167,9 +176,9 @@ class GpuSolver final : public Solver {
   void remove_phyxels(const std::vector<uint32_t>& ids);
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
-  // median time per pass name ("kick_drift" once, then "stress" and "force" per step, and
-  // "contact" after every drift while tools touch the candidates' chunk). Empty
-  // where the device has no timestamps. Advances the state like advance(steps, dt).
+  // median time per pass name ("kick_drift" once, then "stress", "principal" while on, and
+  // "force" per step, and "contact" after every drift while tools touch the candidates'
+  // chunk). Empty where the device has no timestamps. Advances the state like advance(steps, dt).
   std::vector<PassTime> profile(int64_t steps, double dt);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
@@ -189,6 +198,7 @@ class GpuSolver final : public Solver {
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
   void record_stress(Recorder& rec, const Buffer& disp);
+  void record_principal(Recorder& rec, const Buffer& disp);  // gpu_solver_passes.cpp
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
   // count: the phyxels the pass visits (its list's length, or all of them).
   layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0) const;
@@ -258,6 +268,8 @@ class GpuSolver final : public Solver {
   size_t stress_count_ = 0, force_count_ = 0;
   int64_t substeps_run_ = 0;         // by advance(), over the solver's life (the device-loss hook)
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
+  bool principal_ = false;           // set_principal_stress
+  Buffer principal_stress_;          // float per phyxel, Pa (allocated when first on)
 
   // Tools (gpu_solver_contact.cpp); every buffer below is allocated by set_tools or grown
   // when a chunk needs more (never shrunk), so scenes without tools allocate none of it.

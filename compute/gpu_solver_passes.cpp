@@ -6,11 +6,13 @@
 // and uploaded; the step passes read their phyxel index from them (solver_kick_drift and
 // solver_force from the force list, solver_stress from the stress list) and are dispatched
 // over the list's length. The queries (energies, check, von Mises) still visit every phyxel.
+// The principal stress pass (tearing) is optional too: recorded only while it is on.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include "compute/gpu_solver.h"
+#include "compute/gpu_solver_kernels.h"
 
 namespace phyxel::gpu {
 
@@ -78,6 +80,27 @@ void GpuSolver::set_external_forces(const std::vector<Vec3>& loads) {
   }
   upload(*ctx_, ext_, ext);
   compute_forces();
+}
+
+void GpuSolver::set_principal_stress(bool on) {
+  if (on == principal_) return;
+  principal_ = on;
+  if (!on) return;  // the buffer stays for a later turn on; nothing records the pass
+  if (!principal_stress_)
+    principal_stress_ = Buffer(*ctx_, std::max<uint64_t>(count_, 1) * sizeof(float),
+                               MemoryIntent::Device, "largest principal stress");
+  Recorder& rec = *rec_[0];
+  rec.fill(principal_stress_, 0);  // as the CPU's: 0 until a phyxel is in the stress pass
+  rec.barrier();                   // compute_forces() records into the same command buffer
+  compute_forces();
+}
+
+void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
+  const uint32_t n = static_cast<uint32_t>(stress_count_);
+  dispatch(rec, kernels_->principal, push(n, 0.0f),
+           {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, flags_, classes_,
+            principal_stress_, stress_list_},
+           n);
 }
 
 }  // namespace phyxel::gpu

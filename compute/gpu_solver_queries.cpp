@@ -2,7 +2,8 @@
 //   energies()          per-phyxel energy pass + fixed-order GPU reduction to at most
 //                       kScanBlock partial sums (16 bytes each), summed in double on the host
 //   first_non_finite()  a check pass; 4 bytes back
-//   read_state()        u and v (32 bytes per phyxel); von Mises from a GPU pass (4 more)
+//   read_state()        u and v (32 bytes per phyxel); von Mises from a GPU pass (4 more);
+//                       the principal stress buffer (4 more, while on)
 // and the test/bench helpers (forces, moment inverses, pair weights, per-pass timing).
 #include <algorithm>
 #include <map>
@@ -80,6 +81,10 @@ PointState GpuSolver::read_state(bool with_stress) {
     rec.submit_and_wait();
     const std::vector<float> vm = download<float>(*ctx_, von_mises_, count_);
     s.von_mises.assign(vm.begin(), vm.end());
+    if (principal_) {  // computed by the last substep's principal pass
+      const std::vector<float> sigma = download<float>(*ctx_, principal_stress_, count_);
+      s.max_principal_stress.assign(sigma.begin(), sigma.end());
+    }
   }
   s.contact.assign(count_, 0);  // as the CPU's: 1 where a tool touched the phyxel
   if (contact_flag_) {
@@ -111,8 +116,9 @@ std::vector<float> GpuSolver::pair_weights() {
 
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
-  // kick_drift once; per step stress, force, and contact and cut where there are tools.
-  const int64_t per_step = 2 + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
+  // kick_drift once; per step stress, principal while on, force, and contact and cut where
+  // there are tools.
+  const int64_t per_step = 2 + (principal_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
   PassTimer timer(*ctx_, static_cast<uint32_t>(2 + per_step * steps));
   Recorder& rec = *rec_[0];
   if (!tools_.empty()) begin_contact(steps, dt);  // its uploads go first

@@ -37,7 +37,7 @@ uint32_t hash_buckets(size_t phyxels);
 inline constexpr uint64_t kPersistentBytesPerPhyxel =
     16 /*rest*/ + 16 /*local*/ + 32 /*two displacements*/ + 16 /*v*/ + 16 /*f*/ + 16 /*ext*/ +
     4 /*flags*/ + 32 /*A^-1*/ + 32 /*residual*/ + 48 /*D*/ + 4 /*offset*/ + 16 /*energy*/ +
-    4 /*von Mises*/ + 8 /*stress and force pass lists*/;
+    4 /*von Mises*/ + 8 /*stress and force pass lists*/ + 4 /*principal stress (tearing)*/;
 inline constexpr uint64_t kBytesPerPair = 4 /*index*/ + 4 /*weight*/;
 inline constexpr uint64_t kSearchBytesPerPhyxel =
     16 /*rest_lo*/ + 16 /*cell*/ + 4 /*slot*/ + 4 /*sorted*/ + 4 /*count*/;

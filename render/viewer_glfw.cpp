@@ -175,6 +175,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   };
   ToolTrack track(scene.tools, haptics.empty() ? ToolTrack::PoseSource{} : haptics.pose_source());
   if (!scene.tools.empty()) solver.set_tools(contact_tools(scene.tools));
+  // Tearing (as run_simulation): the largest principal stress every substep.
+  if (solver.supports_principal_stress()) solver.set_principal_stress(scene.tearing_possible());
   haptics.start();
   controls.set_haptic_tools(haptic);
   glfwSetWindowUserPointer(window, &controls);

@@ -240,6 +240,21 @@ PHYXEL_CONST uint kEnergyBindingFlags = 8;
 PHYXEL_CONST uint kEnergyBindingClasses = 9;
 PHYXEL_CONST uint kEnergyBindingOut = 10;
 
+// solver_principal (tearing; only while GpuSolver::set_principal_stress is on), over the stress
+// pass list with StepPush (dt and mode unused): out[i] = the largest principal value of the
+// Cauchy stress of phyxel i (float, Pa), for the u in disp.
+// {offset, index, weight, local, disp, ainv, flags, classes, out, list}
+PHYXEL_CONST uint kPrincipalBindingOffset = 0;
+PHYXEL_CONST uint kPrincipalBindingIndex = 1;
+PHYXEL_CONST uint kPrincipalBindingWeight = 2;
+PHYXEL_CONST uint kPrincipalBindingLocal = 3;
+PHYXEL_CONST uint kPrincipalBindingDisp = 4;
+PHYXEL_CONST uint kPrincipalBindingAinv = 5;
+PHYXEL_CONST uint kPrincipalBindingFlags = 6;
+PHYXEL_CONST uint kPrincipalBindingClasses = 7;
+PHYXEL_CONST uint kPrincipalBindingOut = 8;
+PHYXEL_CONST uint kPrincipalBindingList = 9;  // the stress pass list
+
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;
 PHYXEL_CONST uint kReduceBindingOut = 1;

@@ -48,6 +48,12 @@ mat3 first_piola(Strain s, vec3 elastic) {
   return s.f * stress2 + (elastic.z * s.j_minus_1) * cofactor(s.f);
 }
 
+// Cauchy stress sigma = P F^T / J (P itself where |J| <= 1e-12), as mls_model.h cauchy_stress.
+mat3 cauchy_stress(Strain s, mat3 piola) {
+  const float j = 1.0 + s.j_minus_1;
+  return abs(j) > 1e-12 ? piola * transpose(s.f) / j : piola;
+}
+
 // Energy per unit rest volume W = mu E:E + lambda'/2 tr(E)^2 + k_v/2 (J - 1)^2.
 float energy_density(Strain s, vec3 elastic) {
   const float ee = dot(s.e[0], s.e[0]) + dot(s.e[1], s.e[1]) + dot(s.e[2], s.e[2]);

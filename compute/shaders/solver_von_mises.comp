@@ -36,9 +36,7 @@ void main() {
   }
   const mat3 g = m * unpack_sym(ainv[2u * i], ainv[2u * i + 1u]);
   const Strain s = strain_of(g);
-  const mat3 piola = first_piola(s, cls.elastic.xyz);
-  const float j = 1.0 + s.j_minus_1;
-  const mat3 sigma = abs(j) > 1e-12 ? piola * transpose(s.f) / j : piola;
+  const mat3 sigma = cauchy_stress(s, first_piola(s, cls.elastic.xyz));
   const float mean = (sigma[0][0] + sigma[1][1] + sigma[2][2]) / 3.0;
   const mat3 dev = sigma - mean * mat3(1.0);
   von_mises[i] = sqrt(1.5 * (dot(dev[0], dev[0]) + dot(dev[1], dev[1]) + dot(dev[2], dev[2])));

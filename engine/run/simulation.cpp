@@ -170,6 +170,12 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   const double step_time = result.plan.dt_requested;
   const bool select = options.pass_selection && solver.supports_pass_selection();
   if (solver.supports_pass_selection()) solver.set_pass_selection(select);
+  // Tearing: the largest principal stress of every stressed phyxel, each substep.
+  const bool tearing = scene.tearing_possible();
+  if (tearing && !solver.supports_principal_stress())
+    throw std::runtime_error(scene.file.string() + ": a material has tear_stress, which " +
+                             solver.device() + " cannot evaluate; use --device cpu");
+  if (solver.supports_principal_stress()) solver.set_principal_stress(tearing);
   const SleepSettings& sleep = scene.simulation.sleep;
   const bool sleeping = select && sleep.enabled;
   const UntilRest& rest = scene.simulation.until_rest;
@@ -477,6 +483,13 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
     add("    stress (MLS)   %zu phyxels: all (this device has no pass selection)", n);
     add("    force + kick   %zu phyxels: all", n);
   }
+  const size_t tear_materials = static_cast<size_t>(std::count_if(
+      set.materials.begin(), set.materials.end(), [](const Material& m) { return m.tear_stress; }));
+  const bool tearing = scene.tearing_possible();
+  if (tearing)
+    add("    principal      %zu phyxels (those of the stress pass): the largest principal "
+        "Cauchy stress, for tearing (%zu material(s) with tear_stress)",
+        select ? solver.stress_pass_size() : n, tear_materials);
   const bool sleeping = select && scene.simulation.sleep.enabled;
   if (sleeping)
     add("  sleeping: on; an object whose kinetic energy stays below %.3g J for %lld steps "
@@ -519,10 +532,17 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
           static_cast<size_t>(scalpels));
     add("  tools: tools.csv (a row per step and tool) and summary.json tools");
   }
-  add("  not recorded: %s%sstress eigen pass (no tearing)%s",
-      rendering ? "" : "render passes (render.mode none), ",
-      scene.tools.empty() ? "contact passes (no tool), " : "",
-      scalpels > 0 ? "" : ", cutting passes (no scalpel)");
+  // What the scene does not need, with the reason; nothing when it needs everything.
+  std::string skipped;
+  for (const char* part : {rendering ? "" : "render passes (render.mode none)",
+                           scene.tools.empty() ? "contact passes (no tool)" : "",
+                           tearing ? "" : "principal stress pass (no material has tear_stress)",
+                           scalpels > 0 ? "" : "cutting passes (no scalpel)"})
+    if (*part) {
+      if (!skipped.empty()) skipped += ", ";
+      skipped += part;
+    }
+  add("  not recorded: %s", skipped.empty() ? "nothing" : skipped.c_str());
   return out.str();
 }
 

@@ -88,6 +88,11 @@ void write_points_vtp(const std::filesystem::path& file, const PhyxelSet& set,
   Array flags{"flags", "UInt32", 1, {}};
   for (size_t i = 0; i < n; ++i) append_raw(flags.bytes, set.flags[i]);
   data.push_back(std::move(flags));
+  if (!state.max_principal_stress.empty()) {  // scenes that can tear: Pa
+    Array sigma{"max_principal_stress", "Float64", 1, {}};
+    for (size_t i = 0; i < n; ++i) append_raw(sigma.bytes, state.max_principal_stress[i]);
+    data.push_back(std::move(sigma));
+  }
   if (!state.contact.empty()) {  // scenes with tools: 1 where a tool touched the phyxel
     Array contact{"contact", "UInt32", 1, {}};
     for (size_t i = 0; i < n; ++i) append_raw(contact.bytes, uint32_t{state.contact[i]});
@@ -118,7 +123,8 @@ void write_points_vtp(const std::filesystem::path& file, const PhyxelSet& set,
   if (binary) {
     xml << "<AppendedData encoding=\"raw\">\n_";
     // Every block in the order of the offsets above: the points, each data array (the
-    // `contact` array included when there is one), the connectivity and the offsets.
+    // `max_principal_stress` and `contact` arrays included when there are), the connectivity
+    // and the offsets.
     std::vector<const Array*> blocks{&points};
     for (const Array& a : data) blocks.push_back(&a);
     blocks.push_back(&connectivity);

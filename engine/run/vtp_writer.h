@@ -1,6 +1,7 @@
 // VTK XML PolyData point files (.vtp) that ParaView opens: points at their deformed
 // positions, one vertex cell per point, and the point arrays rest_position, displacement,
-// velocity, von_mises and flags.
+// velocity, von_mises and flags; max_principal_stress when the state has it (a scene that can
+// tear) and contact when it has that (a scene with tools).
 #pragma once
 
 #include <filesystem>

@@ -48,6 +48,9 @@ struct Material {
   std::optional<double> volume_stiffness;
   // Dimensionless hourglass (zero-energy mode) control strength gamma (>= 0).
   double hourglass = 0.05;
+  // Strength (Pa, > 0): the material tears where its largest principal Cauchy stress reaches
+  // this (paper section V). Unset: it never tears.
+  std::optional<double> tear_stress;
 };
 
 struct Inclusion {
@@ -147,6 +150,18 @@ struct Scene {
   CameraSettings camera;
   RenderSettings render;
   std::vector<ToolDesc> tools;  // `tools`: instruments (engine/surgery/tool.h)
+
+  // Whether anything can tear, so that the solvers compute the largest principal stress of
+  // every phyxel each step (and the outputs carry it): for now a material of an object or an
+  // inclusion with tear_stress. The hook for the tearing tools (suction, grasper) to come.
+  bool tearing_possible() const {
+    for (const ObjectDesc& o : objects) {
+      if (o.material.tear_stress) return true;
+      for (const Inclusion& inc : o.inclusions)
+        if (inc.material.tear_stress) return true;
+    }
+    return false;
+  }
 };
 
 // Reads and validates a scene file. Throws SceneError naming the file and JSON path.

@@ -95,11 +95,11 @@ Shape read_shape(const Node& node, const fs::path& folder) {
   return s;
 }
 
-// Inclusions start from the host's material: damping, hourglass and volume_stiffness default
-// to the host's values; young, poisson and density are always required.
+// Inclusions start from the host's material: damping, hourglass, volume_stiffness and
+// tear_stress default to the host's values; young, poisson and density are always required.
 Material read_material(const Node& node, const Material& defaults) {
-  node.expect_object(kMaterialExpected,
-                     {"young", "poisson", "density", "damping", "volume_stiffness", "hourglass"});
+  node.expect_object(kMaterialExpected, {"young", "poisson", "density", "damping",
+                                         "volume_stiffness", "hourglass", "tear_stress"});
   Material m = defaults;
   m.young = node.number("young", Limits::above(0), "Pa");
   m.poisson = node.number("poisson", Limits::open(-1, 0.5), "");
@@ -108,6 +108,9 @@ Material read_material(const Node& node, const Material& defaults) {
   m.hourglass = node.number_or("hourglass", m.hourglass, Limits::at_least(0), "");
   if (const auto kv = node.find("volume_stiffness")) {
     m.volume_stiffness = kv->number(Limits::at_least(0), "Pa");
+  }
+  if (const auto tear = node.find("tear_stress")) {
+    m.tear_stress = tear->number(Limits::above(0), "Pa");
   }
   return m;
 }

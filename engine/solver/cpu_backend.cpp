@@ -45,6 +45,10 @@ class CpuBackend final : public Solver {
       s.velocity[i] = solver_->velocity()[i].template cast<double>();
     }
     if (with_stress) s.von_mises = solver_->von_mises_stress();
+    if (with_stress && solver_->principal_stress()) {
+      const auto& sigma = solver_->max_principal_stress();
+      s.max_principal_stress.assign(sigma.begin(), sigma.end());
+    }
     s.contact = solver_->contact();
     return s;
   }
@@ -76,6 +80,8 @@ class CpuBackend final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override { motion_ = motion; }
   std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
   size_t contact_candidates() const override { return solver_->contact_candidates(); }
+  bool supports_principal_stress() const override { return true; }
+  void set_principal_stress(bool on) override { solver_->set_principal_stress(on); }
   bool supports_cutting() const override { return true; }
   size_t severed_pairs() const override { return solver_->severed_log().size(); }
   std::vector<SeveredPair> severed_since(size_t first) override {

@@ -137,6 +137,7 @@ void CpuSolver<Real>::compute_forces() {
       M3 d = volume_[i] * p * a_inv_[i] - kappa_[i] * g;
       if (regularised_[i]) d += kappa_[i] * m * a_residual_[i];
       d_[i] = d;
+      if (principal_) max_principal_[i] = phyxel::max_principal_stress<Real>(f, p);
     }
 #pragma omp for schedule(static)
     for (long s = 0; s < nf; ++s) {
@@ -189,6 +190,18 @@ void CpuSolver<Real>::set_object_awake(uint32_t object, bool awake) {
   build_pass_lists();
   if (!motion_.empty()) find_candidates();  // the candidates follow the awake objects
   compute_forces();
+}
+
+template <class Real>
+void CpuSolver<Real>::set_principal_stress(bool on) {
+  if (on == principal_) return;
+  principal_ = on;
+  if (on) {
+    max_principal_.assign(size(), Real(0));
+    compute_forces();
+  } else {
+    max_principal_ = {};
+  }
 }
 
 template <class Real>

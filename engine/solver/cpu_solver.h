@@ -106,6 +106,15 @@ class CpuSolver {
   M3 gradient(size_t i) const;
   // Von Mises equivalent of the Cauchy stress per phyxel.
   std::vector<double> von_mises_stress() const;
+  // Principal stress (for tearing; off by default): while on, the stress pass also computes
+  // the largest principal value of each phyxel's Cauchy stress (mls_model.h) from the F and P
+  // it has anyway, so it is current for the u of every compute_forces() and step(). Phyxels
+  // outside the stress pass keep their last value (0 until they were in it): fixed-only ones
+  // are unstressed, sleeping ones have not moved. Turning it on computes it at once.
+  void set_principal_stress(bool on);
+  bool principal_stress() const { return principal_; }
+  // Pa per phyxel; empty while off.
+  const std::vector<Real>& max_principal_stress() const { return max_principal_; }
   // Index of the first phyxel with a non-finite displacement or velocity, or -1.
   long first_non_finite() const;
 
@@ -162,6 +171,9 @@ class CpuSolver {
 
   std::vector<V3> u_, v_, f_;
   std::vector<M3> d_;  // pass-1 result
+
+  bool principal_ = false;
+  std::vector<Real> max_principal_;  // N while principal_, else empty
 };
 
 extern template class CpuSolver<double>;

@@ -3,7 +3,8 @@
 //  - the regularised inverse of the moment matrix A_i = sum_j w_ij x_ij x_ij^T,
 //  - St Venant-Kirchhoff stress from the deformation gradient F = I + grad u, with the
 //    volume-conservation term k_v/2 (det F - 1)^2 (Mueller et al. 2004),
-//  - their energy density.
+//  - their energy density,
+//  - the Cauchy stress and its von Mises and largest principal values (outputs, tearing).
 // Convention: grad u has entries G_ab = d u_a / d x_b, Green strain E = (F^T F - I)/2,
 // second Piola-Kirchhoff S = lambda' tr(E) I + 2 mu E, first Piola P = F S + k_v (J - 1) cof F,
 // where lambda' = lambda - k_v so that the small-strain response is exactly (E, nu).
@@ -13,6 +14,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+
+#include "engine/solver/sym_eigen.h"
 
 namespace phyxel {
 
@@ -84,14 +87,32 @@ Eigen::Matrix<Real, 3, 3> first_piola(const Eigen::Matrix<Real, 3, 3>& f,
   return f * s + m.kv * (j - 1) * cof;
 }
 
-// Cauchy stress of a deformed phyxel and its von Mises equivalent (for outputs).
+// Cauchy stress sigma = P F^T / det F of a deformed phyxel (P itself where |det F| <= 1e-12).
+// Symmetric in exact arithmetic: P F^T = F S F^T + k_v (J - 1) J I.
+template <class Real>
+Eigen::Matrix<Real, 3, 3> cauchy_stress(const Eigen::Matrix<Real, 3, 3>& f,
+                                        const Eigen::Matrix<Real, 3, 3>& p) {
+  using M3 = Eigen::Matrix<Real, 3, 3>;
+  const Real j = f.determinant();
+  return std::abs(j) > Real(1e-12) ? M3(p * f.transpose() / j) : M3(p);
+}
+
+// The von Mises equivalent of the Cauchy stress (for outputs).
 template <class Real>
 Real von_mises(const Eigen::Matrix<Real, 3, 3>& f, const Eigen::Matrix<Real, 3, 3>& p) {
   using M3 = Eigen::Matrix<Real, 3, 3>;
-  const Real j = f.determinant();
-  const M3 sigma = std::abs(j) > Real(1e-12) ? M3(p * f.transpose() / j) : M3(p);
+  const M3 sigma = cauchy_stress(f, p);
   const M3 dev = sigma - sigma.trace() / Real(3) * M3::Identity();
   return std::sqrt(Real(1.5) * dev.squaredNorm());
+}
+
+// The largest principal value of the Cauchy stress (the tearing criterion, paper eq 12 and
+// section V): the largest eigenvalue of sigma, symmetrised against rounding.
+template <class Real>
+Real max_principal_stress(const Eigen::Matrix<Real, 3, 3>& f, const Eigen::Matrix<Real, 3, 3>& p) {
+  using M3 = Eigen::Matrix<Real, 3, 3>;
+  const M3 sigma = cauchy_stress(f, p);
+  return symmetric_eigenvalues<Real>(Real(0.5) * (sigma + sigma.transpose())).x();
 }
 
 }  // namespace phyxel

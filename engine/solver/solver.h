@@ -20,6 +20,9 @@ struct PointState {
   std::vector<Vec3> velocity;
   std::vector<double> von_mises;
   std::vector<uint8_t> contact;  // 1 where a tool touched the phyxel in the last substep
+  // The largest principal Cauchy stress per phyxel, Pa, as the last substep computed it; only
+  // while the solver computes it (set_principal_stress) and read with the stress.
+  std::vector<double> max_principal_stress;
 };
 
 class Solver {
@@ -64,6 +67,14 @@ class Solver {
   virtual std::vector<ToolContactSample> tool_samples() { return {}; }
   // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
   virtual size_t contact_candidates() const { return 0; }
+  // Principal stress (tearing, Scene::tearing_possible): while on, every substep computes the
+  // largest principal value of each stressed phyxel's Cauchy stress into a per-phyxel buffer
+  // (CpuSolver::max_principal_stress; a GPU pass), for the tearing passes and the outputs;
+  // off (the default), nothing of it is computed or allocated.
+  virtual bool supports_principal_stress() const { return false; }
+  virtual void set_principal_stress(bool on) {
+    if (on) throw std::logic_error(device() + " cannot compute principal stresses");
+  }
   // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
   // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
   // pairs ascending by (i, j), appended in order): severed_pairs() is its length and

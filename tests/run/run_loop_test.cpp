@@ -107,7 +107,7 @@ class FailingSolver final : public Solver {
   Energies energies() override { return {}; }
   long first_non_finite() override { return done_ >= fail_after_ ? 7 : -1; }
   PointState read_state(bool) override {
-    return {std::vector<Vec3>(n_, Vec3::Zero()), std::vector<Vec3>(n_, Vec3::Zero()), {}, {}};
+    return {std::vector<Vec3>(n_, Vec3::Zero()), std::vector<Vec3>(n_, Vec3::Zero()), {}, {}, {}};
   }
   size_t regularised_count() const override { return 0; }
   const NeighbourLists& neighbours() const override { return nbr_; }

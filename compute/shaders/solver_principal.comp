@@ -1,0 +1,48 @@
+// The largest principal value of the Cauchy stress sigma = P F^T / J (P itself where
+// |J| <= 1e-12) per phyxel of the stress pass list, for tearing: engine/solver/mls_model.h
+// max_principal_stress() and engine/solver/cpu_solver.cpp compute_forces(). Recorded after
+// every stress pass while GpuSolver::set_principal_stress is on; reads the same u.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+#include "solver_mls.glsl"
+#include "sym_eigen.glsl"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { StepPush p; };
+layout(std430, binding = kPrincipalBindingOffset) readonly buffer Offset { uint offset[]; };
+layout(std430, binding = kPrincipalBindingIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kPrincipalBindingWeight) readonly buffer Weight { float weight[]; };
+layout(std430, binding = kPrincipalBindingLocal) readonly buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kPrincipalBindingDisp) readonly buffer Disp { vec4 disp[]; };
+layout(std430, binding = kPrincipalBindingAinv) readonly buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kPrincipalBindingFlags) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = kPrincipalBindingClasses) readonly buffer Classes {
+  SolverClass classes[];
+};
+layout(std430, binding = kPrincipalBindingOut) writeonly buffer Out { float max_principal[]; };
+layout(std430, binding = kPrincipalBindingList) readonly buffer List { uint pass_list[]; };
+
+void main() {
+  const uint slot = PHYXEL_GLOBAL_INDEX;
+  if (slot >= p.count) return;
+  const uint i = pass_list[slot];
+  const uint fl = flags[i];
+  const SolverClass cls = classes[fl >> kFlagClassShift];
+  const bool stored = stored_weights(p.weights, fl);
+  const vec4 li = local_pos[i];
+  const vec3 ui = disp[i].xyz;
+  mat3 m = mat3(0.0);
+  const uint end = offset[i + 1u];
+  for (uint k = offset[i]; k < end; ++k) {
+    const uint j = nbr_index[k];
+    const vec3 x = local_pos[j].xyz - li.xyz;
+    const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
+    m += outerProduct(w * (disp[j].xyz - ui), x);
+  }
+  const mat3 g = m * unpack_sym(ainv[2u * i], ainv[2u * i + 1u]);
+  const Strain s = strain_of(g);
+  const mat3 sigma = cauchy_stress(s, first_piola(s, cls.elastic.xyz));
+  max_principal[i] = sym_eigenvalues(0.5 * (sigma + transpose(sigma))).x;
+}
