@@ -3,19 +3,10 @@
 # GPU, `phyxel bench --cutting` on boxes of 10k, 100k and 1M phyxels, and scenes/scalpel_cut.json
 # run on the GPU (its real-time factor), and scenes/breast_resection.json with and without
 # frames. Expects binaries built on the development machine without the window viewer, as
-# scripts/device-haptics.sh says, and the Vulkan loader packages in .gl/. Results go to $OUT: cutting.txt and cutting.json.
+# scripts/device-haptics.sh says, and the Vulkan loader packages in .gl/. Results go to $OUT:
+# cutting.txt and cutting.json.
 set -uo pipefail
-b="${PHYXEL_BUILD:-build-device}"
-for f in .gl/*.deb; do dpkg -x "$f" /; done
-ldconfig
-# Many Vulkan instances in one test binary: room for the driver's static TLS (compute/README.md).
-export GLIBC_TUNABLES=glibc.rtld.optional_static_tls=16777216
-out="${OUT:-/tmp/phyxel-out}"
-mkdir -p "$out"
-if ! "$b"/app/phyxel info >/dev/null 2>&1; then
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-fi
-nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,clocks.mem --format=csv
+source "$(dirname "$0")/device-setup.sh"
 if [ -x "$b/tests/test_gpu_solver" ]; then
   PHYXEL_TEST_DEVICE=gpu "$b"/tests/test_gpu_solver --gtest_filter='*Cut*:*Contact*' 2>&1 |
     tail -4 | tee "$out/cutting.txt"

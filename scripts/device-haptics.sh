@@ -11,17 +11,7 @@
 # $OUT: haptics.txt (every table), haptics.csv (every row) and haptics_rN.json per refine,
 # haptics_contact.json.
 set -uo pipefail
-b="${PHYXEL_BUILD:-build-device}"
-for f in .gl/*.deb; do dpkg -x "$f" /; done
-ldconfig
-# Many Vulkan instances in one test binary: room for the driver's static TLS (compute/README.md).
-export GLIBC_TUNABLES=glibc.rtld.optional_static_tls=16777216
-out="${OUT:-/tmp/phyxel-out}"
-mkdir -p "$out"
-if ! "$b"/app/phyxel info >/dev/null 2>&1; then
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-fi
-nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,clocks.mem --format=csv
+source "$(dirname "$0")/device-setup.sh"
 nproc
 "$b"/app/phyxel info 2>&1 | head -12
 seconds="${SECONDS_PER_RUN:-10}"

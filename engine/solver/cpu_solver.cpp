@@ -311,9 +311,10 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
         felt[t].force -= f.template cast<double>();
         ++felt[t].contacts;
       }
+      if (!touches && !tools_[t].blade.cuts()) continue;
+      // Where it lies along the tool: in contact, or within a blade's band (ToolContactSample).
       const Vec3 x = (rest_[i] + u_[i]).template cast<double>();
-      if (touches || (tools_[t].blade.cuts() &&
-                      tool_distance(tools_[t].shape, now[t].to, x).distance < contact_spacing_))
+      if (touches || tool_distance(tools_[t].shape, now[t].to, x).distance < contact_spacing_)
         felt[t].add_axial((x - now[t].to.position).dot(now[t].to.axis));
     }
   }

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,34 @@ inline void deformed_state(const PhyxelSet& set, unsigned seed, double noise, st
            noise * Vec3(d(rng), d(rng), d(rng));
     v[i] = 0.01 * Vec3(d(rng), d(rng), d(rng));
   }
+}
+
+// The GPU's tool samples against the CPU's, substep by substep: over the samples `compare(cpu,
+// gpu)` accepts, how far apart the ends of their axial ranges are (ToolContactSample::axial_min
+// and axial_max; a blade's penetration depth): the worst difference within `tolerance` (m), how
+// many are beyond it, and how many of the CPU's ranges are empty (min > max).
+struct AxialAgreement {
+  size_t compared = 0, outliers = 0, empty_on_cpu = 0;
+  double worst = 0;
+};
+template <class Compare>
+AxialAgreement axial_agreement(const std::vector<ToolContactSample>& cpu,
+                               const std::vector<ToolContactSample>& gpu, double tolerance,
+                               Compare compare) {
+  AxialAgreement a;
+  for (size_t k = 0; k < std::min(cpu.size(), gpu.size()); ++k) {
+    const ToolContactSample &c = cpu[k], &g = gpu[k];
+    if (!compare(c, g)) continue;
+    ++a.compared;
+    if (c.axial_min > c.axial_max) ++a.empty_on_cpu;
+    const double d =
+        std::max(std::abs(g.axial_min - c.axial_min), std::abs(g.axial_max - c.axial_max));
+    if (d > tolerance)
+      ++a.outliers;
+    else
+      a.worst = std::max(a.worst, d);
+  }
+  return a;
 }
 
 class GpuSolverTest : public VulkanTest {};

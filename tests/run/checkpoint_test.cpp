@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -222,17 +223,26 @@ TEST(Checkpoint, InterruptedRunResumesBitIdentically) {
                            state.velocity.size() * sizeof(Vec3)));
 }
 
-TEST(Checkpoint, GpuResumeIsBitIdentical) {
-  gpu::ContextOptions context;
+// The command-line arguments that run the test GPU ("--device NAME", with " --validate" where
+// validation is on; lavapipe: sets VK_DRIVER_FILES for the child), or nothing and `why` when
+// there is no Vulkan device.
+std::optional<std::string> gpu_device_args(std::string& why) {
   try {
-    context = gpu::test_context_options();  // lavapipe: sets VK_DRIVER_FILES for the child
+    const gpu::ContextOptions context = gpu::test_context_options();
+    return "--device " + context.device + (context.validation ? " --validate" : "");
   } catch (const VulkanError& e) {
-    GTEST_SKIP() << e.what();
+    why = e.what();
+    return std::nullopt;
   }
+}
+
+TEST(Checkpoint, GpuResumeIsBitIdentical) {
+  std::string why;
+  const std::optional<std::string> gpu_args = gpu_device_args(why);
+  if (!gpu_args) GTEST_SKIP() << why;
+  const std::string& device = *gpu_args;
   const fs::path dir = test::test_output_dir("checkpoint_gpu");
   const fs::path scene = write_scene(dir, "beams.json", kBeams);
-  const std::string device =
-      "--device " + context.device + (context.validation ? " --validate" : "");
   check_resume(dir / "at150", scene, device, 300, 50, 150);
   // Cut inside an advance of the uninterrupted run (it checks every 2 steps): the GPU's step
   // passes split there give the same bits as the fused ones.
@@ -253,14 +263,10 @@ TEST(Checkpoint, BeamResumeIsBitIdenticalOnTheCpuAndTheGpu) {
   const fs::path beam = fs::path(PHYXEL_SOURCE_DIR) / "scenes" / "beam.json";
   check_resume(dir / "cpu", beam, "--threads 2", 200, 50, 100);
   check_resume(dir / "cpu_inside", beam, "--threads 1", 200, 50, 137);
-  gpu::ContextOptions context;
-  try {
-    context = gpu::test_context_options();
-  } catch (const VulkanError& e) {
-    GTEST_SKIP() << e.what();
-  }
-  const std::string device =
-      "--device " + context.device + (context.validation ? " --validate" : "");
+  std::string why;
+  const std::optional<std::string> gpu_args = gpu_device_args(why);
+  if (!gpu_args) GTEST_SKIP() << why;
+  const std::string& device = *gpu_args;
   check_resume(dir / "gpu", beam, device, 200, 50, 100);
   check_resume(dir / "gpu_inside", beam, device, 200, 50, 137);
 }
@@ -312,14 +318,10 @@ TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
   EXPECT_GT(at_100.tool_stats[0].max_feedback, 0.0);
   EXPECT_GT(at_100.tool_stats[0].max_friction, 0.0);
   EXPECT_GT(at_100.tool_stats[0].max_depth, 0.0);
-  gpu::ContextOptions context;
-  try {
-    context = gpu::test_context_options();
-  } catch (const VulkanError& e) {
-    GTEST_SKIP() << e.what();
-  }
-  const std::string device =
-      "--device " + context.device + (context.validation ? " --validate" : "");
+  std::string why;
+  const std::optional<std::string> gpu_args = gpu_device_args(why);
+  if (!gpu_args) GTEST_SKIP() << why;
+  const std::string& device = *gpu_args;
   check_resume(dir / "gpu", scene, device, 200, 50, 100);
   check_resume(dir / "gpu_inside", scene, device, 200, 50, 77);
 }
