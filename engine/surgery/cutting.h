@@ -77,9 +77,11 @@ bool segment_crosses_quad(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matri
 double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3, 4>& quad);
 
 // One severed pair (i < j): where the blade crossed it, as the fraction t along x_i -> x_j.
+// A pair torn apart by its stress (engine/surgery/tearing.h) has t = 0.5 and `torn` set.
 struct SeveredPair {
   uint32_t i = 0, j = 0;
   float t = 0.5f;
+  bool torn = false;
 };
 
 }  // namespace phyxel
