@@ -101,21 +101,25 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       tools.push_back(tool);
     }
     j["tools"] = tools;
-    if (solver.supports_cutting() && solver.severed_pairs() > 0) {
-      // What the cuts freed from the fixed tissue (engine/surgery/resection.h).
-      const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
-      json inclusions = json::array();
-      for (const InclusionRemoval& c : r.inclusions)
-        inclusions.push_back({{"name", c.name},
-                              {"mass_g", 1e3 * c.mass},
-                              {"removed_percent", c.mass > 0 ? 100 * c.removed / c.mass : 0.0},
-                              {"healthy_removed_g", 1e3 * c.healthy_removed},
-                              {"whole", c.whole}});
-      j["cutting"] = {{"severed_pairs", solver.severed_pairs()},
-                      {"freed_pieces", r.pieces},
-                      {"freed_mass_g", 1e3 * r.freed_mass},
-                      {"inclusions", inclusions}};
-    }
+  }
+  if (solver.supports_cutting() && solver.severed_pairs() > 0) {
+    // What the cuts and tears freed from the fixed tissue (engine/surgery/resection.h).
+    const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
+    json inclusions = json::array();
+    for (const InclusionRemoval& c : r.inclusions)
+      inclusions.push_back({{"name", c.name},
+                            {"mass_g", 1e3 * c.mass},
+                            {"removed_percent", c.mass > 0 ? 100 * c.removed / c.mass : 0.0},
+                            {"healthy_removed_g", 1e3 * c.healthy_removed},
+                            {"whole", c.whole}});
+    size_t torn = 0;
+    for (const SeveredPair& p : solver.severed_since(0)) torn += p.torn;
+    j["cutting"] = {{"severed_pairs", solver.severed_pairs()},
+                    {"cut_pairs", solver.severed_pairs() - torn},
+                    {"torn_pairs", torn},
+                    {"freed_pieces", r.pieces},
+                    {"freed_mass_g", 1e3 * r.freed_mass},
+                    {"inclusions", inclusions}};
   }
   if (haptics != nullptr && !haptics->empty()) {
     json loops = json::array();

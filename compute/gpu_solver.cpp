@@ -211,8 +211,11 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     if (principal_) timed("principal", [&] { record_principal(rec, disp_[cur]); });
     if (step == total - 1) {
       timed("force", [&] { record_force(rec, kForceKick, dt, disp_[cur], disp_[cur]); });
+      if (tearing_) timed("tear", [&] { record_tear(rec, disp_[cur]); });
     } else {
       timed("force", [&] { record_force(rec, kForceKickDrift, dt, disp_[cur], disp_[1 - cur]); });
+      // The stress pass's u is still in disp_[cur]: the fused pass wrote the next one beside it.
+      if (tearing_) timed("tear", [&] { record_tear(rec, disp_[cur]); });
       cur = 1 - cur;
       if (contact_recorded()) {
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
@@ -225,6 +228,8 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 void GpuSolver::advance(int64_t substeps, double dt) {
   if (substeps <= 0) return;
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
+  // The advance's log starts empty (begin_contact empties it for cuts).
+  if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
   // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
   if (force_count_ == 0) {
     if (!tools_.empty()) {
@@ -278,6 +283,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
   if (!tools_.empty()) finish_contact(substeps, true);
+  if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
 }
 
 void GpuSolver::compute_forces() {

@@ -139,6 +139,13 @@ class GpuSolver final : public Solver {
   bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override;
   bool principal_stress() const { return principal_; }
+  // Tearing, with CpuSolver's semantics (engine/surgery/tearing.h): while on, the principal
+  // pass also keeps each phyxel's Cauchy tensor, and solver_tear follows every substep's force
+  // pass over the stress list (on the u that pass read), then solver_precompute over the
+  // phyxels it touched (indirect, as the cut): nothing is read back during the advance; the
+  // torn pairs come back with the cut log once per advance.
+  bool supports_tearing() const override { return true; }
+  void set_tearing(bool on) override;
   // Cutting, with CpuSolver's semantics (engine/solver/cpu_solver.h): after each substep's
   // contact reduction, tool_sever over the candidates (dispatched indirectly) for every blade
   // whose edge force reached its threshold, then solver_precompute over the phyxels it touched
@@ -199,6 +206,11 @@ class GpuSolver final : public Solver {
                     PassTimer* timer);
   void record_stress(Recorder& rec, const Buffer& disp);
   void record_principal(Recorder& rec, const Buffer& disp);  // gpu_solver_passes.cpp
+  void record_tear(Recorder& rec, const Buffer& disp);       // gpu_solver_tearing.cpp
+  // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
+  void record_dirty_reset(Recorder& rec);
+  // The precompute over the dirty list (indirect), after a pass that filled it.
+  void record_dirty_precompute(Recorder& rec);
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
   // count: the phyxels the pass visits (its list's length, or all of them).
   layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0) const;
@@ -270,6 +282,8 @@ class GpuSolver final : public Solver {
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
   bool principal_ = false;           // set_principal_stress
   Buffer principal_stress_;          // float per phyxel, Pa (allocated when first on)
+  bool tearing_ = false;             // set_tearing
+  Buffer cauchy_;                    // vec4[2 N]: the Cauchy tensor (allocated when first on)
 
   // Tools (gpu_solver_contact.cpp); every buffer below is allocated by set_tools or grown
   // when a chunk needs more (never shrunk), so scenes without tools allocate none of it.

@@ -248,7 +248,6 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
     }
   }
   motion_step_ += size_t(substeps);
-  if (cutting_ && ran) finish_cutting();
 }
 
 }  // namespace phyxel::gpu

@@ -79,16 +79,24 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   const uint64_t k = motion_step_ + uint64_t(step);
   const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_));
-  rec.barrier();                                     // the samples of this substep
-  rec.fill(cut_dirty_, 0, 0, 2 * sizeof(uint32_t));  // count, groups x
-  rec.fill(cut_dirty_, 1, 2 * sizeof(uint32_t), 2 * sizeof(uint32_t));  // groups y, z
-  rec.barrier();
+  rec.barrier();  // the samples of this substep
+  record_dirty_reset(rec);
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
   dispatch_indirect(rec, kernels_->sever, push,
                     {candidate_list_, rest_, disp, nbr_offset_, nbr_index_, weight_, flags_,
                      cut_quads_, samples_buffer_, cut_dirty_, cut_log_, contact_count_},
                     contact_count_, offsetof(ContactCount, groups_x));
+  record_dirty_precompute(rec);
+}
+
+void GpuSolver::record_dirty_reset(Recorder& rec) {
+  rec.fill(cut_dirty_, 0, 0, 2 * sizeof(uint32_t));                     // count, groups x
+  rec.fill(cut_dirty_, 1, 2 * sizeof(uint32_t), 2 * sizeof(uint32_t));  // groups y, z
+  rec.barrier();
+}
+
+void GpuSolver::record_dirty_precompute(Recorder& rec) {
   rec.indirect_barrier();
   dispatch_indirect(rec, kernels_->precompute, PrecomputePush{0u, kPrecomputeCutList},
                     {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_,
@@ -111,7 +119,7 @@ void GpuSolver::finish_cutting() {
     for (const uvec4& e : entries) {
       float t;
       std::memcpy(&t, &e.z, sizeof t);
-      fresh.push_back({e.x, e.y, t});
+      fresh.push_back({e.x, e.y, t, e.w != 0});
     }
   } else {
     // More than the log holds: compare the weights with the last known pairs (t unknown: the
@@ -120,7 +128,8 @@ void GpuSolver::finish_cutting() {
     const NeighbourLists& nbr = neighbours_;
     for (uint32_t i = 0; i < count_; ++i)
       for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
-        if (nbr.index[k] > i && alive_[k] && w[k] == 0.0f) fresh.push_back({i, nbr.index[k], 0.5f});
+        if (nbr.index[k] > i && alive_[k] && w[k] == 0.0f)
+          fresh.push_back({i, nbr.index[k], 0.5f, !cutting_});
     while (log_capacity_ < found) log_capacity_ *= 2;
     cut_log_ = Buffer(*ctx_, (uint64_t{log_capacity_} + 1) * sizeof(uvec4), MemoryIntent::Readback,
                       "cut log");

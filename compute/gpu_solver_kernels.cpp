@@ -17,6 +17,7 @@
 #include "phyxel_spv/solver_principal.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
 #include "phyxel_spv/solver_stress.spv.h"
+#include "phyxel_spv/solver_tear.spv.h"
 #include "phyxel_spv/solver_von_mises.spv.h"
 #include "phyxel_spv/tool_broad_phase.spv.h"
 #include "phyxel_spv/tool_broad_scan.spv.h"
@@ -42,7 +43,8 @@ SolverKernels::SolverKernels(Context& ctx)
       reduce(ctx, PHYXEL_SHADER(solver_reduce), 2, sizeof(ReducePush)),
       check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
       von_mises(ctx, PHYXEL_SHADER(solver_von_mises), 11, sizeof(StepPush)),
-      principal(ctx, PHYXEL_SHADER(solver_principal), 10, sizeof(StepPush)),
+      principal(ctx, PHYXEL_SHADER(solver_principal), 11, sizeof(StepPush)),
+      tear(ctx, PHYXEL_SHADER(solver_tear), 12, sizeof(TearPush)),
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
       contact(ctx, PHYXEL_SHADER(tool_contact), 11, sizeof(ContactPush)),
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),

@@ -29,6 +29,7 @@ class SolverKernels {
   Pipeline check;           // layout::CheckPush; kCheck* bindings
   Pipeline von_mises;       // layout::StepPush; kEnergy* bindings
   Pipeline principal;       // layout::StepPush; kPrincipal* bindings (over the stress list)
+  Pipeline tear;            // layout::TearPush; kTear* bindings (over the stress list)
   Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
   Pipeline contact;         // layout::ContactPush; kContact* bindings (over the candidates)
   Pipeline contact_reduce;  // layout::ContactReducePush; kContactReduce* bindings

@@ -85,7 +85,10 @@ void GpuSolver::set_external_forces(const std::vector<Vec3>& loads) {
 void GpuSolver::set_principal_stress(bool on) {
   if (on == principal_) return;
   principal_ = on;
-  if (!on) return;  // the buffer stays for a later turn on; nothing records the pass
+  if (!on) {  // the buffer stays for a later turn on; nothing records the pass
+    tearing_ = false;
+    return;
+  }
   if (!principal_stress_)
     principal_stress_ = Buffer(*ctx_, std::max<uint64_t>(count_, 1) * sizeof(float),
                                MemoryIntent::Device, "largest principal stress");
@@ -97,9 +100,10 @@ void GpuSolver::set_principal_stress(bool on) {
 
 void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
-  dispatch(rec, kernels_->principal, push(n, 0.0f),
+  // Without tearing the tensor is not written: the principal buffer stands in for its binding.
+  dispatch(rec, kernels_->principal, push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u),
            {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, flags_, classes_,
-            principal_stress_, stress_list_},
+            principal_stress_, stress_list_, tearing_ ? cauchy_ : principal_stress_},
            n);
 }
 

@@ -44,7 +44,8 @@ layout::SolverClass make_class(const Material& mat, const ObjectRange& obj, uint
   // and the float test's bound (shaders/solver_nbr.glsl).
   const double bound = h * h * (1 - 1e-9);
   const double hi = float_part(bound);
-  c.search = {float(hi), float(bound - hi), float(h * h * (1 - 1e-5)), 0.0f};
+  c.search = {float(hi), float(bound - hi), float(h * h * (1 - 1e-5)),
+              float(mat.tear_stress.value_or(0.0))};
   c.ids = {object, material, 0, 0};
   return c;
 }

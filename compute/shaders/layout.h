@@ -81,7 +81,7 @@ struct SolverClass {
   vec4 kernel;   // h^2, 315 / (64 pi h^3) (poly6 = that (1 - r^2/h^2)^3), hourglass gamma,
                  // hash cell size
   vec4 search;   // h^2 (1 - 1e-9) as hi + lo (two floats, for the double test);
-                 // h^2 (1 - 1e-5) (the float test); 0
+                 // h^2 (1 - 1e-5) (the float test); the material's tear_stress (Pa, 0: none)
   uvec4 ids;     // object index, material index, 0, 0
 };
 PHYXEL_ASSERT_SIZE(SolverClass, 64);
@@ -241,9 +241,10 @@ PHYXEL_CONST uint kEnergyBindingClasses = 9;
 PHYXEL_CONST uint kEnergyBindingOut = 10;
 
 // solver_principal (tearing; only while GpuSolver::set_principal_stress is on), over the stress
-// pass list with StepPush (dt and mode unused): out[i] = the largest principal value of the
-// Cauchy stress of phyxel i (float, Pa), for the u in disp.
-// {offset, index, weight, local, disp, ainv, flags, classes, out, list}
+// pass list with StepPush (dt unused): out[i] = the largest principal value of the Cauchy
+// stress of phyxel i (float, Pa), for the u in disp; with mode kPrincipalWithTensor (tearing on)
+// also the symmetrised tensor into cauchy[2 i] = (xx, yy, zz, xy), cauchy[2 i + 1] = (xz, yz,
+// 0, 0). {offset, index, weight, local, disp, ainv, flags, classes, out, list, cauchy}
 PHYXEL_CONST uint kPrincipalBindingOffset = 0;
 PHYXEL_CONST uint kPrincipalBindingIndex = 1;
 PHYXEL_CONST uint kPrincipalBindingWeight = 2;
@@ -253,7 +254,33 @@ PHYXEL_CONST uint kPrincipalBindingAinv = 5;
 PHYXEL_CONST uint kPrincipalBindingFlags = 6;
 PHYXEL_CONST uint kPrincipalBindingClasses = 7;
 PHYXEL_CONST uint kPrincipalBindingOut = 8;
-PHYXEL_CONST uint kPrincipalBindingList = 9;  // the stress pass list
+PHYXEL_CONST uint kPrincipalBindingList = 9;     // the stress pass list
+PHYXEL_CONST uint kPrincipalBindingCauchy = 10;  // vec4[2 N] (a placeholder without tearing)
+PHYXEL_CONST uint kPrincipalWithTensor = 1u;     // StepPush.mode
+
+// solver_tear (engine/surgery/tearing.h), over the stress pass list after the force pass of a
+// substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices
+// (each pair has one owner: no atomics on the weights); a pair whose mean normal stress
+// reaches the mean of the two classes' tear_stress gets weight 0 in both slots, is logged as
+// (i, j, 0.5 bits, 1) in the cut log and puts both phyxels in the dirty list (tool_sever's).
+struct TearPush {
+  uint count;  // stress pass list length
+  uint log_capacity;
+  uint pad0, pad1;
+};
+PHYXEL_ASSERT_SIZE(TearPush, 16);
+PHYXEL_CONST uint kTearBindingList = 0;  // the stress pass list
+PHYXEL_CONST uint kTearBindingRest = 1;
+PHYXEL_CONST uint kTearBindingDisp = 2;
+PHYXEL_CONST uint kTearBindingOffset = 3;
+PHYXEL_CONST uint kTearBindingIndex = 4;
+PHYXEL_CONST uint kTearBindingWeight = 5;  // the pair weights, as uint bits
+PHYXEL_CONST uint kTearBindingFlags = 6;
+PHYXEL_CONST uint kTearBindingClasses = 7;
+PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_principal)
+PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_principal)
+PHYXEL_CONST uint kTearBindingDirty = 10;     // tool_sever's dirty list
+PHYXEL_CONST uint kTearBindingLog = 11;       // the cut log
 
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;
@@ -420,7 +447,7 @@ PHYXEL_CONST uint kSeverBindingFlags = 6;
 PHYXEL_CONST uint kSeverBindingQuads = 7;    // CutQuad [row][tool]
 PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on the tool
 PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, groups x y z, then phyxels
-PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, 0)
+PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, torn)
 PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)

@@ -23,6 +23,7 @@ layout(std430, binding = kPrincipalBindingClasses) readonly buffer Classes {
 };
 layout(std430, binding = kPrincipalBindingOut) writeonly buffer Out { float max_principal[]; };
 layout(std430, binding = kPrincipalBindingList) readonly buffer List { uint pass_list[]; };
+layout(std430, binding = kPrincipalBindingCauchy) writeonly buffer Cauchy { vec4 cauchy[]; };
 
 void main() {
   const uint slot = PHYXEL_GLOBAL_INDEX;
@@ -44,5 +45,10 @@ void main() {
   const mat3 g = m * unpack_sym(ainv[2u * i], ainv[2u * i + 1u]);
   const Strain s = strain_of(g);
   const mat3 sigma = cauchy_stress(s, first_piola(s, cls.elastic.xyz));
-  max_principal[i] = sym_eigenvalues(0.5 * (sigma + transpose(sigma))).x;
+  const mat3 sym = 0.5 * (sigma + transpose(sigma));
+  max_principal[i] = sym_eigenvalues(sym).x;
+  if (p.mode == kPrincipalWithTensor) {  // tearing: solver_tear reads the tensor
+    cauchy[2u * i] = vec4(sym[0][0], sym[1][1], sym[2][2], sym[1][0]);
+    cauchy[2u * i + 1u] = vec4(sym[2][0], sym[2][1], 0.0, 0.0);
+  }
 }

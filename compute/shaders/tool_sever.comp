@@ -45,23 +45,7 @@ bool crosses_quad(vec3 p, vec3 q, CutQuad c, out float t) {
          crosses_triangle(p, q, c.p0.xyz, c.p2.xyz, c.p3.xyz, t);
 }
 
-// The slot of `target` in the sorted row of phyxel `row`.
-uint find_slot(uint row, uint target) {
-  uint lo = offset[row], hi = offset[row + 1u];
-  while (lo < hi) {
-    const uint mid = (lo + hi) / 2u;
-    if (nbr_index[mid] < target) lo = mid + 1u; else hi = mid;
-  }
-  return lo;
-}
-
-void mark_dirty(uint x) {
-  const uint before = atomicOr(flags[x], kFlagCutDirty | kFlagPairsEdited);
-  if ((before & kFlagCutDirty) != 0u) return;
-  const uint at = atomicAdd(dirty[0], 1u);
-  dirty[4u + at] = x;
-  atomicMax(dirty[1], at / gl_WorkGroupSize.x + 1u);
-}
+#include "pair_edit.glsl"
 
 void main() {
   const uint slot = PHYXEL_GLOBAL_INDEX;

@@ -27,6 +27,7 @@ enum Section : uint32_t {
   kTopology = 8,
   kCuts = 9,          // severed pairs (i, j, t) and the scalpels' cutting statistics
   kCutFeedback = 10,  // the scalpels' largest feedback, friction and depth (ToolRunStats)
+  kTorn = 11,         // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -209,6 +210,12 @@ void write_sections(Writer& w, const Checkpoint& c) {
     w.put<double>(s.max_depth);
   }
   w.end_section();
+
+  w.begin_section(kTorn);
+  std::vector<uint8_t> torn(c.severed.size());
+  for (size_t k = 0; k < torn.size(); ++k) torn[k] = c.severed[k].torn;
+  w.put_array(torn);
+  w.end_section();
 }
 
 void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -298,6 +305,15 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
           c.tool_stats[t].max_depth = depth;
         }
       }
+      break;
+    }
+    case kTorn: {  // after kCuts
+      const std::vector<uint8_t> torn = r.get_array<uint8_t>();
+      if (torn.size() != c.severed.size())
+        throw CheckpointError("corrupt checkpoint: " + std::to_string(torn.size()) +
+                              " torn flags for " + std::to_string(c.severed.size()) +
+                              " severed pairs");
+      for (size_t k = 0; k < torn.size(); ++k) c.severed[k].torn = torn[k] != 0;
       break;
     }
     default:  // a section this version does not know: skipped

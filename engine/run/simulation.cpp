@@ -170,12 +170,14 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   const double step_time = result.plan.dt_requested;
   const bool select = options.pass_selection && solver.supports_pass_selection();
   if (solver.supports_pass_selection()) solver.set_pass_selection(select);
-  // Tearing: the largest principal stress of every stressed phyxel, each substep.
+  // Tearing: the largest principal stress of every stressed phyxel, and the overstressed
+  // pairs severed, each substep.
   const bool tearing = scene.tearing_possible();
-  if (tearing && !solver.supports_principal_stress())
+  if (tearing && !solver.supports_tearing())
     throw std::runtime_error(scene.file.string() + ": a material has tear_stress, which " +
                              solver.device() + " cannot evaluate; use --device cpu");
   if (solver.supports_principal_stress()) solver.set_principal_stress(tearing);
+  if (solver.supports_tearing()) solver.set_tearing(tearing);
   const SleepSettings& sleep = scene.simulation.sleep;
   const bool sleeping = select && sleep.enabled;
   const UntilRest& rest = scene.simulation.until_rest;
@@ -490,6 +492,10 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
     add("    principal      %zu phyxels (those of the stress pass): the largest principal "
         "Cauchy stress, for tearing (%zu material(s) with tear_stress)",
         select ? solver.stress_pass_size() : n, tear_materials);
+  if (tearing)
+    add("    tear           the same phyxels after the force pass: each live pair whose mean "
+        "normal stress reaches the mean tear_stress of its two phyxels is severed; then the "
+        "precompute of the phyxels it touched only");
   const bool sleeping = select && scene.simulation.sleep.enabled;
   if (sleeping)
     add("  sleeping: on; an object whose kinetic energy stays below %.3g J for %lld steps "
@@ -536,7 +542,9 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   std::string skipped;
   for (const char* part : {rendering ? "" : "render passes (render.mode none)",
                            scene.tools.empty() ? "contact passes (no tool)" : "",
-                           tearing ? "" : "principal stress pass (no material has tear_stress)",
+                           tearing ? ""
+                                   : "principal stress and tear passes (no material has "
+                                     "tear_stress)",
                            scalpels > 0 ? "" : "cutting passes (no scalpel)"})
     if (*part) {
       if (!skipped.empty()) skipped += ", ";

@@ -82,6 +82,8 @@ class CpuBackend final : public Solver {
   size_t contact_candidates() const override { return solver_->contact_candidates(); }
   bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override { solver_->set_principal_stress(on); }
+  bool supports_tearing() const override { return true; }
+  void set_tearing(bool on) override { solver_->set_tearing(on); }
   bool supports_cutting() const override { return true; }
   size_t severed_pairs() const override { return solver_->severed_log().size(); }
   std::vector<SeveredPair> severed_since(size_t first) override {

@@ -38,6 +38,9 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     params_[i] = {Real(lame_lambda(mat) - kv), Real(lame_mu(mat)), Real(kv)};
     external_[i] = (set.mass[i] * gravity + set.external_force[i]).cast<Real>();
   }
+  tear_.resize(n);
+  for (size_t i = 0; i < n; ++i)
+    tear_[i] = Real(set.materials[set.material[i]].tear_stress.value_or(0.0));
   // Moment matrices, their regularised inverses and the pair weights (in double).
   support_.resize(set.objects.size());
   for (size_t o = 0; o < set.objects.size(); ++o) {
@@ -137,7 +140,13 @@ void CpuSolver<Real>::compute_forces() {
       M3 d = volume_[i] * p * a_inv_[i] - kappa_[i] * g;
       if (regularised_[i]) d += kappa_[i] * m * a_residual_[i];
       d_[i] = d;
-      if (principal_) max_principal_[i] = phyxel::max_principal_stress<Real>(f, p);
+      if (tearing_) {
+        const M3 sigma = phyxel::cauchy_stress<Real>(f, p);
+        cauchy_[i] = Real(0.5) * (sigma + sigma.transpose());
+        max_principal_[i] = symmetric_eigenvalues<Real>(cauchy_[i]).x();
+      } else if (principal_) {
+        max_principal_[i] = phyxel::max_principal_stress<Real>(f, p);
+      }
     }
 #pragma omp for schedule(static)
     for (long s = 0; s < nf; ++s) {
@@ -201,7 +210,24 @@ void CpuSolver<Real>::set_principal_stress(bool on) {
     compute_forces();
   } else {
     max_principal_ = {};
+    tearing_ = false;
+    cauchy_ = {};
   }
+}
+
+template <class Real>
+void CpuSolver<Real>::set_tearing(bool on) {
+  if (on == tearing_) return;
+  if (!on) {
+    tearing_ = false;
+    cauchy_ = {};
+    return;
+  }
+  principal_ = true;
+  tearing_ = true;
+  max_principal_.assign(size(), Real(0));
+  cauchy_.assign(size(), M3::Zero());
+  compute_forces();
 }
 
 template <class Real>
@@ -228,6 +254,7 @@ void CpuSolver<Real>::step(Real dt) {
   if (!tools_.empty()) apply_contacts(dt);
   if (cutting_) apply_cuts();
   compute_forces();
+  if (tearing_) apply_tears();
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long s = 0; s < nf; ++s) {
     const uint32_t i = force_list_[s];

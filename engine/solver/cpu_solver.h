@@ -115,6 +115,14 @@ class CpuSolver {
   bool principal_stress() const { return principal_; }
   // Pa per phyxel; empty while off.
   const std::vector<Real>& max_principal_stress() const { return max_principal_; }
+  // Tearing (engine/surgery/tearing.h, docs/tearing.md; off by default): while on, every step
+  // ends by severing the live pairs whose material is overstressed (pair_tears on the Cauchy
+  // stress the stress pass keeps per phyxel), logged with `torn` set in severed_log(). Turning
+  // it on turns the principal stress on; phyxels whose material has no tear_stress never tear.
+  void set_tearing(bool on);
+  bool tearing() const { return tearing_; }
+  // The symmetrised Cauchy stress per phyxel as the last stress pass left it; empty while off.
+  const std::vector<M3>& cauchy_stress() const { return cauchy_; }
   // Index of the first phyxel with a non-finite displacement or velocity, or -1.
   long first_non_finite() const;
 
@@ -125,6 +133,7 @@ class CpuSolver {
   void apply_contacts(Real dt);  // after the drift of step()
   void find_candidates();        // the chunk's broad phase (contact_candidates)
   void apply_cuts();             // after apply_contacts (cpu_solver_cutting.cpp)
+  void apply_tears();            // after the stress pass of step() (cpu_solver_tearing.cpp)
   void precompute(size_t i);     // A_i^-1, its residual, kappa_i from the live pairs of i
   bool sever(uint32_t i, uint32_t k, float t);  // pair k of row i; false if already severed
   void precompute_touched(std::vector<uint32_t>& touched);  // sorted, deduplicated, rerun
@@ -174,6 +183,11 @@ class CpuSolver {
 
   bool principal_ = false;
   std::vector<Real> max_principal_;  // N while principal_, else empty
+
+  // Tearing.
+  bool tearing_ = false;
+  std::vector<Real> tear_;  // per phyxel: its material's tear_stress, Pa (0: never tears)
+  std::vector<M3> cauchy_;  // per phyxel while tearing_: the symmetrised Cauchy stress
 };
 
 extern template class CpuSolver<double>;

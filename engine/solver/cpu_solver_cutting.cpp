@@ -85,6 +85,7 @@ void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>& pairs) {
       throw std::invalid_argument("sever_pairs: phyxels " + std::to_string(p.i) + " and " +
                                   std::to_string(p.j) + " are not neighbours");
     if (sever(p.i, uint32_t(at), p.t)) {
+      severed_.back().torn = p.torn;
       touched.push_back(p.i);
       touched.push_back(p.j);
     }

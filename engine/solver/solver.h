@@ -75,6 +75,13 @@ class Solver {
   virtual void set_principal_stress(bool on) {
     if (on) throw std::logic_error(device() + " cannot compute principal stresses");
   }
+  // Tearing (engine/surgery/tearing.h, docs/tearing.md): while on, every substep ends by
+  // severing the live pairs whose material is overstressed, logged like cuts (below) with
+  // `torn` set. Turning it on turns the principal stress on.
+  virtual bool supports_tearing() const { return false; }
+  virtual void set_tearing(bool on) {
+    if (on) throw std::logic_error(device() + " cannot tear");
+  }
   // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
   // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
   // pairs ascending by (i, j), appended in order): severed_pairs() is its length and

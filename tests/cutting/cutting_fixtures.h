@@ -1,9 +1,11 @@
-// Scenes and drivers shared by the cutting tests: a clamped beam and a scalpel that crosses it.
+// Scenes and drivers shared by the cutting and tearing tests: a clamped beam, a scalpel that
+// crosses it, and a bar pulled apart by end loads.
 #pragma once
 
 #include <vector>
 
 #include "../physics/physics_fixtures.h"
+#include "engine/run/simulation.h"
 #include "engine/solver/cpu_solver.h"
 #include "engine/surgery/tool_track.h"
 
@@ -54,6 +56,38 @@ struct ToolStepper {
       solver.set_tool_motion(track.motions(step, 1, dt), Real(dt));
       solver.step(Real(dt));
     }
+  }
+};
+
+// A 4 x 1 x 1 cm bar pulled apart by equal and opposite end loads (no clamp, so no stress
+// concentration at a support), damped to follow the load quasi-statically.
+struct PulledBar {
+  static constexpr double kArea = 1e-4;        // m^2
+  static constexpr double kTearStress = 1000;  // Pa: it tears under 0.1 N
+  Scene scene;
+  PhyxelSet set;
+  std::vector<Vec3> unit_load;  // per phyxel, for 1 N at each end
+  double dt = 0;
+
+  explicit PulledBar(bool with_strength = true) {
+    scene = box_scene(Vec3(0, -0.005, -0.005), Vec3(0.04, 0.005, 0.005), 0.0025,
+                      tissue(1e5, 0.3, 600), 2.0);
+    Load pull, push;
+    pull.region = box_shape(Vec3(0.0399, -1, -1), Vec3(1, 1, 1));
+    pull.force = Vec3(1, 0, 0);
+    push.region = box_shape(Vec3(-1, -1, -1), Vec3(0.0001, 1, 1));
+    push.force = Vec3(-1, 0, 0);
+    scene.objects[0].loads = {pull, push};
+    if (with_strength) scene.objects[0].material.tear_stress = kTearStress;
+    set = sample_scene(scene);
+    unit_load = external_forces_at(set, 0);
+    dt = plan_time_step(scene, set).dt_stable;
+  }
+
+  std::vector<Vec3> load(double newtons) const {
+    std::vector<Vec3> f(unit_load.size());
+    for (size_t i = 0; i < f.size(); ++i) f[i] = newtons * unit_load[i];
+    return f;
   }
 };
 

@@ -1,0 +1,46 @@
+// GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
+// engine/surgery/tearing.h). Per substep, after the force pass and in the same command buffer:
+// the dirty list's header reset, solver_tear over the stress list (on the u the stress pass
+// read), and solver_precompute over the phyxels it put in the dirty list (indirect). The torn
+// pairs join the cut log, read back once per advance (finish_cutting).
+#include <algorithm>
+
+#include "compute/gpu_solver.h"
+#include "compute/gpu_solver_kernels.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+void GpuSolver::set_tearing(bool on) {
+  if (on == tearing_) return;
+  if (!on) {
+    tearing_ = false;  // the tensor buffer stays for a later turn on
+    return;
+  }
+  if (!cauchy_)
+    cauchy_ = Buffer(*ctx_, std::max<uint64_t>(count_, 1) * 2 * sizeof(vec4), MemoryIntent::Device,
+                     "Cauchy stress");
+  prepare_cutting();  // the dirty list and the log
+  Recorder& rec = *rec_[0];
+  rec.fill(cauchy_, 0);  // as the CPU's: 0 until a phyxel is in the stress pass
+  rec.barrier();         // set_principal_stress and compute_forces record after it
+  tearing_ = true;
+  if (principal_) {
+    compute_forces();  // the tensors for the current u
+  } else {
+    set_principal_stress(true);  // zeroes the principal buffer, then computes the forces
+  }
+}
+
+void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
+  const uint32_t n = static_cast<uint32_t>(stress_count_);
+  record_dirty_reset(rec);
+  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, 0u, 0u},
+           {stress_list_, rest_, disp, nbr_offset_, nbr_index_, weight_, flags_, classes_,
+            principal_stress_, cauchy_, cut_dirty_, cut_log_},
+           n);
+  record_dirty_precompute(rec);
+}
+
+}  // namespace phyxel::gpu

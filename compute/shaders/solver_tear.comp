@@ -1,0 +1,77 @@
+// Tearing after a substep's force pass (TearPush in layout.h; the CPU twin is
+// CpuSolver::apply_tears in engine/solver/cpu_solver_tearing.cpp, the criterion
+// engine/surgery/tearing.h): each phyxel of the stress pass tests its live pairs to higher
+// indices; a pair whose mean normal stress reaches the mean of the two strengths is severed on
+// both sides, logged (i, j, 0.5, torn) and both phyxels go to the dirty list.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "layout.h"
+
+layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+
+layout(push_constant) uniform Push { TearPush p; };
+layout(std430, binding = kTearBindingList) readonly buffer List { uint list[]; };
+layout(std430, binding = kTearBindingRest) readonly buffer Rest { vec4 rest[]; };
+layout(std430, binding = kTearBindingDisp) readonly buffer Disp { vec4 disp[]; };
+layout(std430, binding = kTearBindingOffset) readonly buffer Offset { uint offset[]; };
+layout(std430, binding = kTearBindingIndex) readonly buffer Index { uint nbr_index[]; };
+layout(std430, binding = kTearBindingWeight) buffer Weight { uint weight_bits[]; };
+layout(std430, binding = kTearBindingFlags) buffer Flags { uint flags[]; };
+layout(std430, binding = kTearBindingClasses) readonly buffer Classes { SolverClass classes[]; };
+layout(std430, binding = kTearBindingPrincipal) readonly buffer Principal { float principal[]; };
+layout(std430, binding = kTearBindingCauchy) readonly buffer Cauchy { vec4 cauchy[]; };
+layout(std430, binding = kTearBindingDirty) buffer Dirty { uint dirty[]; };
+layout(std430, binding = kTearBindingLog) buffer Log { uvec4 cut_log[]; };
+
+// pair_tear_threshold of engine/surgery/tearing.h.
+float pair_threshold(float ti, float tj) {
+  const bool holds_i = ti > 0.0 && !isinf(ti);
+  const bool holds_j = tj > 0.0 && !isinf(tj);
+  return holds_i && holds_j ? 0.5 * (ti + tj) : 0.0;
+}
+
+mat3 tensor(uint i) {
+  const vec4 a = cauchy[2u * i], b = cauchy[2u * i + 1u];
+  return mat3(a.x, a.w, b.x, a.w, a.y, b.y, b.x, b.y, a.z);
+}
+
+#include "pair_edit.glsl"
+
+
+float strength(uint x) {
+  return classes[flags[x] >> kFlagClassShift].search.w;
+}
+
+void main() {
+  const uint slot = PHYXEL_GLOBAL_INDEX;
+  if (slot >= p.count) return;
+  const uint i = list[slot];
+  const float ti = strength(i);
+  if (!(ti > 0.0)) return;
+  const vec3 xi = rest[i].xyz + disp[i].xyz;
+  const float pi = principal[i];
+  bool loaded = false;
+  mat3 si = mat3(0.0);
+  for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
+    const uint j = nbr_index[k];
+    if (j <= i || weight_bits[k] == 0u) continue;
+    const float threshold = pair_threshold(ti, strength(j));
+    if (!(threshold > 0.0)) continue;
+    if (0.5 * (pi + principal[j]) < 0.9999 * threshold) continue;  // s_ij cannot reach it
+    if (!loaded) {
+      si = tensor(i);
+      loaded = true;
+    }
+    const vec3 r = rest[j].xyz + disp[j].xyz - xi;
+    const float len2 = dot(r, r);
+    if (!(len2 > 0.0)) continue;
+    const float s_ij = dot(r, (0.5 * (si + tensor(j))) * r) / len2;
+    if (!(s_ij >= threshold)) continue;
+    weight_bits[k] = 0u;
+    weight_bits[find_slot(j, i)] = 0u;
+    mark_dirty(i);
+    mark_dirty(j);
+    const uint at = atomicAdd(cut_log[0].x, 1u);
+    if (at < p.log_capacity) cut_log[1u + at] = uvec4(i, j, floatBitsToUint(0.5), 1u);
+  }
+}
