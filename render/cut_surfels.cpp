@@ -1,6 +1,7 @@
 #include "render/cut_surfels.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "engine/sampling/splat_radius.h"
@@ -13,9 +14,23 @@ layout::vec4 vec4_of(const Vec3& v, double w) {
           static_cast<float>(w)};
 }
 
+// A torn face's seed: a fixed base, one per object.
+constexpr uint64_t kTornSeed = 0x7f4a7c159e3779b9ull;
+
 }  // namespace
 
-layout::SurfelStatic cut_face_surfel(const PhyxelSet& set, uint32_t phyxel, const CutFace& face) {
+NoiseParams torn_face_noise(double spacing, uint32_t object) {
+  NoiseParams p;
+  p.seed = kTornSeed + object;
+  p.frequency = 1.0 / (kTornWavelengthSpacings * spacing);
+  p.amplitude = kTornAmplitudeSpacings * spacing;
+  p.octaves = 2;
+  p.persistence = 0.5;
+  return p;
+}
+
+layout::SurfelStatic cut_face_surfel(const PhyxelSet& set, uint32_t phyxel, const CutFace& face,
+                                     const FractureRegion& region) {
   const ObjectRange& object = set.objects.at(set.object.at(phyxel));
   const double spacing = object.spacing;
   const Vec3& n = face.normal;
@@ -33,8 +48,18 @@ layout::SurfelStatic cut_face_surfel(const PhyxelSet& set, uint32_t phyxel, cons
   const bool rim = (set.flags[phyxel] & kSurface) != 0;
   s.radius = static_cast<float>(kSplatRadiusSpacings * spacing * (rim ? 0.5 : 1.0));
   s.support = static_cast<float>(object.support_radius);
-  s.flags = (set.flags[phyxel] & ~layout::kSurfelCutFace) | layout::kSurfelCutFace;
+  s.flags = (set.flags[phyxel] & ~(layout::kSurfelCutFace | layout::kSurfelTornFace)) |
+            layout::kSurfelCutFace;
   s.normal = vec4_of(n, face.offset);
+  if (face.torn) {
+    const RoughSurfel rough =
+        rough_surfel(torn_face_noise(spacing, set.object.at(phyxel)), region, centre, n);
+    // n . n' >= 0.5 (a tilt of 60 degrees at most) keeps the centre's slide along n' bounded.
+    const double cosine = std::max(0.5, n.dot(rough.normal));
+    s.flags |= layout::kSurfelTornFace;
+    s.normal = vec4_of(rough.normal, (face.offset + rough.displacement) / cosine);
+    s.radius *= static_cast<float>(kTornRadiusScale);
+  }
   s.ds_dx = vec4_of(t1 / spacing, centre.dot(t1) / spacing);
   s.dt_dx = vec4_of(t2 / spacing, centre.dot(t2) / spacing);
   return s;

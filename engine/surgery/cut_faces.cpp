@@ -59,6 +59,7 @@ void CutFaces::add(const PhyxelSet& set, const std::vector<SeveredPair>& pairs) 
       CutFace& face = faces_[k];
       face.points.push_back(p);
       face.toward += k == pair.i ? dir : Vec3(-dir);
+      face.torn = face.torn || pair.torn;
       changed_.push_back(k);
     }
   }

@@ -15,6 +15,8 @@
 //   centre  the centroid of the crossing points, and `offset`, the distance from x0 to the
 //           fitted plane along the normal (where a disc on the face is centred).
 // Faces only grow: a pair severed later adds its point and the face is refitted.
+// A face with at least one torn pair (stress, not a blade) is `torn`: the renderer draws it
+// rough and bloody (render/cut_surfels.h, docs/tearing.md).
 #pragma once
 
 #include <cstdint>
@@ -33,6 +35,7 @@ struct CutFace {
   double offset = 0;            // (centroid - x0) . normal: the plane's distance from x0, m
   bool fitted = false;          // true: a plane fit; false: the mean-direction fallback
   Vec3 toward = Vec3::Zero();   // sum of the unit directions from x0 to the severed partners
+  bool torn = false;            // at least one of its pairs was torn (SeveredPair::torn), not cut
 };
 
 class CutFaces {

@@ -16,7 +16,9 @@
 // every pair counts.
 //
 // A cut-face surfel (kSurfelCutFace) sits on the face the blade left: its centre is moved from
-// the phyxel by normal.w along the rest normal, carried through F (x_i + u_i + F n0 d).
+// the phyxel by normal.w along the rest normal, carried through F (x_i + u_i + F n0 d). A torn
+// face (kSurfelTornFace) is a cut face whose rest normal and offset carry the fracture noise
+// (render/cut_surfels.h); its splat gets kSplatTornFace.
 //
 // When A is ill-conditioned (few or coplanar neighbours, e.g. after a cut) or F is singular,
 // the splat keeps its rest normal and texture gradients (normal.w = 0 says so).
@@ -128,9 +130,11 @@ void main() {
   const float stretch = clamp(sqrt(lambda), 1.0, p.max_stretch);
 
   const bool cut = (s.flags & kSurfelCutFace) != 0u;
+  const bool torn = cut && (s.flags & kSurfelTornFace) != 0u;
   const vec3 offset = cut ? f * (n0 * s.normal.w) : vec3(0.0);
   outp.centre = vec4(xi + ui + offset, s.radius * stretch);
-  outp.normal = vec4(n, float((usable ? kSplatUsable : 0u) | (cut ? kSplatCutFace : 0u)));
+  outp.normal = vec4(n, float((usable ? kSplatUsable : 0u) | (cut ? kSplatCutFace : 0u) |
+                              (torn ? kSplatTornFace : 0u)));
   outp.ds_dx = vec4(f_inv_t * s.ds_dx.xyz, s.ds_dx.w);
   outp.dt_dx = vec4(f_inv_t * s.dt_dx.xyz, s.dt_dx.w);
   splats[k] = outp;

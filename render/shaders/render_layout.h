@@ -30,7 +30,9 @@ PHYXEL_ASSERT_SIZE(mat4, 64);
 // kSurfelCutFace in `flags`, the normal of the face the blade left (out of the phyxel's piece),
 // its disc centred on that face (normal.w: the offset from the phyxel along the rest normal)
 // and (s, t) the face's own rest-plane coordinates in spacings, which the accumulation pass
-// turns into the procedural cut-tissue colour instead of sampling the texture.
+// turns into the procedural cut-tissue colour instead of sampling the texture. A torn face
+// (kSurfelTornFace as well) has the rough normal and offset of the fracture noise and is drawn
+// in torn tissue.
 struct SurfelStatic {
   uint index;     // phyxel index into rest / displacement / nbr_offset
   float radius;   // splat radius at rest, m
@@ -43,6 +45,10 @@ struct SurfelStatic {
 PHYXEL_ASSERT_SIZE(SurfelStatic, 64);
 // SurfelStatic::flags bit of a cut-face surfel (the phyxel flags use the low bits).
 PHYXEL_CONST uint kSurfelCutFace = 0x80000000u;
+// ... and of a torn face (a cut face with kSurfelCutFace too, whose phyxel has a pair torn by
+// its stress): drawn rough (normal and offset from engine/surgery/fracture_surface.h) in the
+// torn tissue of torn_tissue.glsl instead of the clean cut's.
+PHYXEL_CONST uint kSurfelTornFace = 0x40000000u;
 
 // One deformed splat, written by deform_surfels.comp every frame, read by the splat passes.
 struct Splat {
@@ -53,9 +59,11 @@ struct Splat {
 };
 PHYXEL_ASSERT_SIZE(Splat, 64);
 // Bits of Splat::normal.w (a small integer stored as a float): grad u was usable (else the
-// rest normal), and the splat is a cut face (the accumulation pass draws cut tissue).
+// rest normal), the splat is a cut face (the accumulation pass draws cut tissue), and a torn
+// one (torn tissue; kSplatCutFace is set too).
 PHYXEL_CONST uint kSplatUsable = 1;
 PHYXEL_CONST uint kSplatCutFace = 2;
+PHYXEL_CONST uint kSplatTornFace = 4;
 
 // deform_surfels.comp
 PHYXEL_CONST uint kDeformBindingRest = 0;

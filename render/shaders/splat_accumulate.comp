@@ -4,13 +4,15 @@
 // splat's texture gradient; the texture's level of detail comes from its change to the next
 // pixel right and down (on the disc's plane), as a fragment shader's derivatives would.
 // Cut faces (kSplatCutFace) take the procedural cut tissue of cut_tissue.glsl at their own
-// (s, t) instead of the texture, and add w to the cut channel (kAccumCut) as well.
+// (s, t) instead of the texture, and add w to the cut channel (kAccumCut) as well. Torn faces
+// (kSplatTornFace) take the torn tissue of torn_tissue.glsl instead, and its bumped normal.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
 #include "splat_common.glsl"
 #include "splat_raster.glsl"
 #include "cut_tissue.glsl"
+#include "torn_tissue.glsl"
 
 layout(std430, binding = kRasterBindingDepth) readonly buffer Depth { uint depth[]; };
 layout(std430, binding = kRasterBindingAccum) buffer Accum { int accum[]; };
@@ -42,10 +44,12 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   const vec2 st_dy = plane_st(s, dir + step_y) - st;
   // A truncated Gaussian: weight 1 at the centre, exp(-2) at the rim.
   const float w = exp(-2.0 * h.q2);
-  const vec3 colour =
-      s.cut ? cut_tissue(st, st_dx, st_dy) : textureGrad(tissue, st, st_dx, st_dy).rgb;
+  const vec3 colour = s.torn  ? torn_tissue(st, st_dx, st_dy)
+                      : s.cut ? cut_tissue(st, st_dx, st_dy)
+                              : textureGrad(tissue, st, st_dx, st_dy).rgb;
+  const vec3 n_splat = s.torn ? torn_normal(s.n, s.ds.xyz, s.dt.xyz, st, st_dx, st_dy) : s.n;
   // Two-sided: the normal that faces the eye (cut or thin tissue shows its back).
-  const vec3 n = dot(s.n, dir) > 0.0 ? -s.n : s.n;
+  const vec3 n = dot(s.n, dir) > 0.0 ? -n_splat : n_splat;
   const uint at = pixel * kAccumChannels;
   add(at + 0, colour.r * w);
   add(at + 1, colour.g * w);

@@ -160,5 +160,23 @@ TEST(CutFaces, ReportsTheChangedPhyxelsOnce) {
   EXPECT_THROW(faces.add(set, {{0, 99, 0.5f}}), std::invalid_argument);
 }
 
+TEST(CutFaces, AFaceWithATornPairIsTorn) {
+  PhyxelSet set = lattice(3, 3, 1, 0.002);
+  CutFaces faces;
+  faces.add(set, {{0, 1, 0.5f, false}, {3, 4, 0.5f, true}});
+  EXPECT_FALSE(faces.face(0)->torn);
+  EXPECT_FALSE(faces.face(1)->torn);
+  EXPECT_TRUE(faces.face(3)->torn);
+  EXPECT_TRUE(faces.face(4)->torn);
+  // A cut face that a later tear reaches becomes torn, and stays so after a later clean cut.
+  faces.add(set, {{1, 4, 0.5f, false}});
+  EXPECT_FALSE(faces.face(1)->torn);
+  faces.add(set, {{0, 3, 0.5f, true}});
+  EXPECT_TRUE(faces.face(0)->torn);
+  faces.add(set, {{0, 4, 0.5f, false}});
+  EXPECT_TRUE(faces.face(0)->torn);
+  EXPECT_TRUE(faces.face(4)->torn);
+}
+
 }  // namespace
 }  // namespace phyxel

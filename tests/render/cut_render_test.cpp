@@ -1,7 +1,5 @@
 // Cut faces drawn (render/cut_surfels.h, SplatRenderer::update_cut_surfels), on lavapipe with
-// validation: a box severed by hand along a plane (the CPU solver's sever_pairs), its halves
-// pulled apart through the displacement, and the frame written as a run writes it
-// (write_solver_frame: the cuts followed, the alive mask uploaded). The right half's cut face
+// validation: the severed box of severed_box.h, its pairs cut. The right half's cut face
 // is closed at 1080p and shows cut tissue, not the outer surface's texture; the deform pass
 // skips the severed pairs exactly as its CPU twin does.
 #include <gtest/gtest.h>
@@ -11,51 +9,19 @@
 #include <cmath>
 
 #include "render/cut_surfels.h"
-#include "render/frame_output.h"
-#include "render/sample_shapes.h"
-#include "tests/render/render_test_util.h"
+#include "tests/render/severed_box.h"
 
 namespace phyxel::render {
 namespace {
 
 class CutRender : public gpu::VulkanTest {};
 
-constexpr double kSpacing = 0.002;
-// The cut: the plane n . (x - kThrough) = 0, slightly oblique to the lattice so that the cut
-// face is a staircase of phyxels, as a real blade leaves it.
-const Vec3 kNormal = Vec3(1, 0.2, 0.1).normalized();
-const Vec3 kThrough(0.0011, 0, 0);
-
-double side_of(const Vec3& x) {
-  return kNormal.dot(x - kThrough);
-}
-
-// The box [-1, 1]^3 cm on a 2 mm lattice (11^3 phyxels), as a scene-less set.
-PhyxelSet cut_box() {
-  return lattice_box(Vec3(-0.01, -0.01, -0.01), Vec3(0.01, 0.01, 0.01), kSpacing);
-}
-
-// Every neighbour pair whose segment crosses the plane, severed where it does.
-std::vector<SeveredPair> pairs_across(const PhyxelSet& set, const NeighbourLists& nbr) {
-  std::vector<SeveredPair> pairs;
-  for (uint32_t i = 0; i < set.size(); ++i)
-    for (uint32_t e = nbr.offset[i]; e < nbr.offset[i + 1]; ++e) {
-      const uint32_t j = nbr.index[e];
-      const double di = side_of(set.rest[i]), dj = side_of(set.rest[j]);
-      if (j > i && (di < 0) != (dj < 0)) pairs.push_back({i, j, float(di / (di - dj))});
-    }
-  return pairs;
-}
-
-// The halves apart: the left one (negative side) 4 cm along -x, out of the way; the right one
-// 2 mm along +x and sheared and stretched (an affine field, which MLS reproduces exactly, so
-// the right half's F is I + G wherever its own neighbours are all that count).
-const Eigen::Matrix3d kG = (Eigen::Matrix3d() << 0.10, 0.05, 0, 0, 0, 0.08, 0, 0, -0.05).finished();
-
-Vec3 separated(const Vec3& x) {
-  if (side_of(x) < 0) return Vec3(-0.04, 0, 0);
-  return Vec3(0.002, 0, 0) + kG * (x - kThrough);
-}
+using test::cut_box;
+using test::kBoxSpacing;
+using test::kShear;
+using test::pairs_across;
+using test::separated;
+using test::side_of;
 
 // The CPU twin of deform_surfels.comp in double: centre and normal of a surfel from the alive
 // pairs only (alive null: every pair).
@@ -89,75 +55,26 @@ layout::Splat cpu_deform(const PhyxelSet& set, const NeighbourLists& nbr,
   return out;
 }
 
-// The right half's cut face seen from the left, ahead and above: a 1080p frame.
-Camera face_camera() {
-  const Vec3 target = kThrough + separated(kThrough);
-  return test::camera_at(target + 0.08 * Vec3(-1, 0.5, 0.4).normalized(), target, Vec3::UnitZ(),
-                         40);
-}
-
 bool cut_coloured(const uint8_t* p) {
   return p[0] > 60 && p[1] < 0.4 * p[0] && p[2] < 0.5 * p[0];
 }
 
 TEST_F(CutRender, SeveredBoxShowsAClosedCutFaceOfCutTissue) {
-  const PhyxelSet set = cut_box();
-  std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
-  const NeighbourLists& nbr = solver->neighbours();
-  const std::vector<SeveredPair> pairs = pairs_across(set, nbr);
-  ASSERT_GT(pairs.size(), 500u);
-  solver->sever_pairs(pairs);
-  ASSERT_EQ(solver->severed_pairs(), pairs.size());
-  std::vector<Vec3> u(set.size());
-  for (size_t i = 0; i < set.size(); ++i) u[i] = separated(set.rest[i]);
-  solver->set_state(u, std::vector<Vec3>(set.size(), Vec3::Zero()));
-
-  Scene scene;
-  scene.render.width = 1920;
-  scene.render.height = 1080;
-  scene.camera.position = face_camera().position;
-  scene.camera.target = face_camera().target;
-  scene.camera.up = Vec3::UnitZ();
-  scene.camera.fov_y_deg = 40;
-  scene.camera.near = 0.01;
-  scene.camera.far = 2;
-  const std::filesystem::path dir = test::test_out_dir() / "cut_render";
-  std::filesystem::create_directories(dir);
-  FrameWriter writer(scene, set, {RenderSettings::Mode::Mono, dir}, &ctx());
-  const std::string name = write_solver_frame(writer, *solver, 0, {});
-  const RgbaImage image = load_image(dir / name, "cut frame");
-  std::printf("cut face frame: %s\n", (dir / name).c_str());
-  // The cuts were followed: one face per phyxel on either side of the plane.
-  EXPECT_EQ(writer.renderer().cut_surfel_count(), writer.cut_faces().size());
-  EXPECT_GT(writer.cut_faces().size(), 200u);
-
-  // The inner part of the right half's face (1.5 spacings in from its rim), projected.
-  const EyeView eye = writer.setup().eyes[0];
+  const test::SeveredBoxFrame frame = test::render_severed_box(ctx(), false, "cut_render");
+  const RgbaImage& image = frame.image;
   const uint32_t w = image.width, h = image.height;
-  auto pixel_of = [&](double y, double z) {
-    Vec3 x(0, y, z);  // on the plane at (y, z)
-    x.x() = kThrough.x() - (kNormal.y() * y + kNormal.z() * z) / kNormal.x();
-    return Eigen::Vector2d(
-        project_to_pixel(eye, x + separated(x + 1e-9 * kNormal), w, h).head<2>());
-  };
-  const double in = 0.01 - 1.5 * kSpacing;
-  const std::array<Eigen::Vector2d, 4> quad = {pixel_of(-in, -in), pixel_of(in, -in),
-                                               pixel_of(in, in), pixel_of(-in, in)};
-  auto inside = [&](double px, double py) {
-    for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector2d a = quad[k], b = quad[(k + 1) % 4];
-      if ((b - a).x() * (py - a.y()) - (b - a).y() * (px - a.x()) < 0) return false;
-    }
-    return true;
-  };
+  const EyeView& eye = frame.eye;
+  // The cuts were followed: one face per phyxel on either side of the plane.
+  EXPECT_EQ(frame.cut_surfels, frame.cut_faces);
+  EXPECT_GT(frame.cut_faces, 200u);
+
+  // The inner part of the right half's face (1.5 spacings in from its rim).
   size_t region = 0, background = 0, cut = 0;
-  for (uint32_t y = 0; y < h; ++y)
-    for (uint32_t x = 0; x < w; ++x) {
-      if (!inside(x + 0.5, y + 0.5)) continue;
-      ++region;
-      background += test::is_background(image.at(x, y));
-      cut += cut_coloured(image.at(x, y));
-    }
+  for (const auto& [x, y] : test::face_pixels(frame, 1.5 * kBoxSpacing)) {
+    ++region;
+    background += test::is_background(image.at(x, y));
+    cut += cut_coloured(image.at(x, y));
+  }
   ASSERT_GT(region, 20000u) << "the face is large in the frame (orientation of the quad?)";
   EXPECT_EQ(background, 0u) << "background shows through the cut face";
   EXPECT_GT(double(cut), 0.97 * double(region)) << "cut tissue over the face";
@@ -206,7 +123,7 @@ TEST_F(CutRender, DeformPassSkipsSeveredPairsAsItsCpuTwin) {
   const std::vector<layout::SurfelStatic> cut = cut_face_surfels(set, faces, faces.take_changed());
   renderer.update_cut_surfels(cut);
   inputs.set_displacement(u);
-  const FrameSetup setup = test::setup_for(face_camera(), 64, 36);
+  const FrameSetup setup = test::setup_for(test::face_camera(), 64, 36);
   auto splats_with = [&](bool mask) {
     if (mask) inputs.set_pair_alive(alive);
     renderer.render(inputs.inputs(), setup);
@@ -225,7 +142,7 @@ TEST_F(CutRender, DeformPassSkipsSeveredPairsAsItsCpuTwin) {
   int near = 0;
   for (size_t k = 0; k < surfels.size(); ++k) {
     const layout::SurfelStatic& s = surfels[k];
-    if (std::abs(side_of(set.rest[s.index])) > 2 * kSpacing) continue;
+    if (std::abs(side_of(set.rest[s.index])) > 2 * kBoxSpacing) continue;
     ++near;
     const layout::Splat want = cpu_deform(set, nbr, &alive, u, s);
     auto vec = [](const layout::vec4& v) { return Vec3(v.x, v.y, v.z); };
@@ -239,13 +156,13 @@ TEST_F(CutRender, DeformPassSkipsSeveredPairsAsItsCpuTwin) {
   EXPECT_LT(worst_normal, 1e-4);
   EXPECT_LT(worst_centre, 1e-6) << "m";
   EXPECT_GT(unmasked_off, 0.1) << "the test tells masked from unmasked";
-  // On the right half F = I + kG: a cut face's normal is (I + G)^-T n on the twin's side too.
+  // On the right half F = I + kShear: a cut face's normal is (I + G)^-T n on the twin's side too.
   for (size_t k = 0; k < cut.size(); ++k) {
     const layout::SurfelStatic& s = cut[k];
     if (side_of(set.rest[s.index]) < 0 || !faces.face(s.index)->fitted) continue;
     const Vec3 n0(s.normal.x, s.normal.y, s.normal.z);
     const Vec3 expected =
-        ((Eigen::Matrix3d::Identity() + kG).inverse().transpose() * n0).normalized();
+        ((Eigen::Matrix3d::Identity() + kShear).inverse().transpose() * n0).normalized();
     const layout::vec4& got = masked[surfels.size() - cut.size() + k].normal;
     EXPECT_LT((Vec3(got.x, got.y, got.z) - expected).norm(), 1e-3) << "phyxel " << s.index;
   }
