@@ -255,6 +255,8 @@ int run_command(const Args& args) {
       options.on_frame = [&frames, &tool_poses, buffers](int64_t step, Solver& s) {
         render::write_solver_frame(*frames, s, step, tool_poses, buffers);
       };
+      // Aspirated tissue leaves the frames; the crater's wall is drawn as fracture surface.
+      options.on_aspiration = [&frames](const AspirationEvent& e) { frames->apply_aspiration(e); };
     }
     haptics.start();
     step_reached = 0;
@@ -267,6 +269,7 @@ int run_command(const Args& args) {
     }
     const size_t frame_count = frames ? frames->written().size() : 0;
     options.on_frame = nullptr;
+    options.on_aspiration = nullptr;
     frames.reset();  // before the solver: it may own the context
     if (result.steps_done < options.steps) bar.finish();
     // A signal that came during the run (or while its last outputs were written) is reported.

@@ -121,6 +121,25 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
                     {"freed_mass_g", 1e3 * r.freed_mass},
                     {"inclusions", inclusions}};
   }
+  if (result.aspirating) {
+    // What the aspirators took (engine/surgery/aspiration.h), per object and inclusion.
+    const AspirationTotals& a = result.aspiration;
+    json parts = json::array();
+    double removed = 0;
+    for (size_t m = 0; m < a.names.size(); ++m) {
+      removed += a.removed_mass[m];
+      parts.push_back({{"name", a.names[m]},
+                       {"mass_g", 1e3 * a.initial_mass[m]},
+                       {"removed_g", 1e3 * a.removed_mass[m]},
+                       {"removed_percent",
+                        a.initial_mass[m] > 0 ? 100 * a.removed_mass[m] / a.initial_mass[m] : 0.0},
+                       {"removed_volume_cm3", 1e6 * a.removed_volume[m]}});
+    }
+    j["aspiration"] = {{"events", a.events},
+                       {"largest_fracture_radius_m", a.max_radius},
+                       {"removed_g", 1e3 * removed},
+                       {"parts", parts}};
+  }
   if (haptics != nullptr && !haptics->empty()) {
     json loops = json::array();
     for (const HapticSession::ToolLoop& l : haptics->loops()) {

@@ -180,7 +180,8 @@ class GpuSolver final : public Solver {
   // reruns the precompute pass for exactly those phyxels and recomputes the forces. A removed
   // phyxel keeps its u and v and no longer moves. The CSR (and neighbours()) is unchanged:
   // removed pairs stay in it with weight 0.
-  void remove_phyxels(const std::vector<uint32_t>& ids);
+  bool supports_removal() const override { return true; }
+  void remove_phyxels(const std::vector<uint32_t>& ids) override;
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
   // median time per pass name ("kick_drift" once, then "stress", "principal" while on, and

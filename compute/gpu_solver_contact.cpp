@@ -19,6 +19,7 @@
 
 #include "compute/gpu_solver.h"
 #include "compute/gpu_solver_kernels.h"
+#include "engine/surgery/suction.h"
 
 namespace phyxel::gpu {
 
@@ -50,7 +51,8 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     const float band = t.blade.cuts() ? float(contact_spacing_) : 0.0f;  // ToolContactSample
     shapes.push_back(
         {{float(t.shape.radius), capsule ? float(t.shape.length) : 0.0f, float(t.friction), band},
-         {capsule ? kToolCapsule : kToolSphere, 0u, 0u, 0u}});
+         {capsule ? kToolCapsule : kToolSphere, 0u, 0u, 0u},
+         {float(suction_pull_density(t)), float(t.suction.reach), 0.0f, 0.0f}});
   }
   tools_ = tools;
   cutting_ = false;
@@ -177,8 +179,9 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
     std::vector<ContactMotion> table(motion_.size());
     for (size_t k = 0; k < motion_.size(); ++k) {
       const ToolMotion& m = motion_[k];
-      table[k] = {to_vec4(m.from.position - origin), to_vec4(m.from.axis),
-                  to_vec4(m.to.position - origin), to_vec4(m.to.axis)};
+      vec4 to = to_vec4(m.to.position - origin);
+      to.w = m.suction_on ? 1.0f : 0.0f;
+      table[k] = {to_vec4(m.from.position - origin), to_vec4(m.from.axis), to, to_vec4(m.to.axis)};
     }
     const uint64_t table_bytes = table.size() * sizeof(ContactMotion);
     reserve(ctx, motion_upload_, table_bytes, MemoryIntent::Upload, "contact motion staging");

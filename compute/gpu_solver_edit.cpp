@@ -28,7 +28,12 @@ void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
       const uint32_t j = nbr.index[k];
       weights[k] = 0.0f;
-      if (const size_t back = nbr.slot(j, i); back != NeighbourLists::kNoSlot) weights[back] = 0.0f;
+      const size_t back = nbr.slot(j, i);
+      if (back != NeighbourLists::kNoSlot) weights[back] = 0.0f;
+      if (!alive_.empty()) {  // pair_alive() answers from the log's mask once there is one
+        alive_[k] = 0;
+        if (back != NeighbourLists::kNoSlot) alive_[back] = 0;
+      }
       flags[j] |= kFlagPairsEdited;
       touched.insert(j);
     }

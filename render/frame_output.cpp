@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <utility>
 
 #include "render/cut_surfels.h"
@@ -79,6 +80,20 @@ std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displaceme
   if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, neighbours);
   host_->set_displacement(displacement);
   return write(step, host_->inputs());
+}
+
+void FrameWriter::apply_aspiration(const AspirationEvent& event) {
+  renderer_->hide_phyxels(event.removed);
+  const FractureRegion region{event.centre, event.radius, event.axis};
+  std::vector<layout::SurfelStatic> faces;
+  for (size_t k = 0; k < event.exposed.size(); ++k) {
+    CutFace face;
+    face.normal = event.exposed_normal[k];
+    face.torn = true;
+    faces.push_back(cut_face_surfel(*set_, event.exposed[k], face, region));
+  }
+  renderer_->update_cut_surfels(faces);
+  alive_at_ = std::numeric_limits<size_t>::max();  // the host's pair mask changed: upload again
 }
 
 bool FrameWriter::follow_cuts(Solver& solver, bool host_state) {

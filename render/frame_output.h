@@ -20,6 +20,7 @@
 
 #include "compute/context.h"
 #include "engine/solver/solver.h"
+#include "engine/surgery/aspiration.h"
 #include "engine/surgery/cut_faces.h"
 #include "render/splat_renderer.h"
 
@@ -64,6 +65,10 @@ class FrameWriter {
   bool follow_cuts(Solver& solver, bool host_state);
   const CutFaces& cut_faces() const { return cuts_; }
   SplatRenderer& renderer() { return *renderer_; }
+  // An aspiration (engine/surgery/aspiration.h): the removed phyxels' surfels hidden, the
+  // exposed ones drawn as torn fracture surface facing the mouth (rough, with the eq 27
+  // falloff around the tool's axis; docs/suction.md).
+  void apply_aspiration(const AspirationEvent& event);
 
   gpu::Context& context() { return *ctx_; }
   const FrameSetup& setup() const { return setup_; }

@@ -329,6 +329,25 @@ void SplatRenderer::update_cut_surfels(const std::vector<layout::SurfelStatic>& 
               first * sizeof(layout::SurfelStatic));
 }
 
+void SplatRenderer::hide_phyxels(const std::vector<uint32_t>& phyxels) {
+  Impl& m = *impl_;
+  if (phyxels.empty() || m.table.empty()) return;
+  std::vector<uint8_t> hide(m.table_phyxels, 0);
+  for (const uint32_t k : phyxels)
+    if (k < hide.size()) hide[k] = 1;
+  size_t first = m.table.size(), last = 0;
+  for (size_t s = 0; s < m.table.size(); ++s) {
+    if (m.table[s].index >= hide.size() || !hide[m.table[s].index]) continue;
+    m.table[s].radius = 0;
+    first = std::min(first, s);
+    last = std::max(last, s);
+  }
+  if (first > last) return;
+  gpu::upload(m.ctx, m.surfels, m.table.data() + first,
+              (last - first + 1) * sizeof(layout::SurfelStatic),
+              first * sizeof(layout::SurfelStatic));
+}
+
 uint32_t SplatRenderer::max_frame_side() const {
   const VkPhysicalDeviceLimits& l = impl_->limits;
   return std::min(l.maxImageDimension2D, l.maxViewportDimensions[0]);

@@ -112,6 +112,10 @@ class SplatRenderer {
   // phyxel the table does not have.
   void update_cut_surfels(const std::vector<layout::SurfelStatic>& faces);
 
+  // Removed phyxels (aspiration): every surfel of theirs, outer or cut face, gets radius 0
+  // (drawn nowhere) and is uploaded. Blocking; call between frames.
+  void hide_phyxels(const std::vector<uint32_t>& phyxels);
+
   uint32_t surfel_count() const;      // outer surface and cut faces
   uint32_t cut_surfel_count() const;  // cut faces
   // The largest frame side the renderer accepts (maxImageDimension2D and viewport limits, as

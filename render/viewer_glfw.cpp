@@ -210,6 +210,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   auto last_title = std::chrono::steady_clock::now();
   int frames = 0;
   std::string halted;  // why the simulation stopped (non-finite or runaway), empty while fine
+  constexpr double kMaxAdvanceSeconds = 0.2;
+  double seconds_per_step = 0;  // wall time per step of the last advance
   auto stopping = [&options] { return options.stop_requested && options.stop_requested(); };
   while (glfwWindowShouldClose(window) != GLFW_TRUE && !stopping()) {
     glfwPollEvents();
@@ -218,11 +220,23 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
                                                   : RenderSettings::Mode::Stereo;
     }
     const int64_t due = pacer.steps_due(wall(), !controls.paused() && halted.empty());
-    const int64_t advance = controls.paused() ? controls.steps_for_frame(1) : due;
+    int64_t advance = controls.paused() ? controls.steps_for_frame(1) : due;
     if (!controls.paused()) controls.steps_for_frame(1);  // consumes a stray n
+    // Keys and the window are handled between advances: on a slow device (lavapipe), advance no
+    // more than about kMaxAdvanceSeconds of wall time per frame at the rate measured so far (one
+    // step until it is measured), so the viewer answers within a fraction of a second however
+    // far behind it is.
+    if (seconds_per_step <= 0)
+      advance = std::min<int64_t>(advance, 1);  // the first advance measures the rate
+    else
+      advance = std::min<int64_t>(
+          advance,
+          std::max<int64_t>(1, static_cast<int64_t>(kMaxAdvanceSeconds / seconds_per_step)));
     if (advance > 0 && halted.empty()) {
+      const double advance_start = wall();
       const std::vector<ToolStepRecord> records =
           advance_with_tools(solver, track, step, advance, plan.substeps, plan.dt_used);
+      seconds_per_step = (wall() - advance_start) / double(advance);
       step += advance;
       pacer.advanced(advance);
       if (!records.empty()) {

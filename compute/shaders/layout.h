@@ -309,11 +309,13 @@ PHYXEL_ASSERT_SIZE(CheckPush, 8);
 PHYXEL_CONST uint kToolSphere = 0u;
 PHYXEL_CONST uint kToolCapsule = 1u;
 struct ContactToolShape {
-  vec4 shape;  // radius (m), length (m; 0 for a sphere), Coulomb friction mu, and for a blade
-               // the band around it whose phyxels span its axial range (m; 0: contacts only)
-  uvec4 kind;  // kToolSphere or kToolCapsule, 0, 0, 0
+  vec4 shape;    // radius (m), length (m; 0 for a sphere), Coulomb friction mu, and for a blade
+                 // the band around it whose phyxels span its axial range (m; 0: contacts only)
+  uvec4 kind;    // kToolSphere or kToolCapsule, 0, 0, 0
+  vec4 suction;  // an aspirator's pull per unit volume in reach F / V_reach (N/m^3; 0: none),
+                 // its reach (m), 0, 0 (engine/surgery/suction.h)
 };
-PHYXEL_ASSERT_SIZE(ContactToolShape, 32);
+PHYXEL_ASSERT_SIZE(ContactToolShape, 48);
 // The axial range a (candidate, tool) without contact contributes (engine ToolContactSample).
 PHYXEL_CONST float kNoContactAxial = 1e30;
 
@@ -323,7 +325,7 @@ PHYXEL_CONST float kNoContactAxial = 1e30;
 struct ContactMotion {
   vec4 from_position;
   vec4 from_axis;
-  vec4 to_position;
+  vec4 to_position;  // w: 1 where an aspirator sucks in the substep (ToolMotion::suction_on)
   vec4 to_axis;
 };
 PHYXEL_ASSERT_SIZE(ContactMotion, 64);

@@ -37,6 +37,7 @@ void main() {
   const float mass = ext[i].w;
   const vec3 x0 = rest[i].xyz - p.origin.xyz;
   uint touched = 0u;
+  bool moved = false;
   for (uint t = 0u; t < p.tools; ++t) {
     vec4 felt = vec4(0.0);
     vec4 along = vec4(kNoContactAxial, -kNoContactAxial, 0.0, 0.0);
@@ -49,16 +50,29 @@ void main() {
       v += dv;
       felt = vec4(mass * dv / p.dt, 1.0);
       touched = 1u;
+      moved = true;
       around = true;
     } else if (takes && tools[t].shape.w > 0.0) {
       around = tool_distance(tools[t], m.to_position.xyz, m.to_axis.xyz, x0 + u).distance <
                tools[t].shape.w;
     }
     if (around) along.xy = vec2(dot(x0 + u - m.to_position.xyz, m.to_axis.xyz));
+    // The aspirator's pull after the contact (engine/surgery/suction.h suction_pull).
+    const vec4 suction = tools[t].suction;
+    if (takes && suction.x > 0.0 && m.to_position.w > 0.0) {
+      const vec3 r = x0 + u - m.to_position.xyz;
+      const float len = length(r);
+      if (dot(r, r) <= suction.y * suction.y && dot(r, m.to_axis.xyz) <= 0.0 && len > 0.0) {
+        const vec3 pull = suction.x * rest[i].w / len * -r;
+        v += p.dt / mass * pull;
+        felt.xyz += pull;
+        moved = true;
+      }
+    }
     contact_force[t * p.capacity + slot] = felt;
     contact_force[(p.tools + t) * p.capacity + slot] = along;
   }
-  if (touched != 0u) {
+  if (moved) {
     disp[i] = vec4(u, 0.0);
     vel[i] = vec4(v, 0.0);
   }

@@ -189,6 +189,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
                              solver.device() + " cannot do; use --device cpu");
   const int64_t check = check_interval(scene, options, sleeping);
   ToolTrack tools(scene.tools, options.tool_pose);
+  Aspirator aspirator(scene, set);
+  if (aspirator.active() && !solver.supports_removal())
+    throw std::runtime_error(scene.file.string() + ": a suction tool aspirates tissue, which " +
+                             solver.device() + " cannot remove; use --device cpu or gpu");
   if (!tools.empty()) {
     if (!solver.supports_tools())
       throw std::runtime_error(scene.file.string() + ": the scene has tools, which " +
@@ -351,6 +355,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
           s + 1, double(s + 1) * step_time,
           std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
                                       records.begin() + (s - step + 1) * tools.size()));
+    if (aspirator.active())  // the paper's hybrid tearing at the aspirators' mouths
+      for (const AspirationEvent& e :
+           aspirator.after_advance(solver, tools.poses(), double(next) * step_time))
+        if (options.on_aspiration) options.on_aspiration(e);
     lap(result.split.callbacks);
     if (options.real_time) pace(paced_from, double(next) * step_time, result);
     lap(result.split.pacing);
@@ -442,6 +450,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   result.real_time_factor =
       result.wall_seconds > 0 ? result.simulated_time / result.wall_seconds : 0;
   result.tools = tools.stats();
+  result.aspirating = aspirator.active();
+  result.aspiration = aspirator.totals();
   if (!result.non_finite && !result.unstable) {
     // The end (or an interruption, or rest): a last checkpoint to continue from.
     if (checkpoint_every > 0 && checkpointed != step) write_checkpoint_now();
@@ -536,6 +546,14 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
           "severed in substeps whose cutting force reaches the threshold; then the precompute of "
           "the phyxels they touched only",
           static_cast<size_t>(scalpels));
+    const auto aspirators = std::count_if(scene.tools.begin(), scene.tools.end(),
+                                          [](const ToolDesc& t) { return t.suction.sucks(); });
+    if (aspirators > 0)
+      add("    suction        %zu aspirator(s): their pull in the contact pass; %s",
+          static_cast<size_t>(aspirators),
+          scene.tearing_possible()
+              ? "between advances the fracture sphere at each mouth (state read back while on)"
+              : "nothing aspirated (no material has tear_stress)");
     add("  tools: tools.csv (a row per step and tool) and summary.json tools");
   }
   // What the scene does not need, with the reason; nothing when it needs everything.

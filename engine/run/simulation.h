@@ -10,6 +10,7 @@
 
 #include "engine/run/checkpoint.h"
 #include "engine/solver/solver.h"
+#include "engine/surgery/aspiration.h"
 #include "engine/surgery/tool_track.h"
 
 namespace phyxel {
@@ -66,6 +67,9 @@ struct RunOptions {
   // Called before each checkpoint is written: outputs the caller buffers (tools.csv) must hold
   // every step up to it.
   std::function<void()> before_checkpoint;
+  // After each aspiration (engine/surgery/aspiration.h) the run applied: what it removed and
+  // exposed (the frame writer draws the new fracture surface).
+  std::function<void(const AspirationEvent&)> on_aspiration;
 };
 
 struct RunResult {
@@ -98,6 +102,9 @@ struct RunResult {
     double advance = 0, checks = 0, callbacks = 0, pacing = 0, outputs = 0;
   } split;
   int64_t resumed_from = -1;  // the checkpoint's step, or -1
+  // Suction tools in a scene that can tear: what the aspirations took (aspiration.h).
+  bool aspirating = false;
+  AspirationTotals aspiration;
 };
 
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,

@@ -26,15 +26,21 @@ constexpr std::string_view kKeyExpected =
     "a path key {\"t\": s, \"position\": [x, y, z], \"axis\": [x, y, z]}";
 constexpr std::string_view kBladeExpected =
     "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m}";
+constexpr std::string_view kSuctionExpected =
+    "a suction object {\"pressure\": Pa, \"reach\": m, \"from\": s, \"until\": s}";
 constexpr std::string_view kCouplingExpected =
     "a coupling object {\"stiffness\": N/m, \"damping\": N s/m, \"mass\": kg, \"max_force\": N}";
 
 // Coulomb coefficients of instruments on tissue are well below 1; above this a value is a typo.
 constexpr double kMaxFriction = 10;
 
-// Instruments of the tool model whose actions (suction, grasping) are not built yet: named so
-// that a scene asking for one is told so, not that the name is unknown.
-constexpr std::array<std::string_view, 2> kComingTypes = {"suction", "grasper"};
+// Instruments of the tool model whose actions (grasping) are not built yet: named so that a
+// scene asking for one is told so, not that the name is unknown.
+constexpr std::array<std::string_view, 1> kComingTypes = {"grasper"};
+
+// Surgical aspirators pull with up to about 80 kPa below the atmosphere; above 1 MPa a value is
+// a typo.
+constexpr double kMaxSuctionPressure = 1e6;
 
 // Cutting forces of scalpels in soft tissue are a few newtons; above this a value is a typo.
 constexpr double kMaxCutForce = 1e3;
@@ -44,10 +50,12 @@ ToolDesc::Type read_type(const Node& node) {
   if (v.is_string() && std::find(kComingTypes.begin(), kComingTypes.end(), v.get<std::string>()) !=
                            kComingTypes.end()) {
     node.fail("tool type \"" + v.get<std::string>() + "\" is not available yet",
-              "allowed probe or scalpel (suction and grasper come with their actions)");
+              "allowed probe, scalpel or suction (the grasper comes with its action)");
   }
-  return node.choice({"probe", "scalpel"}) == "scalpel" ? ToolDesc::Type::Scalpel
-                                                        : ToolDesc::Type::Probe;
+  const std::string type = node.choice({"probe", "scalpel", "suction"});
+  return type == "scalpel"   ? ToolDesc::Type::Scalpel
+         : type == "suction" ? ToolDesc::Type::Suction
+                             : ToolDesc::Type::Probe;
 }
 
 // The blade of a scalpel: its edge made perpendicular to the axis of the path's first key.
@@ -67,6 +75,23 @@ Blade read_blade(const Node& node, const Vec3& first_axis) {
   b.edge = across.stableNormalized();
   b.reference_axis = first_axis;
   return b;
+}
+
+// An aspirator's action: pressure and reach required, on during [from, until).
+Suction read_suction(const Node& node) {
+  node.expect_object(kSuctionExpected, {"pressure", "reach", "from", "until"});
+  Suction s;
+  s.pressure = node.number("pressure", {0, kMaxSuctionPressure, false, true}, "Pa");
+  s.reach = node.number("reach", Limits::above(0), "m");
+  s.from = node.number_or("from", 0.0, Limits::at_least(0), "s");
+  if (const auto until = node.find("until")) {
+    s.until = until->number(Limits::at_least(0), "s");
+    if (!(s.until > s.from))
+      until->fail("until = " + json_reader::format_number(s.until) +
+                      " is not after from = " + json_reader::format_number(s.from),
+                  "allowed until > from (s), or no until (on to the end)");
+  }
+  return s;
 }
 
 ToolShape read_tool_shape(const Node& node) {
@@ -130,10 +155,10 @@ CouplingSettings read_coupling(const Node& node) {
 
 ToolDesc read_tool(const Node& node) {
   node.expect_object(kToolExpected, {"name", "type", "shape", "path", "friction", "control",
-                                     "coupling", "blade", "cut_force_threshold"});
+                                     "coupling", "blade", "cut_force_threshold", "suction"});
   ToolDesc tool;
   tool.name = node.at("name", "a non-empty string").text();
-  tool.type = read_type(node.at("type", "\"probe\" or \"scalpel\""));
+  tool.type = read_type(node.at("type", "\"probe\", \"scalpel\" or \"suction\""));
   tool.shape = read_tool_shape(node.at("shape", kToolShapeExpected));
   tool.path = read_path(node.at("path", kPathExpected));
   if (tool.type == ToolDesc::Type::Scalpel) {
@@ -147,6 +172,12 @@ ToolDesc read_tool(const Node& node) {
                     "allowed only with \"type\": \"scalpel\"; remove it or change the type");
       }
     }
+  }
+  if (tool.type == ToolDesc::Type::Suction) {
+    tool.suction = read_suction(node.at("suction", kSuctionExpected));
+  } else if (const auto extra = node.find("suction")) {
+    extra->fail("\"suction\" applies only to a suction tool",
+                "allowed only with \"type\": \"suction\"; remove it or change the type");
   }
   tool.friction = node.number_or("friction", 0.0, {0, kMaxFriction, true, true}, "");
   if (const auto control = node.find("control")) {

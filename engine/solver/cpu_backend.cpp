@@ -84,6 +84,8 @@ class CpuBackend final : public Solver {
   void set_principal_stress(bool on) override { solver_->set_principal_stress(on); }
   bool supports_tearing() const override { return true; }
   void set_tearing(bool on) override { solver_->set_tearing(on); }
+  bool supports_removal() const override { return true; }
+  void remove_phyxels(const std::vector<uint32_t>& ids) override { solver_->remove_phyxels(ids); }
   bool supports_cutting() const override { return true; }
   size_t severed_pairs() const override { return solver_->severed_log().size(); }
   std::vector<SeveredPair> severed_since(size_t first) override {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "engine/solver/kernel.h"
+#include "engine/surgery/suction.h"
 
 namespace phyxel {
 
@@ -323,6 +324,7 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
   // In ascending phyxel order, tool by tool: the sums are the same on every run.
   std::vector<ToolContactSample> felt(nt);
   for (const uint32_t i : candidates_) {
+    if (flags_[i] & kRemoved) continue;  // aspirated during the chunk
     for (size_t t = 0; t < nt; ++t) {
       const V3 x_new = rest_[i] + u_[i];
       const V3 x_prev = x_new - dt * v_[i];
@@ -337,6 +339,11 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
         contact_[i] = 1;
         felt[t].force -= f.template cast<double>();
         ++felt[t].contacts;
+      }
+      if (now[t].suction_on) {  // the aspirator's pull (suction.h), after the contact
+        const V3 pull = suction_pull<Real>(tools_[t], now[t].to, V3(rest_[i] + u_[i]), volume_[i]);
+        v_[i] += dt / mass_[i] * pull;
+        felt[t].force -= pull.template cast<double>();
       }
       if (!touches && !tools_[t].blade.cuts()) continue;
       // Where it lies along the tool: in contact, or within a blade's band (ToolContactSample).

@@ -94,6 +94,13 @@ class CpuSolver {
   // recomputes what they touch, as a cut would (checkpoint resume, tests).
   void sever_pairs(const std::vector<SeveredPair>& pairs);
 
+  // Takes the phyxels out of the physics (Solver::remove_phyxels): flags them kRemoved, sets
+  // the weight of every pair touching them to 0 on both sides, reruns the precompute of their
+  // neighbours, rebuilds the pass lists and recomputes the forces. Throws std::out_of_range for
+  // an index outside the set.
+  void remove_phyxels(const std::vector<uint32_t>& ids);
+  const std::vector<uint32_t>& flags() const { return flags_; }
+
   // Recomputes force() from the current displacement; call after changing u by hand.
   void compute_forces();
   // One velocity-Verlet (leapfrog) step of size dt with implicit mass-proportional damping.

@@ -94,13 +94,34 @@ void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>& pairs) {
   compute_forces();
 }
 
+template <class Real>
+void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
+  std::vector<uint32_t> touched;
+  for (const uint32_t i : ids) {
+    if (i >= size()) throw std::out_of_range("remove_phyxels: no phyxel " + std::to_string(i));
+    flags_[i] |= kRemoved;
+    for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+      const uint32_t j = nbr_.index[k];
+      w_[k] = Real(0);
+      if (const size_t back = nbr_.slot(j, i); back != NeighbourLists::kNoSlot) w_[back] = Real(0);
+      touched.push_back(j);
+    }
+    touched.push_back(i);
+  }
+  if (touched.empty()) return;
+  precompute_touched(touched);
+  build_pass_lists();
+  compute_forces();
+}
+
 // The members defined here (the class itself is instantiated in cpu_solver.cpp).
-#define PHYXEL_CUTTING_MEMBERS(Real)                                         \
-  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);           \
-  template void CpuSolver<Real>::apply_cuts();                               \
-  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&); \
-  template void CpuSolver<Real>::sort_severed_from(size_t);                  \
-  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);
+#define PHYXEL_CUTTING_MEMBERS(Real)                                           \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);             \
+  template void CpuSolver<Real>::apply_cuts();                                 \
+  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);   \
+  template void CpuSolver<Real>::sort_severed_from(size_t);                    \
+  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&); \
+  template void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>&);
 PHYXEL_CUTTING_MEMBERS(double)
 PHYXEL_CUTTING_MEMBERS(float)
 #undef PHYXEL_CUTTING_MEMBERS

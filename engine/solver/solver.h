@@ -82,6 +82,14 @@ class Solver {
   virtual void set_tearing(bool on) {
     if (on) throw std::logic_error(device() + " cannot tear");
   }
+  // Removal (aspiration, engine/surgery/aspiration.h): the phyxels leave the physics for good,
+  // flagged kRemoved, every pair touching them severed on both sides (not logged: the pieces and
+  // faces follow from the flags), the precompute rerun for their neighbours and the forces
+  // recomputed. Their u and v stay as they were.
+  virtual bool supports_removal() const { return false; }
+  virtual void remove_phyxels(const std::vector<uint32_t>& ids) {
+    if (!ids.empty()) throw std::logic_error(device() + " cannot remove phyxels");
+  }
   // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
   // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
   // pairs ascending by (i, j), appended in order): severed_pairs() is its length and

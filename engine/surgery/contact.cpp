@@ -9,7 +9,7 @@ namespace phyxel {
 
 std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools) {
   std::vector<ContactTool> out;
-  for (const ToolDesc& t : tools) out.push_back({t.shape, t.friction, t.blade});
+  for (const ToolDesc& t : tools) out.push_back({t.shape, t.friction, t.blade, t.suction});
   return out;
 }
 
@@ -109,8 +109,10 @@ Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<Too
   Bounds b;
   for (size_t k = 0; k < motion.size() && !tools.empty(); ++k) {
     const ContactTool& t = tools[k % tools.size()];
-    b.extend(tool_bounds(t.shape, motion[k].from));
-    b.extend(tool_bounds(t.shape, motion[k].to));
+    Bounds swept = tool_bounds(t.shape, motion[k].from);
+    swept.extend(tool_bounds(t.shape, motion[k].to));
+    if (t.suction.sucks()) swept.grow(t.suction.reach);  // what its mouth pulls on
+    b.extend(swept);
   }
   return b;
 }

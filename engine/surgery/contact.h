@@ -32,13 +32,15 @@ namespace phyxel {
 struct ContactTool {
   ToolShape shape;
   double friction = 0;
-  Blade blade;  // a scalpel's (cuts() false for every other tool)
+  Blade blade;      // a scalpel's (cuts() false for every other tool)
+  Suction suction;  // an aspirator's (sucks() false for every other tool)
 };
 std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools);
 
 // One substep's motion of one tool, from its pose at the substep's start to its end.
 struct ToolMotion {
   ToolPose from, to;
+  bool suction_on = false;  // an aspirator sucks during the substep (Suction::on_at its middle)
 };
 
 // What one tool felt during one substep: the force on the tool (N, the negative sum of the

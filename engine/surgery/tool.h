@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,18 @@ struct Blade {
   double threshold = 0;                 // N: the edge force at which the tissue separates
   double reach = 0;                     // m: how far ahead of the edge it separates
   bool cuts() const { return length > 0; }
+};
+
+// The action of an aspirator (ToolDesc::suction, ContactTool::suction; engine/surgery/suction.h):
+// while on, its mouth (the tip) pulls the phyxels within `reach` ahead of it toward itself,
+// `pressure` times the mouth's area (pi radius^2) in all when the reach is full of tissue.
+struct Suction {
+  double pressure = 0;  // Pa (> 0: the tool sucks)
+  double reach = 0;     // m, from the tip
+  double from = 0;      // s: on during [from, until)
+  double until = std::numeric_limits<double>::infinity();
+  bool sucks() const { return pressure > 0; }
+  bool on_at(double t) const { return sucks() && from <= t && t < until; }
 };
 
 // The tool's rigid shape, in the tool's frame: the tip at `position`, the shaft along `axis`.
@@ -53,7 +66,7 @@ struct CouplingSettings {
 };
 
 struct ToolDesc {
-  enum class Type { Probe, Scalpel };  // suction and grasper come with their actions
+  enum class Type { Probe, Scalpel, Suction };  // the grasper comes with its action
   enum class Control { Path, Haptic };
   std::string name;
   Type type = Type::Probe;
@@ -63,6 +76,7 @@ struct ToolDesc {
   Control control = Control::Path;
   CouplingSettings coupling;  // control haptic only
   Blade blade;                // scalpel only (engine/surgery/cutting.h)
+  Suction suction;            // suction only (engine/surgery/suction.h)
 };
 
 // The pose of a path at time t: position interpolated linearly between keys, the axis by the

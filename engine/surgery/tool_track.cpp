@@ -51,7 +51,11 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
       } else {
         to = pose_at(tool.path, double(first + k + 1) * dt);
       }
-      motions_[static_cast<size_t>(k) * nt + t] = {from, to};
+      // A haptic aspirator sucks all the time (the hand holds the pedal); a path one as its
+      // suction says, at the substep's middle.
+      const bool on =
+          tool.suction.sucks() && (live_tool || tool.suction.on_at((double(first + k) + 0.5) * dt));
+      motions_[static_cast<size_t>(k) * nt + t] = {from, to, on};
       from = to;
     }
     last_[t] = from;
@@ -63,14 +67,16 @@ Bounds ToolTrack::swept_bounds(double from, double to) const {
   Bounds b;
   for (size_t t = 0; t < tools_.size(); ++t) {
     const ToolDesc& tool = tools_[t];
-    b.extend(tool_bounds(tool.shape, last_[t]));
+    Bounds swept = tool_bounds(tool.shape, last_[t]);
     if (tool.control == ToolDesc::Control::Haptic) {
-      b.extend(tool_bounds(tool.shape, source_(t, to)));
-      continue;
+      swept.extend(tool_bounds(tool.shape, source_(t, to)));
+    } else {
+      swept.extend(tool_bounds(tool.shape, pose_at(tool.path, to)));
+      for (const ToolKey& k : tool.path)
+        if (k.t > from && k.t < to) swept.extend(tool_bounds(tool.shape, {k.position, k.axis}));
     }
-    b.extend(tool_bounds(tool.shape, pose_at(tool.path, to)));
-    for (const ToolKey& k : tool.path)
-      if (k.t > from && k.t < to) b.extend(tool_bounds(tool.shape, {k.position, k.axis}));
+    if (tool.suction.sucks()) swept.grow(tool.suction.reach);  // what its mouth pulls on
+    b.extend(swept);
   }
   return b;
 }

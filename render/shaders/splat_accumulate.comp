@@ -44,10 +44,18 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   const vec2 st_dy = plane_st(s, dir + step_y) - st;
   // A truncated Gaussian: weight 1 at the centre, exp(-2) at the rim.
   const float w = exp(-2.0 * h.q2);
-  const vec3 colour = s.torn  ? torn_tissue(st, st_dx, st_dy)
-                      : s.cut ? cut_tissue(st, st_dx, st_dy)
-                              : textureGrad(tissue, st, st_dx, st_dy).rgb;
-  const vec3 n_splat = s.torn ? torn_normal(s.n, s.ds.xyz, s.dt.xyz, st, st_dx, st_dy) : s.n;
+  // Branches, not ternaries: a ternary of calls may evaluate both sides (llvmpipe does), and
+  // the procedural tissues are far dearer than the texture.
+  vec3 colour;
+  vec3 n_splat = s.n;
+  if (s.torn) {
+    colour = torn_tissue(st, st_dx, st_dy);
+    n_splat = torn_normal(s.n, s.ds.xyz, s.dt.xyz, st, st_dx, st_dy);
+  } else if (s.cut) {
+    colour = cut_tissue(st, st_dx, st_dy);
+  } else {
+    colour = textureGrad(tissue, st, st_dx, st_dy).rgb;
+  }
   // Two-sided: the normal that faces the eye (cut or thin tissue shows its back).
   const vec3 n = dot(s.n, dir) > 0.0 ? -n_splat : n_splat;
   const uint at = pixel * kAccumChannels;

@@ -2,6 +2,8 @@
 // crosses it, and a bar pulled apart by end loads.
 #pragma once
 
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "../physics/physics_fixtures.h"
@@ -90,5 +92,27 @@ struct PulledBar {
     return f;
   }
 };
+
+// A 2 x 2 x 1 cm block of brain-like tissue on a fixed base, an aspirator (20 kPa) on the middle
+// of its top, held there for 0.15 s, or (descending) sucking its way 6 mm down over 0.3 s.
+inline std::string suction_block_json(double tear_stress, bool descending = false) {
+  std::ostringstream j;
+  j << R"({"simulation": {"dt": 1e-3, "steps": 300, "gravity": [0, 0, 0]},
+  "objects": [{"name": "brain", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.02, 0.02, 0.01]},
+    "spacing": 0.002,
+    "material": {"young": 5e3, "poisson": 0.3, "density": 1000, "damping": 40,
+                 "tear_stress": )"
+    << tear_stress << R"(},
+    "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 0.0001]}]}],
+  "tools": [{"name": "aspirator", "type": "suction",
+    "shape": {"type": "capsule", "radius": 0.0015, "length": 0.05},
+    "path": [{"t": 0, "position": [0.01, 0.01, 0.0117], "axis": [0, 0, 1]})"
+    << (descending ? R"(, {"t": 0.3, "position": [0.01, 0.01, 0.0057], "axis": [0, 0, 1]})" : "")
+    << R"(],
+    "suction": {"pressure": 20000, "reach": 0.005, "until": )"
+    << (descending ? 0.3 : 0.15) << R"(}}],
+  "output": {"every": 0}})";
+  return j.str();
+}
 
 }  // namespace phyxel::test

@@ -173,12 +173,74 @@ TEST(SceneToolsErrors, TypeRequired) {
   expect_error(msg, "tools[0].type", {"missing required key \"type\"", "\"probe\""});
 }
 
-TEST(SceneToolsErrors, ComingTypesAreNotAvailableYet) {
-  for (const char* type : {"suction", "grasper"}) {
-    const std::string msg = tools_error([&](json& j) { tool0(j)["type"] = type; });
-    expect_error(msg, "tools[0].type",
-                 {"tool type \"" + std::string(type) + "\" is not available yet",
-                  "allowed probe or scalpel"});
+TEST(SceneToolsErrors, TheGrasperIsNotAvailableYet) {
+  const std::string msg = tools_error([&](json& j) { tool0(j)["type"] = "grasper"; });
+  expect_error(msg, "tools[0].type",
+               {"tool type \"grasper\" is not available yet", "allowed probe, scalpel or suction"});
+}
+
+// --- suction ---
+
+json& make_aspirator(json& j) {
+  json& t = tool0(j);
+  t["type"] = "suction";
+  t["suction"] = {{"pressure", 20000}, {"reach", 0.004}, {"from", 0.1}, {"until", 0.4}};
+  return t;
+}
+
+TEST(SceneTools, SuctionKeysAreRead) {
+  json j = with_tools();
+  make_aspirator(j);
+  const Scene s = parse_scene(j.dump(), kFile);
+  const ToolDesc& t = s.tools[0];
+  EXPECT_EQ(t.type, ToolDesc::Type::Suction);
+  EXPECT_DOUBLE_EQ(t.suction.pressure, 20000);
+  EXPECT_DOUBLE_EQ(t.suction.reach, 0.004);
+  EXPECT_TRUE(t.suction.on_at(0.1));
+  EXPECT_FALSE(t.suction.on_at(0.05));
+  EXPECT_FALSE(t.suction.on_at(0.4));
+  EXPECT_FALSE(s.tools[1].suction.sucks());  // the other tool does not suck
+  // Without from/until: on from the start to the end.
+  tool0(j)["suction"].erase("from");
+  tool0(j)["suction"].erase("until");
+  const Suction always = parse_scene(j.dump(), kFile).tools[0].suction;
+  EXPECT_TRUE(always.on_at(0) && always.on_at(1e9));
+}
+
+TEST(SceneToolsErrors, SuctionValuesAreChecked) {
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string path;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {[](json& j) { make_aspirator(j).erase("suction"); },
+       "tools[0].suction",
+       {"missing required key \"suction\""}},
+      {[](json& j) { make_aspirator(j)["suction"].erase("pressure"); },
+       "tools[0].suction.pressure",
+       {"missing required key \"pressure\""}},
+      {[](json& j) { make_aspirator(j)["suction"]["pressure"] = 0; },
+       "tools[0].suction.pressure",
+       {"allowed 0 < pressure <= 1000000 (Pa)"}},
+      {[](json& j) { make_aspirator(j)["suction"]["reach"] = -0.001; },
+       "tools[0].suction.reach",
+       {"reach > 0"}},
+      {[](json& j) { make_aspirator(j)["suction"]["until"] = 0.05; },
+       "tools[0].suction.until",
+       {"until = 0.05 is not after from = 0.1"}},
+      {[](json& j) { make_aspirator(j)["suction"]["presure"] = 1; },
+       "tools[0].suction.presure",
+       {"did you mean \"pressure\"?"}},
+      {[](json& j) {
+         tool0(j)["suction"] = {{"pressure", 1}, {"reach", 0.001}};
+       },
+       "tools[0].suction",
+       {"\"suction\" applies only to a suction tool"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.path);
+    expect_error(tools_error(c.edit), c.path, c.parts);
   }
 }
 

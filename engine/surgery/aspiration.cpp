@@ -1,0 +1,146 @@
+#include "engine/surgery/aspiration.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "engine/solver/solver.h"
+#include "engine/surgery/suction.h"
+
+namespace phyxel {
+namespace {
+
+double tear_stress_of(const PhyxelSet& set, uint32_t i) {
+  return set.materials[set.material[i]].tear_stress.value_or(0.0);
+}
+
+}  // namespace
+
+AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
+                                const std::vector<uint8_t>& surface,
+                                const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
+                                const std::vector<double>& principal, const ToolPose& mouth,
+                                double reach, double shell) {
+  const size_t n = set.size();
+  if (removed.size() != n || surface.size() != n || torn.size() != n || x.size() != n ||
+      principal.size() != n)
+    throw std::invalid_argument("fracture_sphere: per-phyxel arrays of different sizes");
+  AspirationEvent e;
+  e.centre = mouth.position;
+  e.axis = mouth.axis;
+  auto takes = [&](uint32_t i) {
+    return !removed[i] && !(set.flags[i] & kFixed) && tear_stress_of(set, i) > 0;
+  };
+  // Steps 1 and 2: the overstressed phyxels in reach; the farthest of those on a surface.
+  double radius = -1;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!takes(i) || !(surface[i] || torn[i]) || !in_suction_reach(mouth, reach, x[i])) continue;
+    if (torn[i] || principal[i] >= tear_stress_of(set, i))
+      radius = std::max(radius, (x[i] - mouth.position).norm());
+  }
+  if (radius < 0) return e;
+  e.radius = radius;
+  // Step 3: inside the sphere aspirated, the shell outside it exposed.
+  for (uint32_t i = 0; i < n; ++i) {
+    if (removed[i]) continue;
+    const double d = (x[i] - mouth.position).norm();
+    if (d <= radius && takes(i))
+      e.removed.push_back(i);
+    else if (d > radius && d <= radius + shell && !(set.flags[i] & kFixed)) {
+      e.exposed.push_back(i);
+      e.exposed_normal.push_back((mouth.position - x[i]) / d);
+    }
+  }
+  return e;
+}
+
+Aspirator::Aspirator(const Scene& scene, const PhyxelSet& set)
+    : scene_(&scene),
+      set_(&set),
+      removed_(set.size(), 0),
+      surface_(set.size(), 0),
+      torn_(set.size(), 0) {
+  bool suction = false;
+  for (const ToolDesc& t : scene.tools) suction = suction || t.suction.sucks();
+  active_ = suction && scene.tearing_possible();
+  for (const ObjectRange& o : set.objects) shell_ = std::max(shell_, o.spacing);
+  for (size_t i = 0; i < set.size(); ++i) {
+    removed_[i] = (set.flags[i] & kRemoved) != 0;
+    surface_[i] = (set.flags[i] & kSurface) != 0;
+  }
+  const size_t m = set.materials.size();
+  totals_.initial_mass.assign(m, 0);
+  totals_.removed_mass.assign(m, 0);
+  totals_.initial_volume.assign(m, 0);
+  totals_.removed_volume.assign(m, 0);
+  for (const ObjectDesc& o : scene.objects) totals_.names.push_back(o.name);
+  for (const ObjectDesc& o : scene.objects)
+    for (const Inclusion& inc : o.inclusions) totals_.names.push_back(inc.name);
+  totals_.names.resize(m);
+  for (size_t i = 0; i < set.size(); ++i) {
+    if (removed_[i]) continue;
+    totals_.initial_mass[set.material[i]] += set.mass[i];
+    totals_.initial_volume[set.material[i]] += set.volume[i];
+  }
+}
+
+void Aspirator::account(const AspirationEvent& e) {
+  for (const uint32_t i : e.removed) {
+    removed_[i] = 1;
+    totals_.removed_mass[set_->material[i]] += set_->mass[i];
+    totals_.removed_volume[set_->material[i]] += set_->volume[i];
+  }
+  for (const uint32_t i : e.exposed) surface_[i] = 1;
+  if (!e.removed.empty()) {
+    ++totals_.events;
+    totals_.max_radius = std::max(totals_.max_radius, e.radius);
+  }
+}
+
+std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
+                                                      const std::vector<ToolPose>& poses,
+                                                      double t) {
+  std::vector<AspirationEvent> events;
+  if (!active_) return events;
+  // What tore or was cut since the last aspiration: torn phyxels have failed, and every
+  // severed pair opened a face (a surface).
+  if (solver.severed_pairs() > log_cursor_) {
+    for (const SeveredPair& p : solver.severed_since(log_cursor_)) {
+      surface_[p.i] = surface_[p.j] = 1;
+      if (p.torn) torn_[p.i] = torn_[p.j] = 1;
+    }
+    log_cursor_ = solver.severed_pairs();
+  }
+  std::vector<Vec3> x;
+  std::vector<double> principal;
+  for (size_t k = 0; k < scene_->tools.size() && k < poses.size(); ++k) {
+    const Suction& s = scene_->tools[k].suction;
+    const bool haptic = scene_->tools[k].control == ToolDesc::Control::Haptic;
+    if (!s.sucks() || !(haptic || s.on_at(t))) continue;
+    if (x.empty()) {  // one read of the state for every tool
+      const PointState state = solver.read_state(true);
+      x.resize(set_->size());
+      for (size_t i = 0; i < x.size(); ++i) x[i] = set_->rest[i] + state.displacement[i];
+      principal = state.max_principal_stress;
+      if (principal.size() != x.size())
+        throw std::logic_error(solver.device() + " gave no principal stresses for aspiration");
+    }
+    AspirationEvent e =
+        fracture_sphere(*set_, removed_, surface_, torn_, x, principal, poses[k], s.reach, shell_);
+    if (e.removed.empty()) continue;
+    e.tool = k;
+    e.time = t;
+    solver.remove_phyxels(e.removed);
+    account(e);
+    events.push_back(std::move(e));
+  }
+  return events;
+}
+
+void Aspirator::replay(Solver& solver, const std::vector<AspirationEvent>& events) {
+  for (const AspirationEvent& e : events) {
+    solver.remove_phyxels(e.removed);
+    account(e);
+  }
+}
+
+}  // namespace phyxel

@@ -1,0 +1,95 @@
+// The paper's hybrid tearing at an aspirator's mouth (section V.A, docs/suction.md), applied by
+// the run loop between advances while a suction tool is on in a scene that can tear:
+//
+//  1. F: the phyxels in the mouth's reach (suction.h in_suction_reach) that are neither fixed
+//     nor removed, whose material has a tear_stress, and that have failed: their largest
+//     principal stress reaches it (the paper's step 1), or a pair of theirs has torn
+//     (docs/tearing.md: tearing runs every substep, so the tissue the pull overloads
+//     has often torn, relieving its stress, by the end of the advance).
+//  2. The phyxels of F on the tissue's surface (the outer surface, a fracture surface an
+//     earlier aspiration exposed, or a face a tear or a cut opened): the one farthest from the
+//     collision point c, the mouth, is the breaking point and its distance the fracture radius R
+//     (step 2). No surface phyxel in F: nothing tears yet (the overstressed tissue is still
+//     inside).
+//  3. The phyxels within R of c whose material has a tear_stress are aspirated: removed from the
+//     physics, their mass and volume accounted per material (objects' and inclusions'). Those
+//     with R < |x - c| <= R + delta (delta: the largest object spacing) form the new fracture
+//     surface (step 3): they are surface from now on (the next aspiration's step 2 sees them)
+//     and the renderer draws them as torn (docs/tearing.md).
+//
+// Positions are current (rest + u), as the solver had them at the end of the advance.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/sampling/phyxel_set.h"
+#include "engine/surgery/tool.h"
+
+namespace phyxel {
+
+class Solver;
+
+struct AspirationEvent {
+  size_t tool = 0;
+  double time = 0;                // s, the end of the advance
+  Vec3 centre = Vec3::Zero();     // the collision point (the mouth), m
+  double radius = 0;              // the fracture radius R, m
+  std::vector<uint32_t> removed;  // ascending
+  std::vector<uint32_t> exposed;  // the new fracture surface, ascending
+  // Per exposed phyxel: the unit direction from it to the mouth (current positions), the
+  // outward normal of the crater's wall it is on.
+  std::vector<Vec3> exposed_normal;
+  Vec3 axis = Vec3::UnitZ();  // the tool's axis (the crater's, for the noise's falloff)
+};
+
+// Steps 1-3 for one mouth. removed, surface, torn: per phyxel (1: removed; 1: on a surface;
+// 1: a pair of its tore); x: current positions; principal: the largest principal stress per
+// phyxel (Pa); shell: delta.
+// Returns an event with no removed phyxel when nothing tears.
+AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
+                                const std::vector<uint8_t>& surface,
+                                const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
+                                const std::vector<double>& principal, const ToolPose& mouth,
+                                double reach, double shell);
+
+// What the aspirators took, per material of the set (objects' then inclusions', as
+// PhyxelSet::materials), and per run.
+struct AspirationTotals {
+  std::vector<std::string> names;  // of the materials' objects and inclusions
+  std::vector<double> initial_mass, removed_mass, initial_volume, removed_volume;  // kg, m^3
+  int64_t events = 0;     // aspirations that removed tissue
+  double max_radius = 0;  // the largest fracture radius, m
+};
+
+class Aspirator {
+ public:
+  Aspirator(const Scene& scene, const PhyxelSet& set);
+  // Any suction tool, in a scene where something can tear.
+  bool active() const { return active_; }
+  // After an advance that ended at time t with the tools at `poses` (one per scene tool): the
+  // aspiration of every suction tool on at t, applied to `solver` (Solver::remove_phyxels).
+  std::vector<AspirationEvent> after_advance(Solver& solver, const std::vector<ToolPose>& poses,
+                                             double t);
+  // Re-applies events (a checkpoint resume, the viewer): removes their phyxels and marks
+  // their fracture surface, accounting them as they were.
+  void replay(Solver& solver, const std::vector<AspirationEvent>& events);
+  const AspirationTotals& totals() const { return totals_; }
+  const std::vector<uint8_t>& removed() const { return removed_; }
+  const std::vector<uint8_t>& surface() const { return surface_; }
+
+ private:
+  void account(const AspirationEvent& e);
+
+  const Scene* scene_;
+  const PhyxelSet* set_;
+  bool active_ = false;
+  double shell_ = 0;
+  std::vector<uint8_t> removed_, surface_;
+  std::vector<uint8_t> torn_;  // a pair of the phyxel has torn
+  size_t log_cursor_ = 0;      // of the solver's severed log
+  AspirationTotals totals_;
+};
+
+}  // namespace phyxel

@@ -1,0 +1,55 @@
+// The aspirator (issue #11, docs/suction.md): its pull on the tissue, shared by the CPU reference
+// (solver/cpu_solver.cpp apply_contacts) and mirrored by the GPU solver
+// (compute/shaders/tool_contact.comp), and the paper's hybrid tearing at its mouth (section V.A,
+// the fracture sphere), which the run loop applies between advances (engine/surgery/aspiration.h).
+//
+// Pull. While a suction tool is on, every phyxel (not fixed, not removed) within `reach` of its
+// mouth, the tip, and ahead of it ((x - tip) . axis <= 0: the axis runs up the shaft) is pulled
+// toward the tip by
+//
+//   f_i = F V_i / V_reach (tip - x_i) / |tip - x_i|,   F = pressure pi radius^2,
+//   V_reach = 2/3 pi reach^3 (the half ball ahead of the mouth),
+//
+// after the substep's contact correction, as a velocity change dt f_i / m_i. With the half ball
+// full of tissue the pulls add up to F, the pressure on the mouth's area; with less tissue in
+// reach the tube pulls on what is there, so the force needs no sum over the phyxels (one pass, no
+// reduction) and does not grow on a few phyxels as the tissue thins. The tool feels -sum f_i.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <numbers>
+
+#include "engine/surgery/contact.h"
+
+namespace phyxel {
+
+// F / V_reach (N/m^3): the pull per unit volume of tissue in reach; 0 for a tool that does not
+// suck.
+inline double suction_pull_density(const ContactTool& tool) {
+  const Suction& s = tool.suction;
+  if (!s.sucks() || !(s.reach > 0)) return 0;
+  const double force = s.pressure * std::numbers::pi * tool.shape.radius * tool.shape.radius;
+  return force / (2.0 / 3.0 * std::numbers::pi * s.reach * s.reach * s.reach);
+}
+
+// Whether x is in the mouth's reach at `pose`: within `reach` of the tip and ahead of it.
+inline bool in_suction_reach(const ToolPose& pose, double reach, const Vec3& x) {
+  const Vec3 r = x - pose.position;
+  return r.squaredNorm() <= reach * reach && r.dot(pose.axis) <= 0;
+}
+
+// f_i of a phyxel of volume `volume` at x (zero outside the reach or at the tip itself).
+template <class Real>
+Eigen::Matrix<Real, 3, 1> suction_pull(const ContactTool& tool, const ToolPose& pose,
+                                       const Eigen::Matrix<Real, 3, 1>& x, Real volume) {
+  using V3 = Eigen::Matrix<Real, 3, 1>;
+  const Vec3 xd = x.template cast<double>();
+  if (!tool.suction.sucks() || !in_suction_reach(pose, tool.suction.reach, xd)) return V3::Zero();
+  const Vec3 to_tip = pose.position - xd;
+  const double len = to_tip.norm();
+  if (!(len > 0)) return V3::Zero();
+  return (suction_pull_density(tool) * double(volume) / len * to_tip).template cast<Real>();
+}
+
+}  // namespace phyxel

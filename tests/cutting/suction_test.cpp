@@ -1,0 +1,182 @@
+// The aspirator (engine/surgery/suction.h, aspiration.h; docs/suction.md) on the CPU reference:
+// its pull law (toward the mouth, within reach ahead of it, F = pressure x mouth area over a full
+// half ball); the fracture sphere of the paper's hybrid tearing on a synthetic set; a block
+// under suction below its tear stress deforms and lets go without losing anything; above it,
+// pieces are aspirated, removed + remaining mass and volume equal the initial ones, and every
+// value stays finite through repeated aspiration.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "engine/run/simulation.h"
+#include "engine/solver/cpu_solver.h"
+#include "engine/surgery/aspiration.h"
+#include "engine/surgery/suction.h"
+#include "tests/cutting/cutting_fixtures.h"
+
+namespace phyxel {
+namespace {
+
+ContactTool aspirator(double radius, double pressure, double reach) {
+  ContactTool t;
+  t.shape.type = ToolShape::Type::Capsule;
+  t.shape.radius = radius;
+  t.shape.length = 0.05;
+  t.suction.pressure = pressure;
+  t.suction.reach = reach;
+  return t;
+}
+
+TEST(SuctionPull, PullsTowardTheMouthWithinReachAheadOfIt) {
+  const ContactTool tool = aspirator(0.002, 2e4, 0.005);
+  const ToolPose mouth{Vec3(0, 0, 0.01), Vec3::UnitZ()};
+  const double v = 1e-9;
+  const Vec3 ahead = suction_pull<double>(tool, mouth, Vec3(0.001, 0, 0.008), v);
+  const Vec3 dir = (mouth.position - Vec3(0.001, 0, 0.008)).normalized();
+  EXPECT_NEAR(ahead.normalized().dot(dir), 1.0, 1e-12);
+  EXPECT_NEAR(ahead.norm(), suction_pull_density(tool) * v, 1e-15);
+  EXPECT_EQ(suction_pull<double>(tool, mouth, Vec3(0, 0, 0.012), v), Vec3::Zero());  // behind
+  EXPECT_EQ(suction_pull<double>(tool, mouth, Vec3(0, 0, 0.004), v), Vec3::Zero());  // beyond
+  EXPECT_EQ(suction_pull<double>(tool, mouth, mouth.position, v), Vec3::Zero());     // at it
+  ContactTool off = tool;
+  off.suction.pressure = 0;
+  EXPECT_EQ(suction_pull<double>(off, mouth, Vec3(0, 0, 0.008), v), Vec3::Zero());
+  // A half ball full of tissue: the pulls' magnitudes add up to pressure x mouth area.
+  const double h = 2e-4;
+  double sum = 0;
+  for (double x = -0.005; x <= 0.005; x += h)
+    for (double y = -0.005; y <= 0.005; y += h)
+      for (double z = 0.01 - 0.005; z <= 0.01; z += h)
+        sum += suction_pull<double>(tool, mouth, Vec3(x, y, z), h * h * h).norm();
+  const double force = 2e4 * std::numbers::pi * 0.002 * 0.002;
+  EXPECT_NEAR(sum, force, 0.03 * force);
+}
+
+TEST(Suction, BelowTheTearStressDeformsAndLetsGoWithoutRemovingAnything) {
+  const Scene scene = parse_scene(test::suction_block_json(1e6), "block.json");
+  const PhyxelSet set = sample_scene(scene);
+  const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
+  RunOptions options;
+  options.steps = 150;  // the suction's 0.15 s
+  RunResult during = run_simulation(scene, set, *solver, options);
+  ASSERT_TRUE(during.aspirating);
+  const PointState mid = solver->read_state(false);
+  double lifted = 0;  // the top under the mouth rises toward it
+  for (size_t i = 0; i < set.size(); ++i)
+    if ((set.rest[i] - Vec3(0.01, 0.01, 0.01)).norm() < 1e-9) lifted = mid.displacement[i].z();
+  EXPECT_GT(lifted, 2e-4) << "the tissue under the mouth did not rise";
+  EXPECT_GT(during.tools[0].max_force, 0.01);  // the tube feels the tissue it holds
+  EXPECT_EQ(during.aspiration.events, 0);
+  // Off: the block relaxes back (the continuation of the same solver, suction off).
+  Scene off = scene;
+  off.tools[0].suction.until = 1e-6;
+  options.steps = 300;
+  run_simulation(off, set, *solver, options);
+  const PointState end = solver->read_state(false);
+  double largest = 0;
+  for (const Vec3& u : end.displacement) largest = std::max(largest, u.norm());
+  EXPECT_LT(largest, 0.1 * lifted) << "the tissue did not let go";
+  for (const double m : during.aspiration.removed_mass) EXPECT_EQ(m, 0.0);
+}
+
+TEST(Suction, AboveTheTearStressAspiratesAndAccountsMassAndVolumeExactly) {
+  const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
+  const PhyxelSet set = sample_scene(scene);
+  const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
+  std::vector<uint32_t> removed;
+  size_t exposing = 0;  // events that exposed a fracture surface
+  RunOptions options;
+  options.steps = 300;
+  options.on_aspiration = [&](const AspirationEvent& e) {
+    EXPECT_GT(e.radius, 0);
+    EXPECT_LE(e.radius, 0.005 + 1e-12);
+    exposing += !e.exposed.empty();
+    removed.insert(removed.end(), e.removed.begin(), e.removed.end());
+  };
+  const RunResult r = run_simulation(scene, set, *solver, options);
+  EXPECT_GE(r.aspiration.events, 2) << "expected repeated aspiration";
+  ASSERT_FALSE(removed.empty());
+  EXPECT_GT(exposing, 0u);
+  EXPECT_EQ(solver->first_non_finite(), -1);
+  // Exactly the removed phyxels' mass and volume; with what remains, the initial.
+  double mass = 0, volume = 0, remaining_mass = 0, remaining_volume = 0;
+  std::vector<uint8_t> gone(set.size(), 0);
+  for (const uint32_t i : removed) {
+    EXPECT_EQ(gone[i], 0) << "phyxel " << i << " removed twice";
+    gone[i] = 1;
+    mass += set.mass[i];
+    volume += set.volume[i];
+  }
+  for (size_t i = 0; i < set.size(); ++i)
+    if (!gone[i]) {
+      remaining_mass += set.mass[i];
+      remaining_volume += set.volume[i];
+    }
+  EXPECT_DOUBLE_EQ(r.aspiration.removed_mass[0], mass);
+  EXPECT_DOUBLE_EQ(r.aspiration.removed_volume[0], volume);
+  EXPECT_NEAR(r.aspiration.removed_mass[0] + remaining_mass, r.aspiration.initial_mass[0],
+              1e-12 * r.aspiration.initial_mass[0]);
+  EXPECT_NEAR(r.aspiration.removed_volume[0] + remaining_volume, r.aspiration.initial_volume[0],
+              1e-12 * r.aspiration.initial_volume[0]);
+  // Only tissue near the mouth went: nothing fixed, nothing beyond the reach's sphere.
+  for (const uint32_t i : removed) {
+    EXPECT_FALSE(set.flags[i] & kFixed);
+    EXPECT_LT((set.rest[i] - Vec3(0.01, 0.01, 0.0117)).norm(), 0.012) << i;
+  }
+  RecordProperty("aspirated_mass_g", std::to_string(1e3 * mass));
+}
+
+// A line of phyxels along -z below a mouth at the origin: the fracture sphere by hand.
+TEST(FractureSphere, TheFarthestOverstressedSurfacePhyxelSetsTheRadius) {
+  PhyxelSet set;
+  Material m = test::tissue(1e4);
+  m.tear_stress = 100;
+  set.materials = {m};
+  const int n = 10;
+  for (int k = 0; k < n; ++k) {
+    set.rest.push_back(Vec3(0, 0, -0.001 * (k + 1)));
+    set.mass.push_back(1e-6);
+    set.volume.push_back(1e-9);
+    set.material.push_back(0);
+    set.object.push_back(0);
+    set.flags.push_back(kSurface);
+  }
+  const ToolPose mouth{Vec3::Zero(), Vec3::UnitZ()};
+  std::vector<uint8_t> removed(n, 0), surface(n, 1), torn(n, 0);
+  std::vector<double> principal(n, 50);
+  principal[0] = principal[2] = 150;  // overstressed at 1 and 3 mm
+  const std::vector<Vec3> x = set.rest;
+  AspirationEvent e =
+      fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015);
+  EXPECT_DOUBLE_EQ(e.radius, 0.003);
+  EXPECT_EQ(e.removed, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(e.exposed, (std::vector<uint32_t>{3}));  // 4 mm: within R + delta
+  // Overstressed beyond the reach, or only inside the tissue (not on a surface): nothing.
+  principal.assign(n, 50);
+  principal[7] = 150;
+  EXPECT_TRUE(fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015)
+                  .removed.empty());
+  principal[7] = 50;
+  principal[1] = 150;
+  surface[1] = 0;
+  EXPECT_TRUE(fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015)
+                  .removed.empty());
+  // A torn phyxel has failed whatever its stress now: torn at 2 mm, R = 2 mm.
+  principal[1] = 50;
+  torn[1] = 1;
+  e = fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015);
+  EXPECT_DOUBLE_EQ(e.radius, 0.002);
+  EXPECT_EQ(e.removed, (std::vector<uint32_t>{0, 1}));
+  torn[1] = 0;
+  // Behind the mouth nothing is in reach.
+  const ToolPose turned{Vec3::Zero(), -Vec3::UnitZ()};
+  surface.assign(n, 1);
+  EXPECT_TRUE(fracture_sphere(set, removed, surface, torn, x, principal, turned, 0.005, 0.0015)
+                  .removed.empty());
+}
+
+}  // namespace
+}  // namespace phyxel
