@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "render/cut_surfels.h"
+#include "render/environment_map.h"
 
 namespace phyxel::render {
 namespace {
@@ -35,9 +36,13 @@ FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
     own_ctx_ = std::make_unique<gpu::Context>(o);
     ctx_ = own_ctx_.get();
   }
-  const SurfelTable table = build_surfel_table(set);
+  const SurfelTable table = build_surfel_table(set, material_mirrors(scene));
   renderer_ = std::make_unique<SplatRenderer>(*ctx_, table, texture);
   camera_ = resolve_camera(scene.camera, table.bounds, double(r.width) / double(r.height), file);
+  if (!r.environment.empty()) {
+    renderer_->set_environment(load_environment(r.environment, file + ": render.environment"),
+                               environment_basis(camera_), r.environment_area_ratio);
+  }
   setup_ = make_frame_setup(camera_, r, options.mode);
   const uint32_t limit = renderer_->max_frame_side();
   const uint32_t wide = setup_.eye_count() * setup_.eye_width;

@@ -87,6 +87,15 @@ class SplatRenderer {
   void set_tools(std::vector<ToolDrawable> tools);
   const std::vector<ToolDrawable>& tools() const;
 
+  // The surroundings (render/environment_map.h, the paper's eqs 33-34), from the next frame
+  // on: a square image on a cube at infinity whose frame is `world_to_cube` (rows: the cube's
+  // x, y, z in world coordinates; environment_basis of the scene's camera), area ratio K of
+  // its top face. Pixels that nothing covers show it, and surfels with a mirror level (flags,
+  // kSurfelMirrorShift) reflect it. None by default (the plain kBackground). Waits for the
+  // device. Throws std::invalid_argument for an image that is not square or K <= 0.
+  void set_environment(const RgbaImage& image, const Eigen::Matrix3d& world_to_cube,
+                       double area_ratio);
+
   // Renders one frame of the current state of `inputs` and returns it (waits for the GPU).
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);
 

@@ -21,6 +21,7 @@ struct EyeSplat {
   vec4 ds;   // xyz: gradient of the texture coordinate s; w: s at the centre
   vec4 dt;   // the same for t
   bool cut;  // a cut face (kSplatCutFace): cut tissue instead of the texture
+  float mirror;  // the fraction of its colour that reflects the environment
 };
 
 EyeSplat eye_splat(uint k) {
@@ -33,6 +34,7 @@ EyeSplat eye_splat(uint k) {
   e.ds = vec4(rot * s.ds_dx.xyz, s.ds_dx.w);
   e.dt = vec4(rot * s.dt_dx.xyz, s.dt_dx.w);
   e.cut = (uint(s.normal.w) & kSplatCutFace) != 0u;
+  e.mirror = float((uint(s.normal.w) >> kSplatMirrorShift) & kMirrorLevels) / float(kMirrorLevels);
   return e;
 }
 
