@@ -72,7 +72,14 @@ vec3 shade(uint eye, uint x, uint y) {
   const vec4 frustum = eye == 0 ? p.frustum0 : p.frustum1;
   const float near = eye == 0 ? p.near.x : p.near.y;
   const vec3 view = -normalize(pixel_ray(frustum, near, vec2(p.frame.xy), vec2(x, y)));
-  if (!(w > 0.0) && tool == 0u) return environment_colour(-view);
+  if (!(w > 0.0) && tool == 0u) {
+    // The cube through the eye's frustum without its stereo shift: both eyes see it alike
+    // (zero parallax). At infinity its parallax would be the whole IPD at the focal distance,
+    // far more than eyes fuse at the distances of surgery.
+    const float centre = 0.5 * (frustum.x + frustum.y);
+    const vec4 unshifted = vec4(frustum.xy - centre, frustum.zw);
+    return environment_colour(normalize(pixel_ray(unshifted, near, vec2(p.frame.xy), vec2(x, y))));
+  }
   if (!(w > 0.0)) return shade_tool(unpack_tool_normal(tool), view);
   const vec3 albedo = vec3(accum[at], accum[at + 1], accum[at + 2]) / w;
   const vec3 sum_n = vec3(accum[at + 4], accum[at + 5], accum[at + 6]);
