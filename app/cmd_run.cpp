@@ -46,6 +46,10 @@ constexpr const char* kRunHelp =
     "  --render MODE       none, mono or stereo: also write DIR/frame_NNNNNN.png at step 0,\n"
     "                      every render.every steps and at the end (default: the scene's\n"
     "                      render.mode); offscreen, never needs a display\n"
+    "  --video FILE        also encode the frames as H.264 in an MP4 (mono, or the stereo\n"
+    "                      layout), at the simulated-time rate 1 / (render.every x dt);\n"
+    "                      renders mono when neither --render nor render.mode says (default:\n"
+    "                      the scene's render.video, relative to DIR)\n"
     "  --draw-only         with --render: draw and read back every frame, but write no PNG\n"
     "                      (what drawing costs a run, e.g. with render.every at 60 frames/s)\n"
     "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu);\n"
@@ -121,6 +125,7 @@ int run_command(const Args& args) {
   const bool explain = opts.flag("--explain");
   const bool no_skip = opts.flag("--no-skip");
   const std::string render_mode = opts.value("--render", "");
+  const std::string video = opts.value("--video", "");
   const std::string render_device = opts.value("--render-device", "gpu");
   const std::string haptic_device = opts.value("--haptic-device", "scripted");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
@@ -175,6 +180,16 @@ int run_command(const Args& args) {
       scene.render.mode = render_mode == "mono"     ? RenderSettings::Mode::Mono
                           : render_mode == "stereo" ? RenderSettings::Mode::Stereo
                                                     : RenderSettings::Mode::None;
+    std::string video_source = scene.file.string() + ": render.video";
+    if (!video.empty()) {
+      scene.render.video = video;
+      video_source = "phyxel run: --video";
+    } else if (!scene.render.video.empty()) {
+      scene.render.video = out_dir / scene.render.video;
+    }
+    if (!scene.render.video.empty() && scene.render.mode == RenderSettings::Mode::None &&
+        render_mode.empty())
+      scene.render.mode = RenderSettings::Mode::Mono;
     const PhyxelSet set = sample_scene(scene);
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -243,11 +258,17 @@ int run_command(const Args& args) {
     std::unique_ptr<render::FrameWriter> frames;
     if (scene.render.mode != RenderSettings::Mode::None) {
       auto* gpu_solver = dynamic_cast<gpu::GpuSolver*>(solver.get());
-      frames = std::make_unique<render::FrameWriter>(
-          scene, set,
-          render::FrameWriterOptions{scene.render.mode, out_dir, render_device,
-                                     gpu::validation_default(), !draw_only},
-          gpu_solver ? &gpu_solver->context() : nullptr);
+      render::FrameWriterOptions frame_options;
+      frame_options.mode = scene.render.mode;
+      frame_options.out_dir = out_dir;
+      frame_options.device = render_device;
+      frame_options.write_files = !draw_only;
+      frame_options.video = scene.render.video;
+      frame_options.video_every = scene.render.every;
+      frame_options.video_fps = 1.0 / (double(scene.render.every) * scene.simulation.dt);
+      frame_options.video_source = video_source;
+      frames = std::make_unique<render::FrameWriter>(scene, set, frame_options,
+                                                     gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
       if (!checkpoint) render::write_solver_frame(*frames, *solver, 0, tool_poses, buffers);
@@ -267,6 +288,7 @@ int run_command(const Args& args) {
       trace->close();
       result.outputs.push_back("tools.csv");
     }
+    if (frames) frames->finish();  // the writer thread's last PNG files and the video
     const size_t frame_count = frames ? frames->written().size() : 0;
     options.on_frame = nullptr;
     options.on_aspiration = nullptr;
@@ -325,6 +347,8 @@ int run_command(const Args& args) {
                   device_name.c_str(), (out_dir / "summary.json").c_str());
     if (!quiet && frame_count > 0)
       std::printf("wrote %zu frames frame_NNNNNN.png to %s\n", frame_count, out_dir.c_str());
+    if (!quiet && !scene.render.video.empty())
+      std::printf("wrote the video %s\n", scene.render.video.c_str());
     return 0;
   } catch (const CheckpointError& e) {
     std::fprintf(stderr, "phyxel run: %s\n", e.what());

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "render/cut_surfels.h"
+#include "render/environment_map.h"
 
 namespace phyxel::render {
 namespace {
@@ -36,9 +37,13 @@ FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
     own_ctx_ = std::make_unique<gpu::Context>(o);
     ctx_ = own_ctx_.get();
   }
-  const SurfelTable table = build_surfel_table(set);
+  const SurfelTable table = build_surfel_table(set, material_mirrors(scene));
   renderer_ = std::make_unique<SplatRenderer>(*ctx_, table, texture);
   camera_ = resolve_camera(scene.camera, table.bounds, double(r.width) / double(r.height), file);
+  if (!r.environment.empty()) {
+    renderer_->set_environment(load_environment(r.environment, file + ": render.environment"),
+                               environment_basis(camera_), r.environment_area_ratio);
+  }
   setup_ = make_frame_setup(camera_, r, options.mode);
   const uint32_t limit = renderer_->max_frame_side();
   const uint32_t wide = setup_.eye_count() * setup_.eye_width;
@@ -54,9 +59,29 @@ FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
   if (const std::string why = renderer_->frame_error(setup_); !why.empty()) {
     throw SceneError(file + ": render.width and render.height: " + why);
   }
+  std::unique_ptr<VideoWriter> video;
+  if (!options.video.empty()) {
+    try {
+      video = std::make_unique<VideoWriter>(options.video, setup_.frame_width(), setup_.height,
+                                            options.video_fps);
+    } catch (const std::runtime_error& e) {
+      throw SceneError(options.video_source + ": " + e.what() +
+                       "; allowed a file in an existing, writable folder");
+    }
+  }
+  if (options.write_files || video)
+    sink_ = std::make_unique<FrameSink>(options.out_dir, options.write_files, std::move(video));
 }
 
 FrameWriter::~FrameWriter() = default;
+
+void FrameWriter::flush() {
+  if (sink_) sink_->flush();
+}
+
+void FrameWriter::finish() {
+  if (sink_) sink_->finish();
+}
 
 RgbaImage FrameWriter::render(const RenderInputs& inputs) {
   return renderer_->render(inputs, setup_);
@@ -67,11 +92,12 @@ void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
 }
 
 std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
-  const RgbaImage image = render(inputs);
+  RgbaImage image = render(inputs);
   const std::string name = frame_name(step);
-  if (!options_.write_files) return name;
-  write_png(options_.out_dir / name, image);
-  written_.push_back(name);
+  if (!sink_) return name;
+  const int64_t every = std::max<int64_t>(options_.video_every, 1);
+  sink_->push(name, std::move(image), (step + every / 2) / every);
+  if (options_.write_files) written_.push_back(name);
   return name;
 }
 

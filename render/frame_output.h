@@ -23,6 +23,7 @@
 #include "engine/surgery/aspiration.h"
 #include "engine/surgery/cut_faces.h"
 #include "render/splat_renderer.h"
+#include "render/video_writer.h"
 
 namespace phyxel::render {
 
@@ -34,6 +35,13 @@ struct FrameWriterOptions {
   // false: every frame is drawn and read back as usual but no PNG is written (`phyxel run
   // --draw-only`: what drawing costs a run, without the encoder's and the disk's share).
   bool write_files = true;
+  // Also an H.264 MP4 of the frames (render/video_writer.h), frame number step / video_every
+  // at video_fps frames per second; empty: none. `video_source` names where the path came
+  // from in errors ("--video", "scene.json: render.video").
+  std::filesystem::path video{};
+  double video_fps = 30;
+  int64_t video_every = 1;
+  std::string video_source = "video";
 };
 
 class FrameWriter {
@@ -45,8 +53,9 @@ class FrameWriter {
               gpu::Context* ctx = nullptr);
   ~FrameWriter();
 
-  // Renders the state in `inputs` (a GPU solver's buffers) and writes frame_NNNNNN.png.
-  // Returns the file name (relative to out_dir).
+  // Renders the state in `inputs` (a GPU solver's buffers) and hands it to the writer thread
+  // (frame_NNNNNN.png, the video). Returns the file name (relative to out_dir). Rethrows a
+  // failure to write an earlier frame.
   std::string write(int64_t step, const RenderInputs& inputs);
   // The same for a state on the host: uploads u into buffers of its own (made on first use
   // from `neighbours`, the solver's rest neighbour lists).
@@ -76,6 +85,12 @@ class FrameWriter {
   const Camera& camera() const { return camera_; }
   const std::vector<std::string>& written() const { return written_; }
   static std::string frame_name(int64_t step);
+  // Waits until the writer thread has written every frame so far (the files exist);
+  // rethrows a failure.
+  void flush();
+  // flush(), and finishes the video. Call before the writer is destroyed to hear of
+  // failures (the destructor waits too but ignores them).
+  void finish();
 
  private:
   std::unique_ptr<gpu::Context> own_ctx_;
@@ -86,6 +101,7 @@ class FrameWriter {
   FrameSetup setup_;
   std::unique_ptr<SplatRenderer> renderer_;
   std::unique_ptr<HostInputs> host_;
+  std::unique_ptr<FrameSink> sink_;  // PNG files and the video, on a thread of its own
   std::vector<std::string> written_;
   CutFaces cuts_;
   size_t cut_cursor_ = 0;  // entries of the solver's severed log already in cuts_

@@ -118,6 +118,75 @@ RgbaImage procedural_tissue_texture(uint32_t size) {
   return image;
 }
 
+namespace {
+
+double smooth_band(double x, double lo, double hi) {
+  const double t = std::clamp((x - lo) / (hi - lo), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+// The colour of the operating field at (x, y) in [-1, 1]^2 (y down).
+void operating_field_colour(double x, double y, double rgb[3]) {
+  const double fx = 6 * (x + 1), fy = 6 * (y + 1);
+  const double wobble = 0.06 * (fbm(fx * 0.5, fy * 0.5, 3, 71) - 0.5);
+  const double r = std::sqrt(x * x + y * y) + wobble;
+  // Tissue: pink parenchyma, sulci (dark folds), vessels and wet glints.
+  const double mottle = fbm(fx, fy, 5, 53);
+  const double sulcus =
+      std::clamp(1 - std::abs(fbm(fx * 0.6, fy * 0.6, 4, 59) - 0.5) / 0.03, 0.0, 1.0);
+  const double wx = fx + 1.5 * fbm(fx * 0.7, fy * 0.7, 3, 61);
+  const double wy = fy + 1.5 * fbm(fx * 0.7 + 3.1, fy * 0.7 + 7.7, 3, 67);
+  const double vessel =
+      std::clamp(1 - std::abs(fbm(wx * 0.8, wy * 0.8, 4, 73) - 0.5) / 0.018, 0.0, 1.0);
+  const double glint = 0.8 * smooth_band(fbm(fx * 3, fy * 3, 3, 79), 0.77, 0.83);
+  double t[3] = {0.78 + 0.14 * (mottle - 0.5), 0.42 + 0.12 * (mottle - 0.5),
+                 0.40 + 0.10 * (mottle - 0.5)};
+  const double depth = 1 - 0.35 * smooth_band(0.45 - r, 0.0, 0.45);  // the cavity is darker
+  const double vein[3] = {0.45, 0.06, 0.10}, fold[3] = {0.35, 0.10, 0.10};
+  for (int c = 0; c < 3; ++c) {
+    t[c] = t[c] * (1 - vessel) + vein[c] * vessel;
+    t[c] = t[c] * (1 - 0.7 * sulcus) + fold[c] * 0.7 * sulcus;
+    t[c] = t[c] * depth * (1 - glint) + 0.95 * glint;
+  }
+  // The rim of the opening: blood and shadow. Drapes beyond: green, folds shaded.
+  const double fold_wave = std::sin(9 * std::atan2(y, x) + 6 * fbm(fx * 0.3, fy * 0.3, 3, 83));
+  const double drape_light = 0.75 + 0.25 * fold_wave * (0.6 + 0.4 * fbm(fx, fy, 3, 89));
+  const double drape[3] = {0.17 * drape_light, 0.42 * drape_light, 0.38 * drape_light};
+  const double rim[3] = {0.30, 0.04, 0.05};
+  const double to_rim = smooth_band(r, 0.66, 0.72), to_drape = smooth_band(r, 0.76, 0.8);
+  for (int c = 0; c < 3; ++c) {
+    rgb[c] = t[c] * (1 - to_rim) + rim[c] * to_rim;
+    rgb[c] = rgb[c] * (1 - to_drape) + drape[c] * to_drape;
+  }
+  // Three steel retractor blades across the rim, each with a bright glint along its middle.
+  const double angles[3] = {-2.2, 0.4, 2.5};
+  for (double a : angles) {
+    const double dx = std::cos(a), dy = std::sin(a);
+    const double along = x * dx + y * dy, across = std::abs(-x * dy + y * dx);
+    if (along < 0.6 || along > 1.4 || across > 0.07) continue;
+    const double shade = 0.45 + 0.2 * along + 0.5 * std::pow(1 - across / 0.07, 8.0);
+    const double steel[3] = {0.62, 0.64, 0.68};
+    for (int c = 0; c < 3; ++c) rgb[c] = std::min(1.0, steel[c] * shade);
+  }
+}
+
+}  // namespace
+
+RgbaImage procedural_operating_field(uint32_t size) {
+  RgbaImage image(size, size);
+  for (uint32_t py = 0; py < size; ++py) {
+    for (uint32_t px = 0; px < size; ++px) {
+      double rgb[3];
+      operating_field_colour((2.0 * px + 1) / size - 1, (2.0 * py + 1) / size - 1, rgb);
+      uint8_t* p = image.at(px, py);
+      for (int c = 0; c < 3; ++c)
+        p[c] = static_cast<uint8_t>(std::lround(std::clamp(rgb[c], 0.0, 1.0) * 255));
+      p[3] = 255;
+    }
+  }
+  return image;
+}
+
 void write_png(const std::filesystem::path& file, const RgbaImage& image) {
   if (image.width == 0 || image.height == 0) {
     throw std::runtime_error(file.string() + ": cannot write an empty image");

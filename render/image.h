@@ -28,6 +28,12 @@ RgbaImage load_image(const std::filesystem::path& file, const std::string& conte
 // size pixels.
 RgbaImage procedural_tissue_texture(uint32_t size = 512);
 
+// A deterministic operating field seen from above, size x size pixels, for render.environment
+// (render/environment_map.h): exposed pink tissue with sulci, vessels and wet glints over most
+// of the image, a dark bloody rim, steel retractor blades with glints and green drapes with
+// folds at the border (tools/make_operating_field writes scenes/operating_field.png).
+RgbaImage procedural_operating_field(uint32_t size = 512);
+
 // Writes a PNG; throws std::runtime_error naming the file when it cannot.
 void write_png(const std::filesystem::path& file, const RgbaImage& image);
 

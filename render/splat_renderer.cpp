@@ -96,7 +96,8 @@ FrameSetup make_frame_setup(const Camera& camera, const RenderSettings& settings
 struct SplatRenderer::Impl {
   Impl(gpu::Context& c, const RendererOptions& o) : ctx(c), images(c), options(o) {}
   ~Impl();
-  void create_texture_set();
+  void create_texture_sets();
+  void write_texture_set(VkDescriptorSet set, const Texture& image);
   void ensure_targets(const FrameSetup& setup);
   void grow(size_t slots);
 
@@ -122,6 +123,13 @@ struct SplatRenderer::Impl {
   VkDescriptorSetLayout texture_layout = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet texture_set = VK_NULL_HANDLE;
+  // The environment (set_environment): its image in set 1 of the shading pass (the tissue
+  // texture until there is one, never read then), the cube's frame and area ratio.
+  Texture environment;
+  VkDescriptorSet environment_set = VK_NULL_HANDLE;
+  bool has_environment = false;
+  Eigen::Matrix3d world_to_environment = Eigen::Matrix3d::Identity();
+  double environment_area_ratio = 1;
   // Size-dependent targets: per pixel of each eye (eye e from e x eye_stride) the visible
   // depth and the accumulated attributes; the frame in its layout; its host copy.
   uint32_t eye_width = 0, eye_height = 0, eyes = 0, eye_stride = 0;
@@ -138,8 +146,9 @@ SplatRenderer::Impl::~Impl() {
   }
 }
 
-// Set 1 of the accumulation pass: the texture and its sampler.
-void SplatRenderer::Impl::create_texture_set() {
+// Set 1 of the accumulation pass (the texture and its sampler) and of the shading pass (the
+// environment, at first the texture as a placeholder).
+void SplatRenderer::Impl::create_texture_sets() {
   const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1,
                                              VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   auto set = vk_struct<VkDescriptorSetLayoutCreateInfo>(
@@ -147,26 +156,35 @@ void SplatRenderer::Impl::create_texture_set() {
   set.bindingCount = 1;
   set.pBindings = &binding;
   VK_CHECK(ctx.fn().vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &texture_layout));
-  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1};
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2};
   auto info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  info.maxSets = 1;
+  info.maxSets = 2;
   info.poolSizeCount = 1;
   info.pPoolSizes = &size;
   VK_CHECK(ctx.fn().vkCreateDescriptorPool(ctx.device(), &info, nullptr, &pool));
+  const VkDescriptorSetLayout layouts[2] = {texture_layout, texture_layout};
+  VkDescriptorSet sets[2] = {};
   auto alloc =
       vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
   alloc.descriptorPool = pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &texture_layout;
-  VK_CHECK(ctx.fn().vkAllocateDescriptorSets(ctx.device(), &alloc, &texture_set));
-  const VkDescriptorImageInfo image{texture.sampler(), texture.view(),
-                                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  alloc.descriptorSetCount = 2;
+  alloc.pSetLayouts = layouts;
+  VK_CHECK(ctx.fn().vkAllocateDescriptorSets(ctx.device(), &alloc, sets));
+  texture_set = sets[0];
+  environment_set = sets[1];
+  write_texture_set(texture_set, texture);
+  write_texture_set(environment_set, texture);
+}
+
+void SplatRenderer::Impl::write_texture_set(VkDescriptorSet set, const Texture& image) {
+  const VkDescriptorImageInfo info{image.sampler(), image.view(),
+                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   auto write = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-  write.dstSet = texture_set;
+  write.dstSet = set;
   write.dstBinding = 0;
   write.descriptorCount = 1;
   write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  write.pImageInfo = &image;
+  write.pImageInfo = &info;
   ctx.fn().vkUpdateDescriptorSets(ctx.device(), 1, &write, 0, nullptr);
 }
 
@@ -232,12 +250,13 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   ctx.instance().fn().vkGetPhysicalDeviceProperties(ctx.physical_device(), &props);
   m.limits = props.limits;
   m.texture = Texture(m.images, texture, m.limits.maxImageDimension2D);
-  m.create_texture_set();
+  m.create_texture_sets();
   m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 7, sizeof(layout::DeformPush));
   m.visibility = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_visibility), 2, sizeof(layout::RasterPush));
   m.accumulate = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_accumulate), 3, sizeof(layout::RasterPush),
                                m.texture_layout);
-  m.shade = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 2, sizeof(layout::ShadePush));
+  m.shade = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 2, sizeof(layout::ShadePush),
+                          m.texture_layout);
   m.tool_pass = gpu::Pipeline(ctx, PHYXEL_SHADER(tool_visibility), 3, sizeof(layout::ToolPush));
   m.count = static_cast<uint32_t>(table.surfels.size());
   m.table_phyxels = table.phyxels;
@@ -273,6 +292,22 @@ std::string SplatRenderer::frame_error(const FrameSetup& setup) const {
            " MiB); render smaller frames";
   }
   return {};
+}
+
+void SplatRenderer::set_environment(const RgbaImage& image, const Eigen::Matrix3d& world_to_cube,
+                                    double area_ratio) {
+  Impl& m = *impl_;
+  if (image.width == 0 || image.width != image.height || !(area_ratio > 0) ||
+      !std::isfinite(area_ratio)) {
+    throw std::invalid_argument(
+        "SplatRenderer::set_environment: needs a square image and an area ratio > 0");
+  }
+  VK_CHECK(m.ctx.fn().vkDeviceWaitIdle(m.ctx.device()));  // the old image may be in use
+  m.environment = Texture(m.images, image, m.limits.maxImageDimension2D);
+  m.write_texture_set(m.environment_set, m.environment);
+  m.has_environment = true;
+  m.world_to_environment = world_to_cube;
+  m.environment_area_ratio = area_ratio;
 }
 
 void SplatRenderer::set_tools(std::vector<ToolDrawable> tools) {
@@ -327,6 +362,10 @@ void SplatRenderer::update_cut_surfels(const std::vector<layout::SurfelStatic>& 
   gpu::upload(m.ctx, m.surfels, m.table.data() + first,
               (last - first + 1) * sizeof(layout::SurfelStatic),
               first * sizeof(layout::SurfelStatic));
+}
+
+const std::vector<layout::SurfelStatic>& SplatRenderer::surfels() const {
+  return impl_->table;
 }
 
 void SplatRenderer::hide_phyxels(const std::vector<uint32_t>& phyxels) {
@@ -455,6 +494,18 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   shade.frustum1 = frustum_of(setup.eyes[eyes - 1]);
   shade.near = {float(setup.eyes[0].frustum.near), float(setup.eyes[eyes - 1].frustum.near), 0, 0};
   shade.frame = {setup.eye_width, setup.height, shade_layout(setup.layout), m.eye_stride};
+  if (m.has_environment) {
+    shade.near.z = 1;
+    shade.near.w = static_cast<float>(m.environment_area_ratio);
+  }
+  // Both eyes look the same way (parallel stereo): eye 0's rotation serves both.
+  Eigen::Matrix4d eye_to_cube = Eigen::Matrix4d::Identity();
+  eye_to_cube.topLeftCorner<3, 3>() =
+      m.world_to_environment * setup.eyes[0].view.topLeftCorner<3, 3>().transpose();
+  shade.eye_to_environment = to_mat4(eye_to_cube);
+  m.ctx.fn().vkCmdBindDescriptorSets(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, m.shade.layout(),
+                                     layout::kShadeSetEnvironment, 1, &m.environment_set, 0,
+                                     nullptr);
   gpu::dispatch(rec, m.shade, shade, {gpu::BufferRef(m.accum, 0, eyes * accum_range), m.frame},
                 m.out_width * m.out_height);
   end();

@@ -87,6 +87,15 @@ class SplatRenderer {
   void set_tools(std::vector<ToolDrawable> tools);
   const std::vector<ToolDrawable>& tools() const;
 
+  // The surroundings (render/environment_map.h, the paper's eqs 33-34), from the next frame
+  // on: a square image on a cube at infinity whose frame is `world_to_cube` (rows: the cube's
+  // x, y, z in world coordinates; environment_basis of the scene's camera), area ratio K of
+  // its top face. Pixels that nothing covers show it, and surfels with a mirror level (flags,
+  // kSurfelMirrorShift) reflect it. None by default (the plain kBackground). Waits for the
+  // device. Throws std::invalid_argument for an image that is not square or K <= 0.
+  void set_environment(const RgbaImage& image, const Eigen::Matrix3d& world_to_cube,
+                       double area_ratio);
+
   // Renders one frame of the current state of `inputs` and returns it (waits for the GPU).
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);
 
@@ -115,6 +124,9 @@ class SplatRenderer {
   // Removed phyxels (aspiration): every surfel of theirs, outer or cut face, gets radius 0
   // (drawn nowhere) and is uploaded. Blocking; call between frames.
   void hide_phyxels(const std::vector<uint32_t>& phyxels);
+
+  // The surfel table as last uploaded (outer surface, then the cut faces), for tests.
+  const std::vector<layout::SurfelStatic>& surfels() const;
 
   uint32_t surfel_count() const;      // outer surface and cut faces
   uint32_t cut_surfel_count() const;  // cut faces

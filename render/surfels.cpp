@@ -1,6 +1,7 @@
 #include "render/surfels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -21,7 +22,7 @@ bool is_surfel(const PhyxelSet& set, size_t i) {
 
 }  // namespace
 
-SurfelTable build_surfel_table(const PhyxelSet& set) {
+SurfelTable build_surfel_table(const PhyxelSet& set, const std::vector<double>& material_mirror) {
   SurfelTable table;
   table.phyxels = static_cast<uint32_t>(set.size());
   for (size_t o = 0; o < set.objects.size(); ++o) {
@@ -41,6 +42,12 @@ SurfelTable build_surfel_table(const PhyxelSet& set) {
       s.radius = static_cast<float>(set.splat_radius[i]);
       s.support = static_cast<float>(range.support_radius);
       s.flags = set.flags[i];
+      const uint32_t material = set.material.empty() ? 0 : set.material[i];
+      if (material < material_mirror.size()) {
+        const double level =
+            std::clamp(material_mirror[material], 0.0, 1.0) * layout::kMirrorLevels;
+        s.flags |= static_cast<uint32_t>(std::lround(level)) << layout::kSurfelMirrorShift;
+      }
       s.normal = vec4_of(n, 0);
       s.ds_dx = vec4_of(grad.row(0).transpose(), st.x());
       s.dt_dx = vec4_of(grad.row(1).transpose(), st.y());

@@ -75,8 +75,11 @@ struct SurfelTable {
 };
 
 // Every surface phyxel (kSurface, not kRemoved, splat radius > 0) of `set`, with texture
-// coordinates from one dome per object (render/texture_map.h; axis +z).
-SurfelTable build_surfel_table(const PhyxelSet& set);
+// coordinates from one dome per object (render/texture_map.h; axis +z). `material_mirror`
+// (optional; environment_map.h's material_mirrors) gives the mirror fraction per material
+// index, which goes into the flags (kSurfelMirrorShift) of the material's surfels.
+SurfelTable build_surfel_table(const PhyxelSet& set,
+                               const std::vector<double>& material_mirror = {});
 
 // The input buffers for a solver whose state lives on the host (the CPU reference).
 class HostInputs {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -174,6 +175,10 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     return haptics.pose_source()(tool, 0.0);
   };
   ToolTrack track(scene.tools, haptics.empty() ? ToolTrack::PoseSource{} : haptics.pose_source());
+  // Aspirators aspirate as in run_simulation (engine/surgery/aspiration.h), between advances.
+  Aspirator aspirator(scene, set);
+  if (aspirator.active() && !solver.supports_removal())
+    throw std::runtime_error(solver.device() + " cannot remove aspirated tissue");
   if (!scene.tools.empty()) solver.set_tools(contact_tools(scene.tools));
   // Tearing (as run_simulation): the largest principal stress every substep.
   if (solver.supports_principal_stress()) solver.set_principal_stress(scene.tearing_possible());
@@ -239,6 +244,11 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
       seconds_per_step = (wall() - advance_start) / double(advance);
       step += advance;
       pacer.advanced(advance);
+      for (const AspirationEvent& e :
+           aspirator.after_advance(solver, track.poses(), double(step) * step_time)) {
+        writer.apply_aspiration(e);
+        alive_at = std::numeric_limits<size_t>::max();  // the CPU's pair mask changed
+      }
       if (!records.empty()) {
         felt.assign(records.end() - scene.tools.size(), records.end());
         if (!haptics.empty()) haptics.publish(double(step) * step_time, felt);

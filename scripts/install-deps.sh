@@ -9,6 +9,8 @@ packages=(
   nlohmann-json3-dev                   # scene files, summaries
   libtinyobjloader-dev                 # mesh shapes
   libstb-dev                           # PNG/JPEG textures and frames
+  libavcodec-dev libavformat-dev       # H.264/MP4 video of the frames (libavcodec59 brings libx264)
+  libswscale-dev libavutil-dev         # RGBA -> YUV 4:2:0 for the encoder (docs/decisions.md)
   libvulkan-dev                        # Vulkan headers and loader
   mesa-vulkan-drivers                  # lavapipe: Vulkan on the CPU (tests, CI)
   vulkan-validationlayers              # validation layers, on in every GPU test

@@ -193,6 +193,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   if (aspirator.active() && !solver.supports_removal())
     throw std::runtime_error(scene.file.string() + ": a suction tool aspirates tissue, which " +
                              solver.device() + " cannot remove; use --device cpu or gpu");
+  if (aspirator.active() && (options.checkpoint_every > 0 || options.resume))
+    throw std::runtime_error(scene.file.string() +
+                             ": checkpoints do not hold aspirated tissue yet; run a scene whose "
+                             "suction tools aspirate without --checkpoint-every or --resume");
   if (!tools.empty()) {
     if (!solver.supports_tools())
       throw std::runtime_error(scene.file.string() + ": the scene has tools, which " +

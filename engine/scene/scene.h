@@ -57,6 +57,9 @@ struct Inclusion {
   std::string name;
   Shape shape;
   Material material;
+  // Appearance: the fraction (0 ... 1) of its surface colour that mirrors render.environment
+  // (cube mirror environment mapping, the paper's eqs 33-34); 0: only the texture.
+  double mirror = 0;
 };
 
 // An external force spread over the phyxels inside `region`, weighted by volume, acting
@@ -84,6 +87,7 @@ struct ObjectDesc {
   std::vector<Shape> fixed;           // phyxels inside any of these never move
   std::vector<Load> loads;
   Vec3 initial_velocity = Vec3::Zero();
+  double mirror = 0;  // as Inclusion::mirror, for the object's own phyxels
 };
 
 struct UntilRest {
@@ -140,6 +144,13 @@ struct RenderSettings {
   int64_t every = 10;              // a frame every this many steps
   std::filesystem::path texture;   // resolved against the scene's folder; empty: procedural
   StereoSettings stereo;
+  // `render.environment`: the surroundings, a square image mapped on a cube (the paper's eqs
+  // 33-34): the frames' background and what `mirror` surfaces reflect. Empty: none (a plain
+  // dark background).
+  std::filesystem::path environment;
+  double environment_area_ratio = 1;  // K of eq 33: texture area / cube area of the top face
+  // `render.video`: an H.264 MP4 of the frames (render/video_writer.h); empty: none.
+  std::filesystem::path video;
 };
 
 struct Scene {

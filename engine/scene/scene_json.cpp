@@ -157,10 +157,13 @@ std::vector<T> read_list(const Node& object, std::string_view key, std::string_v
   return out;
 }
 
+// `mirror`: the fraction of a surface's colour that reflects render.environment.
+const Limits kMirrorLimits{0, 1, true, true};
+
 ObjectDesc read_object(const Node& node, const fs::path& folder) {
   node.expect_object("an object description",
                      {"name", "shape", "spacing", "support_radius", "material", "inclusions",
-                      "fixed", "loads", "initial_velocity"});
+                      "fixed", "loads", "initial_velocity", "mirror"});
   ObjectDesc o;
   o.name = node.at("name", "a non-empty string").text();
   o.shape = read_shape(node.at("shape", kShapeExpected), folder);
@@ -168,11 +171,12 @@ ObjectDesc read_object(const Node& node, const fs::path& folder) {
   o.support_radius = node.number_or("support_radius", 2 * o.spacing, Limits::above(0), "m");
   check_support_radius(node, o);
   o.material = read_material(node.at("material", kMaterialExpected), Material{});
+  o.mirror = node.number_or("mirror", 0.0, kMirrorLimits, "");
 
   std::map<std::string, std::string> inclusion_paths;  // name -> path, for duplicates
   o.inclusions =
       read_list<Inclusion>(node, "inclusions", "an array of inclusion objects", [&](const Node& n) {
-        n.expect_object("an inclusion object", {"name", "shape", "material"});
+        n.expect_object("an inclusion object", {"name", "shape", "material", "mirror"});
         Inclusion inc;
         const auto name = n.find("name");
         inc.name = name ? name->text() : "inclusion" + std::to_string(inclusion_paths.size());
@@ -185,6 +189,7 @@ ObjectDesc read_object(const Node& node, const fs::path& folder) {
         }
         inc.shape = read_shape(n.at("shape", kShapeExpected), folder);
         inc.material = read_material(n.at("material", kMaterialExpected), o.material);
+        inc.mirror = n.number_or("mirror", 0.0, kMirrorLimits, "");
         return inc;
       });
   o.fixed = read_list<Shape>(node, "fixed", "an array of shape objects",

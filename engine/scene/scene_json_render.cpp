@@ -81,11 +81,41 @@ StereoSettings read_stereo(const Node& node) {
   return s;
 }
 
+// An existing image file named by `node` (a string), relative to the scene's folder.
+fs::path read_image_path(const Node& node, const fs::path& folder, const std::string& what) {
+  const fs::path path = folder / node.text();
+  std::string allowed = "allowed " + what + ", relative to the scene file's folder (";
+  allowed += folder.empty() ? std::string("the working directory") : folder.string();
+  allowed += ")";
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    node.fail(node.leaf() + " file \"" + path.string() + "\" does not exist", allowed);
+  }
+  return path;
+}
+
+// `render.environment`: "image.png", or {"image": "image.png", "area_ratio": K}.
+void read_environment(const Node& node, const fs::path& folder, RenderSettings& r) {
+  const std::string what = "a square PNG or JPEG image";
+  if (node.value().is_string()) {
+    r.environment = read_image_path(node, folder, what);
+    return;
+  }
+  node.expect_object(
+      "an image file name, or an environment object {\"image\": \"field.png\", "
+      "\"area_ratio\": K}",
+      {"image", "area_ratio"});
+  r.environment = read_image_path(node.at("image", "an image file name"), folder, what);
+  r.environment_area_ratio =
+      node.number_or("area_ratio", r.environment_area_ratio, Limits::above(0), "");
+}
+
 RenderSettings read_render(const Node& node, const fs::path& folder) {
   node.expect_object(
       "a render object {\"mode\": \"none\" | \"mono\" | \"stereo\", \"width\": px, \"height\": "
-      "px, \"every\": n, \"texture\": \"image.png\", \"stereo\": {...}}",
-      {"mode", "width", "height", "every", "texture", "stereo"});
+      "px, \"every\": n, \"texture\": \"image.png\", \"environment\": \"image.png\", "
+      "\"video\": \"out.mp4\", \"stereo\": {...}}",
+      {"mode", "width", "height", "every", "texture", "environment", "video", "stereo"});
   RenderSettings r;
   if (const auto mode = node.find("mode")) {
     const std::string m = mode->choice({"none", "mono", "stereo"});
@@ -98,15 +128,13 @@ RenderSettings read_render(const Node& node, const fs::path& folder) {
   r.height = static_cast<int>(node.integer_or("height", r.height, side));
   r.every = node.integer_or("every", r.every, Limits::at_least(1));
   if (const auto texture = node.find("texture")) {
-    r.texture = folder / texture->text();
-    std::string allowed = "allowed a PNG or JPEG image, relative to the scene file's folder (";
-    allowed += folder.empty() ? std::string("the working directory") : folder.string();
-    allowed += ")";
-    std::error_code ec;
-    if (!fs::is_regular_file(r.texture, ec)) {
-      texture->fail("texture file \"" + r.texture.string() + "\" does not exist", allowed);
-    }
+    r.texture = read_image_path(*texture, folder, "a PNG or JPEG image");
   }
+  if (const auto environment = node.find("environment")) {
+    read_environment(*environment, folder, r);
+  }
+  // Relative to the run's output folder (phyxel run --out), where the frames go.
+  if (const auto video = node.find("video")) r.video = video->text();
   if (const auto stereo = node.find("stereo")) r.stereo = read_stereo(*stereo);
   return r;
 }

@@ -133,8 +133,9 @@ void main() {
   const bool torn = cut && (s.flags & kSurfelTornFace) != 0u;
   const vec3 offset = cut ? f * (n0 * s.normal.w) : vec3(0.0);
   outp.centre = vec4(xi + ui + offset, s.radius * stretch);
+  const uint mirror = (s.flags >> kSurfelMirrorShift) & kMirrorLevels;
   outp.normal = vec4(n, float((usable ? kSplatUsable : 0u) | (cut ? kSplatCutFace : 0u) |
-                              (torn ? kSplatTornFace : 0u)));
+                              (torn ? kSplatTornFace : 0u) | (mirror << kSplatMirrorShift)));
   outp.ds_dx = vec4(f_inv_t * s.ds_dx.xyz, s.ds_dx.w);
   outp.dt_dx = vec4(f_inv_t * s.dt_dx.xyz, s.dt_dx.w);
   splats[k] = outp;

@@ -49,6 +49,10 @@ PHYXEL_CONST uint kSurfelCutFace = 0x80000000u;
 // its stress): drawn rough (normal and offset from engine/surgery/fracture_surface.h) in the
 // torn tissue of torn_tissue.glsl instead of the clean cut's.
 PHYXEL_CONST uint kSurfelTornFace = 0x40000000u;
+// SurfelStatic::flags bits 16-23: the surface's `mirror` fraction (scene objects and
+// inclusions) x 255, the share of its colour that reflects the environment.
+PHYXEL_CONST uint kSurfelMirrorShift = 16;
+PHYXEL_CONST uint kMirrorLevels = 255;
 
 // One deformed splat, written by deform_surfels.comp every frame, read by the splat passes.
 struct Splat {
@@ -64,6 +68,8 @@ PHYXEL_ASSERT_SIZE(Splat, 64);
 PHYXEL_CONST uint kSplatUsable = 1;
 PHYXEL_CONST uint kSplatCutFace = 2;
 PHYXEL_CONST uint kSplatTornFace = 4;
+// Bits 8-15 of Splat::normal.w: the surfel's mirror level (0 ... kMirrorLevels).
+PHYXEL_CONST uint kSplatMirrorShift = 8;
 
 // deform_surfels.comp
 PHYXEL_CONST uint kDeformBindingRest = 0;
@@ -96,11 +102,13 @@ PHYXEL_CONST uint kRasterBindingAccum = 2;   // accumulation only: kAccumChannel
 PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, binding 0, the texture
 // Accumulated per pixel, in fixed point (kAccumScale = 1.0), so that sums are exact and the
 // same in any order: colour x w (3), w, normal x w (3), the nearest tool's hit (kAccumTool,
-// written by tool_visibility.comp), and w of the cut-face discs alone (kAccumCut: the
-// shading pass makes that fraction of the pixel wet). 2^16 leaves room for sums of 32768
-// full-weight discs before a 32-bit int overflows.
-PHYXEL_CONST uint kAccumChannels = 9;
+// written by tool_visibility.comp), w of the cut-face discs alone (kAccumCut: the shading
+// pass makes that fraction of the pixel wet), and mirror x w (kAccumMirror: that fraction of
+// the pixel reflects the environment). 2^16 leaves room for sums of 32768 full-weight discs
+// before a 32-bit int overflows.
+PHYXEL_CONST uint kAccumChannels = 10;
 PHYXEL_CONST uint kAccumCut = 8;
+PHYXEL_CONST uint kAccumMirror = 9;
 // Channel of the tool hit: 0 for none, else kToolHitFlag | the eye-space unit normal of the
 // hit in octahedral coordinates, (u, v) in [-1, 1] to 15 bits each (u in bits 0-14, v in
 // bits 15-29).
@@ -143,19 +151,22 @@ PHYXEL_ASSERT_SIZE(ToolPush, 112);
 
 // splat_shade.comp: normalisation and Phong shading of the accumulated attributes of both
 // eyes (the accumulation buffer holds eye 1 at `eye_stride` pixels after eye 0) into the frame;
-// a pixel that no splat reached but a tool did shows the tool (steel).
-PHYXEL_CONST uint kShadeBindingAccum = 0;  // kAccumChannels ints per pixel
-PHYXEL_CONST uint kShadeBindingFrame = 1;  // RGBA8 per pixel of the frame, one uint
+// a pixel that no splat reached but a tool did shows the tool (steel); one that neither
+// reached shows the environment (render/environment_map.h) when there is one.
+PHYXEL_CONST uint kShadeBindingAccum = 0;    // kAccumChannels ints per pixel
+PHYXEL_CONST uint kShadeBindingFrame = 1;    // RGBA8 per pixel of the frame, one uint
+PHYXEL_CONST uint kShadeSetEnvironment = 1;  // set 1, binding 0: the environment image
 PHYXEL_CONST uint kShadeLayoutMono = 0;
 PHYXEL_CONST uint kShadeLayoutSideBySide = 1;  // eye 0 left, eye 1 right: 2 width x height
 PHYXEL_CONST uint kShadeLayoutAnaglyph = 2;    // red from eye 0, green and blue from eye 1
 struct ShadePush {
   vec4 frustum0;  // eye 0: left, right, bottom, top at the near plane
   vec4 frustum1;  // eye 1
-  vec4 near;      // x: eye 0, y: eye 1
+  vec4 near;      // x: eye 0, y: eye 1; z: 1 with an environment, else 0; w: its area ratio K
   uvec4 frame;    // eye width, height, layout (kShadeLayout*), eye_stride
+  mat4 eye_to_environment;  // rotation: eye space (both eyes) -> the environment cube's frame
 };
-PHYXEL_ASSERT_SIZE(ShadePush, 64);
+PHYXEL_ASSERT_SIZE(ShadePush, 128);
 
 #ifdef __cplusplus
 }  // namespace phyxel::render::layout

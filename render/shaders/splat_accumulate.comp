@@ -6,6 +6,8 @@
 // Cut faces (kSplatCutFace) take the procedural cut tissue of cut_tissue.glsl at their own
 // (s, t) instead of the texture, and add w to the cut channel (kAccumCut) as well. Torn faces
 // (kSplatTornFace) take the torn tissue of torn_tissue.glsl instead, and its bumped normal.
+// Mirror surfaces add mirror x w to kAccumMirror (the shading pass reflects the environment
+// there).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
@@ -67,4 +69,5 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   add(at + 5, n.y * w);
   add(at + 6, n.z * w);
   if (s.cut) add(at + kAccumCut, w);
+  if (s.mirror > 0.0) add(at + kAccumMirror, s.mirror * w);
 }

@@ -22,6 +22,7 @@ struct EyeSplat {
   vec4 dt;   // the same for t
   bool cut;   // a cut face (kSplatCutFace): cut tissue instead of the texture
   bool torn;  // a torn face (kSplatTornFace, cut too): torn tissue, bumped
+  float mirror;  // the fraction of its colour that reflects the environment
 };
 
 EyeSplat eye_splat(uint k) {
@@ -35,6 +36,7 @@ EyeSplat eye_splat(uint k) {
   e.dt = vec4(rot * s.dt_dx.xyz, s.dt_dx.w);
   e.cut = (uint(s.normal.w) & kSplatCutFace) != 0u;
   e.torn = (uint(s.normal.w) & kSplatTornFace) != 0u;
+  e.mirror = float((uint(s.normal.w) >> kSplatMirrorShift) & kMirrorLevels) / float(kMirrorLevels);
   return e;
 }
 

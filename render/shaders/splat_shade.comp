@@ -4,18 +4,29 @@
 // hit (tool_visibility.comp) shows the tool: polished steel, Phong with a sharp highlight and
 // a reflected sky/floor gradient. The fraction of a pixel's weight from cut faces makes it wet
 // (a sharper, brighter highlight). Writes the frame in its layout: one eye, both side by
-// side, or the red/cyan anaglyph of the two.
+// side, or the red/cyan anaglyph of the two. With an environment (render/environment_map.h,
+// the paper's eqs 33-34) a pixel that nothing covers shows the cube at its ray's direction,
+// and the mirror fraction of a pixel's weight (kAccumMirror) shows the cube at the reflected
+// ray instead of the lit texture (the highlight stays).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
 #include "splat_common.glsl"
 #include "tool_common.glsl"
+#include "environment.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { ShadePush p; };
 layout(std430, binding = kShadeBindingAccum) readonly buffer Accum { int accum[]; };
 layout(std430, binding = kShadeBindingFrame) writeonly buffer Frame { uint frame[]; };
+layout(set = kShadeSetEnvironment, binding = 0) uniform sampler2D environment;
+
+// The environment along eye-space direction `d` (level 0: the background is magnified).
+vec3 environment_colour(vec3 d) {
+  const vec3 cube = mat3(p.eye_to_environment) * d;
+  return textureLod(environment, environment_st(cube, p.near.w), 0.0).rgb;
+}
 
 const vec3 kKeyLight = vec3(-0.3487, 0.4982, 0.7937);  // normalize(-0.35, 0.5, 0.8)
 const float kAmbient = 0.2;
@@ -56,10 +67,19 @@ vec3 shade(uint eye, uint x, uint y) {
   const uint at = (eye * p.frame.w + y * p.frame.x + x) * kAccumChannels;
   const float w = float(accum[at + 3]);
   const uint tool = uint(accum[at + kAccumTool]);
-  if (!(w > 0.0) && tool == 0u) return kBackground;
+  const bool has_environment = p.near.z > 0.0;
+  if (!(w > 0.0) && tool == 0u && !has_environment) return kBackground;
   const vec4 frustum = eye == 0 ? p.frustum0 : p.frustum1;
   const float near = eye == 0 ? p.near.x : p.near.y;
   const vec3 view = -normalize(pixel_ray(frustum, near, vec2(p.frame.xy), vec2(x, y)));
+  if (!(w > 0.0) && tool == 0u) {
+    // The cube through the eye's frustum without its stereo shift: both eyes see it alike
+    // (zero parallax). At infinity its parallax would be the whole IPD at the focal distance,
+    // far more than eyes fuse at the distances of surgery.
+    const float centre = 0.5 * (frustum.x + frustum.y);
+    const vec4 unshifted = vec4(frustum.xy - centre, frustum.zw);
+    return environment_colour(normalize(pixel_ray(unshifted, near, vec2(p.frame.xy), vec2(x, y))));
+  }
   if (!(w > 0.0)) return shade_tool(unpack_tool_normal(tool), view);
   const vec3 albedo = vec3(accum[at], accum[at + 1], accum[at + 2]) / w;
   const vec3 sum_n = vec3(accum[at + 4], accum[at + 5], accum[at + 6]);
@@ -71,7 +91,10 @@ vec3 shade(uint eye, uint x, uint y) {
   const float r_dot_v = max(dot(reflect(-kKeyLight, n), view), 0.0);
   const float spec = mix(kSpecular * pow(r_dot_v, kShininess),
                          kWetSpecular * pow(r_dot_v, kWetShininess), wet);
-  const vec3 colour = albedo * (kAmbient + kKeyDiffuse * key + kHeadDiffuse * head) + spec;
+  const vec3 lit = albedo * (kAmbient + kKeyDiffuse * key + kHeadDiffuse * head);
+  const float mirror = has_environment ? clamp(float(accum[at + kAccumMirror]) / w, 0.0, 1.0) : 0.0;
+  const vec3 reflected = mirror > 0.0 ? environment_colour(reflect(-view, n)) : vec3(0.0);
+  const vec3 colour = mix(lit, reflected, mirror) + spec;
   return min(colour, vec3(1.0));
 }
 

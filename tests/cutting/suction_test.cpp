@@ -129,6 +129,24 @@ TEST(Suction, AboveTheTearStressAspiratesAndAccountsMassAndVolumeExactly) {
   RecordProperty("aspirated_mass_g", std::to_string(1e3 * mass));
 }
 
+TEST(Suction, RunsThatAspirateRefuseCheckpointsWithAClearMessage) {
+  const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
+  const PhyxelSet set = sample_scene(scene);
+  const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
+  RunOptions options;
+  options.steps = 10;
+  options.out_dir = test::test_output_dir("suction_checkpoint");
+  options.checkpoint_every = 5;
+  try {
+    run_simulation(scene, set, *solver, options);
+    FAIL() << "a checkpointed aspirating run started";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("checkpoints do not hold aspirated tissue yet"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // A line of phyxels along -z below a mouth at the origin: the fracture sphere by hand.
 TEST(FractureSphere, TheFarthestOverstressedSurfacePhyxelSetsTheRadius) {
   PhyxelSet set;

@@ -53,6 +53,7 @@ TEST_F(RenderFrames, RunWritesAFrameEveryRenderEveryStepsAndAtTheEnd) {
   const std::vector<std::string> expected = {"frame_000000.png", "frame_000010.png",
                                              "frame_000020.png", "frame_000025.png"};
   EXPECT_EQ(writer.written(), expected);
+  writer.finish();  // the writer thread's files
   RgbaImage first, last;
   for (const std::string& name : expected) {
     const RgbaImage image = load_image(dir / name, name);
@@ -98,10 +99,14 @@ TEST_F(RenderFrames, StereoLayoutsHaveTheirFrameSizes) {
   const NeighbourLists nbr = find_rest_neighbours(set);
   const std::vector<Vec3> rest(set.size(), Vec3::Zero());
   FrameWriter pair(sbs, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
-  EXPECT_EQ(load_image(dir / pair.write(3, rest, nbr), "sbs").width, 80u);
+  const std::string sbs_name = pair.write(3, rest, nbr);
+  pair.flush();  // PNG files are written on the writer's thread
+  EXPECT_EQ(load_image(dir / sbs_name, "sbs").width, 80u);
   const Scene ana = block_scene(R"({"width": 40, "height": 30, "stereo": {"layout": "anaglyph"}})");
   FrameWriter anaglyph(ana, set, {RenderSettings::Mode::Stereo, dir}, &ctx());
-  const RgbaImage a = load_image(dir / anaglyph.write(4, rest, nbr), "anaglyph");
+  const std::string anaglyph_name = anaglyph.write(4, rest, nbr);
+  anaglyph.flush();
+  const RgbaImage a = load_image(dir / anaglyph_name, "anaglyph");
   EXPECT_EQ(a.width, 40u);
   EXPECT_EQ(a.height, 30u);
 }

@@ -27,8 +27,11 @@ inline bool is_background(const uint8_t* p) {
 
 // A phyxel set ready to render: neighbours, surfel table, input buffers and renderer.
 struct RenderedSet {
-  RenderedSet(gpu::Context& ctx, PhyxelSet s, const RgbaImage& texture)
-      : set(std::move(s)), neighbours(find_rest_neighbours(set)), table(build_surfel_table(set)) {
+  RenderedSet(gpu::Context& ctx, PhyxelSet s, const RgbaImage& texture,
+              const std::vector<double>& material_mirror = {})
+      : set(std::move(s)),
+        neighbours(find_rest_neighbours(set)),
+        table(build_surfel_table(set, material_mirror)) {
     inputs = std::make_unique<HostInputs>(ctx, set, neighbours);
     renderer = std::make_unique<SplatRenderer>(ctx, table, texture);
   }

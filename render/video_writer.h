@@ -1,0 +1,88 @@
+// H.264 in MP4 of the rendered frames (libavformat, libavcodec with Debian's libx264,
+// libswscale for RGBA -> YUV 4:2:0), for `phyxel run --video` and render.video, and the
+// writer thread that takes PNG and video writing off the simulation thread.
+//
+//   VideoWriter  one MP4 file: frames of one size at a constant rate (the scene's simulated
+//                time between frames, render.every x simulation.dt); odd sizes are scaled to
+//                the next even one (4:2:0 needs even sides)
+//   FrameSink    a thread that writes frames handed to it (PNG files and/or the video), a few
+//                frames queued at most; failures come back from the next push() or finish()
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "render/image.h"
+
+namespace phyxel::render {
+
+class VideoWriter {
+ public:
+  // Opens `file` (created or truncated) for frames of width x height at `fps` frames per
+  // second of the video. Throws std::runtime_error "FILE: cannot write the video (REASON)"
+  // when the file cannot be opened or the encoder is missing.
+  VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height, double fps);
+  ~VideoWriter();  // finishes the file when finish() was not called (errors then ignored)
+  VideoWriter(const VideoWriter&) = delete;
+  VideoWriter& operator=(const VideoWriter&) = delete;
+
+  // Encodes one frame (of the size given at construction) at frame number `index` of the
+  // video (strictly increasing; gaps hold the previous frame). Throws std::runtime_error.
+  void add(const RgbaImage& frame, int64_t index);
+  // Flushes the encoder and writes the MP4 index. Idempotent.
+  void finish();
+  int64_t frames() const { return frames_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  int64_t frames_ = 0;
+};
+
+class FrameSink {
+ public:
+  // Writes into `out_dir` the frames pushed with a name (PNG when `png`), and adds each to
+  // `video` when given, on a thread of its own.
+  FrameSink(std::filesystem::path out_dir, bool png, std::unique_ptr<VideoWriter> video,
+            size_t max_queued = 4);
+  ~FrameSink();  // finish(), errors ignored
+  FrameSink(const FrameSink&) = delete;
+  FrameSink& operator=(const FrameSink&) = delete;
+
+  // Queues a frame (waits while max_queued are queued). `video_index`: its frame number in
+  // the video. Rethrows a failure of an earlier frame.
+  void push(std::string name, RgbaImage image, int64_t video_index);
+  // Waits until every frame queued so far is written; rethrows a failure.
+  void flush();
+  // flush(), then finishes the video; no push() after it.
+  void finish();
+
+ private:
+  struct Job {
+    std::string name;
+    RgbaImage image;
+    int64_t video_index;
+  };
+  void run();
+  void rethrow();
+
+  std::filesystem::path out_dir_;
+  bool png_;
+  std::unique_ptr<VideoWriter> video_;
+  size_t max_queued_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Job> queue_;
+  bool busy_ = false, stop_ = false, finished_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;
+};
+
+}  // namespace phyxel::render
