@@ -111,6 +111,7 @@ inline SeveredBoxFrame render_severed_box(gpu::Context& ctx, bool torn,
       writer.write(0, solver->read_state(false).displacement, solver->neighbours());
   std::printf("%s frame: %s\n", torn ? "torn face" : "cut face", (dir / name).c_str());
   SeveredBoxFrame out;
+  writer.flush();  // frames are written on a thread of their own
   out.image = load_image(dir / name, "severed box frame");
   out.eye = writer.setup().eyes[0];
   out.cut_faces = writer.cut_faces().size();

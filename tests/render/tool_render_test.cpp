@@ -304,6 +304,7 @@ TEST_F(ToolRender, RunFramesDrawTheToolsAtThePosesTheyAreGiven) {
     const std::vector<ToolDrawable> tools =
         tool_drawables(scene.tools, double(step) * scene.simulation.dt);
     const std::string name = write_solver_frame(writer, *solver, step, tools);
+    writer.flush();  // frames are written on a thread of their own
     const RgbaImage image = load_image(dir / name, name);
     double sx = 0, n = 0;
     for (uint32_t y = 0; y < setup.height; ++y)
