@@ -147,7 +147,7 @@ SplatRenderer::Impl::~Impl() {
 }
 
 // Set 1 of the accumulation pass (the texture and its sampler) and of the shading pass (the
-// environment, at first the texture as a placeholder).
+// environment; the texture stands in for it until a scene sets one).
 void SplatRenderer::Impl::create_texture_sets() {
   const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1,
                                              VK_SHADER_STAGE_COMPUTE_BIT, nullptr};

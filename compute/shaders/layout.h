@@ -254,9 +254,10 @@ PHYXEL_CONST uint kPrincipalBindingAinv = 5;
 PHYXEL_CONST uint kPrincipalBindingFlags = 6;
 PHYXEL_CONST uint kPrincipalBindingClasses = 7;
 PHYXEL_CONST uint kPrincipalBindingOut = 8;
-PHYXEL_CONST uint kPrincipalBindingList = 9;     // the stress pass list
-PHYXEL_CONST uint kPrincipalBindingCauchy = 10;  // vec4[2 N] (a placeholder without tearing)
-PHYXEL_CONST uint kPrincipalWithTensor = 1u;     // StepPush.mode
+PHYXEL_CONST uint kPrincipalBindingList = 9;  // the stress pass list
+// vec4[2 N]; without tearing the principal buffer is bound here and never written.
+PHYXEL_CONST uint kPrincipalBindingCauchy = 10;
+PHYXEL_CONST uint kPrincipalWithTensor = 1u;  // StepPush.mode
 
 // solver_tear (engine/surgery/tearing.h), over the stress pass list after the force pass of a
 // substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices

@@ -99,7 +99,6 @@ class CpuSolver {
   // neighbours, rebuilds the pass lists and recomputes the forces. Throws std::out_of_range for
   // an index outside the set.
   void remove_phyxels(const std::vector<uint32_t>& ids);
-  const std::vector<uint32_t>& flags() const { return flags_; }
 
   // Recomputes force() from the current displacement; call after changing u by hand.
   void compute_forces();

@@ -136,11 +136,4 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
   return events;
 }
 
-void Aspirator::replay(Solver& solver, const std::vector<AspirationEvent>& events) {
-  for (const AspirationEvent& e : events) {
-    solver.remove_phyxels(e.removed);
-    account(e);
-  }
-}
-
 }  // namespace phyxel

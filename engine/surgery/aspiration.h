@@ -72,12 +72,7 @@ class Aspirator {
   // aspiration of every suction tool on at t, applied to `solver` (Solver::remove_phyxels).
   std::vector<AspirationEvent> after_advance(Solver& solver, const std::vector<ToolPose>& poses,
                                              double t);
-  // Re-applies events (a checkpoint resume, the viewer): removes their phyxels and marks
-  // their fracture surface, accounting them as they were.
-  void replay(Solver& solver, const std::vector<AspirationEvent>& events);
   const AspirationTotals& totals() const { return totals_; }
-  const std::vector<uint8_t>& removed() const { return removed_; }
-  const std::vector<uint8_t>& surface() const { return surface_; }
 
  private:
   void account(const AspirationEvent& e);
