@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The README's quick start:
 #   scripts/dev.sh demo   install what is missing, build (Release), run the demo scene headless
+#                         and render it (a probe presses into a brain) to out/demo.mp4 and
+#                         out/demo.png (its last frame)
 #   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite,
 #                         then the sanitizer job (below)
 # A CMAKE_CXX_COMPILER_LAUNCHER in the environment (ccache) is used; nothing needs it.
@@ -22,8 +24,14 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$jobs"
 
 if [ "$what" = demo ]; then
-  build/app/phyxel run scenes/beam.json --out out
-  echo "demo: outputs in out/ (summary.json, points_*.vtp: open them in ParaView)"
+  # Frames are drawn by Vulkan: on the GPU where there is one, else by Mesa's lavapipe on the
+  # CPU (about 20 s of simulation and drawing on a 2-core machine).
+  rm -f out/frame_*.png
+  build/app/phyxel run scenes/demo.json --out out --video out/demo.mp4
+  last="$(ls out/frame_*.png | tail -1)"
+  cp "$last" out/demo.png
+  echo "demo: the video is out/demo.mp4 and its last frame out/demo.png; out/ also holds"
+  echo "      summary.json, tools.csv, every frame (frame_*.png) and points_*.vtp (ParaView)"
 else
   ctest --test-dir build --output-on-failure -j"$jobs" --timeout 900
 
