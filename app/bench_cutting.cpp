@@ -38,36 +38,12 @@ constexpr const char* kCuttingHelp =
     "  --threads N       CPU solver threads (default: all cores)\n"
     "  --out DIR         write DIR/cutting.json";
 
-constexpr double kSpeed = 0.5;  // m/s
-
-Scene cutting_scene(int64_t size, bool blade) {
-  Scene scene = bench_scene(size);
-  ToolDesc t;
-  t.name = "scalpel";
-  t.shape.type = ToolShape::Type::Capsule;
-  t.shape.radius = 0.0005;
-  t.shape.length = 0.09;
-  // Across the box along x at y = 0.0503 (off the lattice planes), tip at z = 0.03.
-  const double y = 0.0503, z = 0.03;
-  t.path = {{0.0, Vec3(-0.005, y, z), Vec3::UnitZ()},
-            {0.11 / kSpeed, Vec3(0.105, y, z), Vec3::UnitZ()}};
-  t.friction = 0.2;
-  if (blade) {
-    t.type = ToolDesc::Type::Scalpel;
-    t.blade.length = 0.09;
-    t.blade.edge = Vec3::UnitX();
-    t.blade.reference_axis = Vec3::UnitZ();
-  }
-  scene.tools.push_back(t);
-  return scene;
-}
-
 nlohmann::json cutting_row(const std::string& device, int threads, int64_t size, int64_t steps,
                            int64_t repeats) {
-  ToolBenchCase probe(device, threads, cutting_scene(size, false)),
-      scalpel(device, threads, cutting_scene(size, true));
+  ToolBenchCase probe(device, threads, crossing_blade_scene(size, false)),
+      scalpel(device, threads, crossing_blade_scene(size, true));
   // Warm-up: the blade enters the box (1 cm of travel).
-  const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kSpeed / scalpel.dt));
+  const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kCrossingSpeed / scalpel.dt));
   probe.run(enter);
   scalpel.run(enter);
   const size_t severed_before = scalpel.solver->severed_pairs();
@@ -136,7 +112,7 @@ int bench_cutting(const Args& args) {
   opts.finish();
 
   std::printf("cutting cost: a scalpel crossing an elastic box at %.1f m/s, blade 7 cm deep\n",
-              kSpeed);
+              kCrossingSpeed);
   std::printf("%-40s %9s %10s %10s %10s %9s %10s %9s", "device", "phyxels", "probe ms",
               "scalpel ms", "cut ms", "share", "steps/s", "severed");
   if (device != "cpu") std::printf(" %9s %9s", "cut us", "step us");

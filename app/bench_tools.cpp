@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "app/bench_extras.h"
 #include "app/options.h"
 #include "compute/gpu_solver.h"
 
@@ -49,6 +50,28 @@ double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name
   return 0;
 }
 
+Scene crossing_blade_scene(int64_t size, bool blade) {
+  Scene scene = bench_scene(size);
+  ToolDesc t;
+  t.name = "scalpel";
+  t.shape.type = ToolShape::Type::Capsule;
+  t.shape.radius = 0.0005;
+  t.shape.length = 0.09;
+  // Across the box along x at y = 0.0503 (off the lattice planes), tip at z = 0.03.
+  const double y = 0.0503, z = 0.03;
+  t.path = {{0.0, Vec3(-0.005, y, z), Vec3::UnitZ()},
+            {0.11 / kCrossingSpeed, Vec3(0.105, y, z), Vec3::UnitZ()}};
+  t.friction = 0.2;
+  if (blade) {
+    t.type = ToolDesc::Type::Scalpel;
+    t.blade.length = 0.09;
+    t.blade.edge = Vec3::UnitX();
+    t.blade.reference_axis = Vec3::UnitZ();
+  }
+  scene.tools.push_back(t);
+  return scene;
+}
+
 ToolBenchCase::ToolBenchCase(const std::string& device, int threads, Scene scene_)
     : scene(std::move(scene_)),
       set(sample_scene(scene)),
@@ -56,6 +79,11 @@ ToolBenchCase::ToolBenchCase(const std::string& device, int threads, Scene scene
       solver(make_bench_solver(device, set, scene.simulation.gravity, threads)),
       track(scene.tools, nullptr) {
   if (!scene.tools.empty()) solver->set_tools(contact_tools(scene.tools));
+  // As run_simulation does: tearing on when a material can tear.
+  if (scene.tearing_possible()) {
+    solver->set_principal_stress(true);
+    solver->set_tearing(true);
+  }
 }
 
 double ToolBenchCase::run(int64_t steps) {

@@ -1,4 +1,5 @@
-// Pieces the benches with tools share (bench_haptics.cpp, bench_cutting.cpp; make_bench_solver
+// Pieces the benches with tools share (bench_haptics.cpp, bench_cutting.cpp,
+// bench_tearing.cpp; make_bench_solver
 // also bench_skips.cpp): a solver by device name, a box scene with its tools stepped as the
 // run loop steps them, per-pass GPU timestamps, and small helpers.
 #pragma once
@@ -25,6 +26,13 @@ double median_of(std::vector<double> v);  // the upper median; 0 when empty
 std::vector<int64_t> parse_phyxel_sizes(const std::string& text, int64_t least);
 // The time of the pass `name` (ns), 0 when absent.
 double pass_ns(const std::vector<gpu::PassTime>& passes, const std::string& name);
+
+// The box of bench_scene(size) crossed along x at kCrossingSpeed by a vertical capsule of
+// radius 0.5 mm (its tip 3 cm above the base, 7 cm of it in the box): a scalpel whose blade is
+// the capsule's length when `blade`, else the same body as a probe (bench_cutting.cpp,
+// bench_tearing.cpp).
+constexpr double kCrossingSpeed = 0.5;  // m/s
+Scene crossing_blade_scene(int64_t size, bool blade);
 
 // A scene, its phyxels, its stable step and a solver with the scene's tools, stepped in chunks
 // of the run loop's size (RunOptions::tool_chunk_substeps): one broad phase and one submit

@@ -60,7 +60,11 @@ constexpr const char* kBenchHelp =
     "                        --haptics --help)\n"
     "  --cutting             what a cut update costs per step and the step rate while cutting:\n"
     "                        a scalpel crossing boxes of several sizes (--device D, --sizes\n"
-    "                        LIST, --steps N, --repeats N, --out DIR; --cutting --help)";
+    "                        LIST, --steps N, --repeats N, --out DIR; --cutting --help)\n"
+    "  --tearing             what tearing costs per step and the step rate while tearing: a\n"
+    "                        probe ploughing through boxes with tear_stress (--device D,\n"
+    "                        --sizes LIST, --tear-stress T, --steps N, --repeats N, --out DIR;\n"
+    "                        --tearing --help)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -194,6 +198,7 @@ int bench_command(const Args& args) {
   if (has("--render")) return bench_render_command(args);
   if (has("--haptics")) return bench_haptics(args);
   if (has("--cutting")) return bench_cutting(args);
+  if (has("--tearing")) return bench_tearing(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")

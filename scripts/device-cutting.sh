@@ -2,8 +2,7 @@
 # On the device machine (docs/performance.md, "Cutting"): the GPU cutting tests on the real
 # GPU, `phyxel bench --cutting` on boxes of 10k, 100k and 1M phyxels, and scenes/scalpel_cut.json
 # run on the GPU (its real-time factor), and scenes/breast_resection.json with and without
-# frames. Expects binaries built on the development machine without the window viewer, as
-# scripts/device-haptics.sh says, and the Vulkan loader packages in .gl/. Results go to $OUT:
+# frames. Expects .devbin and .gl from scripts/device-pack.sh, carried. Results go to $OUT:
 # cutting.txt and cutting.json.
 set -uo pipefail
 source "$(dirname "$0")/device-setup.sh"

@@ -2,12 +2,8 @@
 # On the device machine (docs/performance.md, "Haptics and contact"): `phyxel bench --haptics`
 # on the GPU: the 1 kHz haptic loop while the GPU solver runs the probe scene in real time at
 # refine 1, 2.78, 3 and 6 (about 5k, 100k, 125k and 1M phyxels), 10 s each, then the contact cost per step
-# on boxes of 10k, 100k and 1M phyxels. About 3 to 4 minutes on an H100. Expects binaries built
-# on the development machine without the window viewer (the device machine has no GLFW),
-# carried:
-#   cmake -S . -B build-device -DCMAKE_BUILD_TYPE=Release -DPHYXEL_WITH_WINDOW=OFF && \
-#     cmake --build build-device -j2 --target phyxel
-# and the Vulkan loader packages in .gl/ (see /work/.library/device/README.md). Results go to
+# on boxes of 10k, 100k and 1M phyxels. About 3 to 4 minutes on an H100. Expects .devbin and
+# .gl from scripts/device-pack.sh, carried. Results go to
 # $OUT: haptics.txt (every table), haptics.csv (every row) and haptics_rN.json per refine,
 # haptics_contact.json.
 set -uo pipefail

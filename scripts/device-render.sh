@@ -1,20 +1,10 @@
 #!/usr/bin/env bash
 # On the device machine (docs/performance.md, "Rendering"): the render tests on the GPU with
-# validation, then `phyxel bench --render`. Expects binaries built on the development machine
-# without the window viewer (the device machine has no GLFW), carried:
-#   cmake -S . -B build-device -DPHYXEL_WITH_WINDOW=OFF && cmake --build build-device \
-#     --target phyxel test_render
-# and the Vulkan loader and validation layer packages in .gl/ (see
-# /work/.library/device/README.md). Results go to $OUT.
+# validation, then `phyxel bench --render`. Expects .devbin and .gl from
+# scripts/device-pack.sh (with test_render copied into .devbin/tests for the render tests) and
+# the validation layer package in .gl/. Results go to $OUT.
 set -uo pipefail
-b="${PHYXEL_BUILD:-build-device}"
-for f in .gl/*.deb; do dpkg -x "$f" /; done
-ldconfig
-out="${OUT:-/tmp/phyxel-out}"
-mkdir -p "$out"
-if ! "$b"/app/phyxel info >/dev/null 2>&1; then
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-fi
+source "$(dirname "$0")/device-setup.sh"
 # The tests find their goldens under the source path they were built in (PHYXEL_SOURCE_DIR).
 src="${PHYXEL_BUILT_IN:-/work/main}"
 if [ ! -e "$src" ]; then mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; fi

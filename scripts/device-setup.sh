@@ -1,9 +1,17 @@
 # Sourced by the scripts/device-*.sh benchmarks on the device machine: unpacks the Vulkan loader
 # packages carried in .gl/, points the loader at the NVIDIA driver where it finds none itself,
-# and sets $b (the build folder, PHYXEL_BUILD or build-device) and $out (the results, $OUT).
-b="${PHYXEL_BUILD:-build-device}"
+# and sets $b (the binaries: PHYXEL_BUILD, or .devbin from scripts/device-pack.sh) and $out
+# (the results, $OUT).
+b="${PHYXEL_BUILD:-.devbin}"
 for f in .gl/*.deb; do dpkg -x "$f" /; done
 ldconfig
+# The shared libraries a bare machine lacks (libav*, their codecs), packed by
+# scripts/device-pack.sh.
+if [ -f "$b/lib.tar.xz" ]; then
+  mkdir -p /tmp/phyxel-lib
+  tar -C /tmp/phyxel-lib -xJf "$b/lib.tar.xz"
+  export LD_LIBRARY_PATH="/tmp/phyxel-lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+fi
 # Many Vulkan instances in one test binary: room for the driver's static TLS (compute/README.md).
 export GLIBC_TUNABLES=glibc.rtld.optional_static_tls=16777216
 out="${OUT:-/tmp/phyxel-out}"
