@@ -24,11 +24,10 @@ ldd "$bdir"/app/phyxel | awk '/=> \//{print $3}' | sort -u |
 tar -C /tmp/devlib -cf - . | xz -9 -T"${JOBS:-2}" >.devbin/lib.tar.xz
 du -sh .devbin
 if [ ! -d .gl ]; then
-  grep -qx '/.gl/' .git/info/exclude 2>/dev/null || echo /.gl/ >>.git/info/exclude
   mkdir -p .gl /tmp/amd64/partial
   o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
   # shellcheck disable=SC2086
   apt-get $o update >/dev/null
   # shellcheck disable=SC2086
-  (cd .gl && apt-get $o download libvulkan1)
+  (cd .gl && apt-get $o download libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2)
 fi

@@ -10,6 +10,12 @@ ldconfig
 if [ -f "$b/lib.tar.xz" ]; then
   mkdir -p /tmp/phyxel-lib
   tar -C /tmp/phyxel-lib -xJf "$b/lib.tar.xz"
+  # Only what the machine lacks: its own copies (which its GPU driver's libraries may need in
+  # their own versions) come first.
+  have="$(ldconfig -p)"
+  for f in /tmp/phyxel-lib/*; do
+    if grep -q "^[[:space:]]$(basename "$f") (" <<<"$have"; then rm -f "$f"; fi
+  done
   export LD_LIBRARY_PATH="/tmp/phyxel-lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 fi
 # Many Vulkan instances in one test binary: room for the driver's static TLS (compute/README.md).
