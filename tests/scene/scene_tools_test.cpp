@@ -173,10 +173,69 @@ TEST(SceneToolsErrors, TypeRequired) {
   expect_error(msg, "tools[0].type", {"missing required key \"type\"", "\"probe\""});
 }
 
-TEST(SceneToolsErrors, TheGrasperIsNotAvailableYet) {
-  const std::string msg = tools_error([&](json& j) { tool0(j)["type"] = "grasper"; });
-  expect_error(msg, "tools[0].type",
-               {"tool type \"grasper\" is not available yet", "allowed probe, scalpel or suction"});
+// --- grasper ---
+
+json& make_grasper(json& j) {
+  json& t = tool0(j);
+  t["type"] = "grasper";
+  t["grasp"] = {{"reach", 0.003}, {"from", 0.02}, {"until", 0.3}};
+  return t;
+}
+
+TEST(SceneTools, GraspKeysAreRead) {
+  json j = with_tools();
+  make_grasper(j);
+  const Scene s = parse_scene(j.dump(), kFile);
+  const ToolDesc& t = s.tools[0];
+  EXPECT_EQ(t.type, ToolDesc::Type::Grasper);
+  EXPECT_DOUBLE_EQ(t.grasp.reach, 0.003);
+  EXPECT_TRUE(t.grasp.closed_at(0.02));
+  EXPECT_FALSE(t.grasp.closed_at(0.01));
+  EXPECT_FALSE(t.grasp.closed_at(0.3));
+  EXPECT_FALSE(t.suction.sucks());
+  EXPECT_FALSE(s.tools[1].grasp.grasps());  // the other tool does not grasp
+  // Without from/until: closed from the start to the end.
+  tool0(j)["grasp"].erase("from");
+  tool0(j)["grasp"].erase("until");
+  const Grasp always = parse_scene(j.dump(), kFile).tools[0].grasp;
+  EXPECT_TRUE(always.closed_at(0) && always.closed_at(1e9));
+}
+
+TEST(SceneToolsErrors, GraspValuesAreChecked) {
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string path;
+    std::vector<std::string> parts;
+  };
+  const std::vector<Case> cases = {
+      {[](json& j) { make_grasper(j).erase("grasp"); },
+       "tools[0].grasp",
+       {"missing required key \"grasp\""}},
+      {[](json& j) { make_grasper(j)["grasp"].erase("reach"); },
+       "tools[0].grasp.reach",
+       {"missing required key \"reach\""}},
+      {[](json& j) { make_grasper(j)["grasp"]["reach"] = -0.001; },
+       "tools[0].grasp.reach",
+       {"reach > 0"}},
+      {[](json& j) { make_grasper(j)["grasp"]["from"] = -1; },
+       "tools[0].grasp.from",
+       {"from >= 0"}},
+      {[](json& j) { make_grasper(j)["grasp"]["until"] = 0.02; },
+       "tools[0].grasp.until",
+       {"until = 0.02 is not after from = 0.02"}},
+      {[](json& j) { make_grasper(j)["grasp"]["reech"] = 1; },
+       "tools[0].grasp.reech",
+       {"did you mean \"reach\"?"}},
+      {[](json& j) {
+         tool0(j)["grasp"] = {{"reach", 0.001}};
+       },
+       "tools[0].grasp",
+       {"\"grasp\" applies only to a grasper"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.path);
+    expect_error(tools_error(c.edit), c.path, c.parts);
+  }
 }
 
 // --- suction ---
