@@ -46,6 +46,20 @@ json& tool0(json& j) {
   return j["tools"][0];
 }
 
+// One broken value each: the path of the error and the parts of its message.
+struct ErrorCase {
+  std::function<void(json&)> edit;
+  std::string path;
+  std::vector<std::string> parts;
+};
+
+void expect_errors(const std::vector<ErrorCase>& cases) {
+  for (const ErrorCase& c : cases) {
+    SCOPED_TRACE(c.path);
+    expect_error(tools_error(c.edit), c.path, c.parts);
+  }
+}
+
 // --- valid scenes ---
 
 TEST(SceneTools, EveryKeyIsRead) {
@@ -202,12 +216,7 @@ TEST(SceneTools, GraspKeysAreRead) {
 }
 
 TEST(SceneToolsErrors, GraspValuesAreChecked) {
-  struct Case {
-    std::function<void(json&)> edit;
-    std::string path;
-    std::vector<std::string> parts;
-  };
-  const std::vector<Case> cases = {
+  expect_errors({
       {[](json& j) { make_grasper(j).erase("grasp"); },
        "tools[0].grasp",
        {"missing required key \"grasp\""}},
@@ -231,11 +240,7 @@ TEST(SceneToolsErrors, GraspValuesAreChecked) {
        },
        "tools[0].grasp",
        {"\"grasp\" applies only to a grasper"}},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.path);
-    expect_error(tools_error(c.edit), c.path, c.parts);
-  }
+  });
 }
 
 // --- suction ---
@@ -267,12 +272,7 @@ TEST(SceneTools, SuctionKeysAreRead) {
 }
 
 TEST(SceneToolsErrors, SuctionValuesAreChecked) {
-  struct Case {
-    std::function<void(json&)> edit;
-    std::string path;
-    std::vector<std::string> parts;
-  };
-  const std::vector<Case> cases = {
+  expect_errors({
       {[](json& j) { make_aspirator(j).erase("suction"); },
        "tools[0].suction",
        {"missing required key \"suction\""}},
@@ -296,11 +296,7 @@ TEST(SceneToolsErrors, SuctionValuesAreChecked) {
        },
        "tools[0].suction",
        {"\"suction\" applies only to a suction tool"}},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.path);
-    expect_error(tools_error(c.edit), c.path, c.parts);
-  }
+  });
 }
 
 // --- scalpel ---
@@ -330,12 +326,7 @@ TEST(SceneTools, AScalpelsBladeIsRead) {
 }
 
 TEST(SceneToolsErrors, BadScalpelInput) {
-  struct Case {
-    std::function<void(json&)> edit;
-    std::string path;
-    std::vector<std::string> parts;
-  };
-  const std::vector<Case> cases = {
+  expect_errors({
       {[](json& j) { make_scalpel(j).erase("blade"); },
        "tools[0].blade",
        {"missing required key \"blade\""}},
@@ -364,11 +355,7 @@ TEST(SceneToolsErrors, BadScalpelInput) {
       {[](json& j) { tool0(j)["cut_force_threshold"] = 1; },
        "tools[0].cut_force_threshold",
        {"\"cut_force_threshold\" applies only to a scalpel"}},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.path);
-    expect_error(tools_error(c.edit), c.path, c.parts);
-  }
+  });
 }
 
 TEST(SceneToolsErrors, UnknownType) {
