@@ -75,7 +75,9 @@ void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer
     pass(kGraspHold, 0);
     rec.barrier();
     pass(kGraspReduce, wg);
-    rec.barrier();
+    // Every mode binds the grip counts as writable: the next substep's hold reads them as its
+    // indirect dispatch.
+    rec.indirect_barrier();
   }
 }
 
