@@ -106,6 +106,21 @@ TEST(Grasper, LetsGoWhenItOpens) {
   EXPECT_LT(end_u, 0.25 * 0.002) << "the end did not spring back";
 }
 
+TEST(Grasper, RemovedPhyxelsLeaveTheGrip) {
+  const Vec3 tip(kBarLength + 0.0006, 0, 0);
+  BarRun r = run_bar(bar_json(tip.x(), 0.0027, 0, 0, 0), 4);
+  std::vector<uint32_t> held = r.solver->held_phyxels(0);
+  ASSERT_GT(held.size(), 3u);
+  r.solver->remove_phyxels({held[0], held[2]});  // aspirated
+  held.erase(held.begin() + 2);
+  held.erase(held.begin());
+  EXPECT_EQ(r.solver->held_phyxels(0), held);
+  ToolTrack track(r.scene.tools, {});
+  const TimeStepPlan plan = plan_time_step(r.scene, r.set);
+  const auto rec = advance_with_tools(*r.solver, track, 4, 1, plan.substeps, plan.dt_used);
+  EXPECT_EQ(rec.back().held, held.size());
+}
+
 TEST(Grasper, NeverTakesFixedPhyxels) {
   // A reach over the whole bar: every moving phyxel is taken, no fixed one.
   BarRun r = run_bar(bar_json(0.015, 0.05, 0, 0, 0), 4);
