@@ -73,6 +73,12 @@ std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, in
   return steps;
 }
 
+// Whether a tool grasps (engine/surgery/grasper.h): the grasp passes run only then.
+bool has_grasper(const Scene& scene) {
+  return std::any_of(scene.tools.begin(), scene.tools.end(),
+                     [](const ToolDesc& t) { return t.grasp.grasps(); });
+}
+
 int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping) {
   if (options.check_every > 0) return options.check_every;
   int64_t check = 100;
@@ -197,9 +203,7 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     throw std::runtime_error(scene.file.string() +
                              ": checkpoints do not hold aspirated tissue yet; run a scene whose "
                              "suction tools aspirate without --checkpoint-every or --resume");
-  const bool grasping = std::any_of(scene.tools.begin(), scene.tools.end(),
-                                    [](const ToolDesc& t) { return t.grasp.grasps(); });
-  if (grasping && (options.checkpoint_every > 0 || options.resume))
+  if (has_grasper(scene) && (options.checkpoint_every > 0 || options.resume))
     throw std::runtime_error(scene.file.string() +
                              ": checkpoints do not hold a grasper's grip yet; run a scene with a "
                              "grasper without --checkpoint-every or --resume");
@@ -581,10 +585,7 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
                                    : "principal stress and tear passes (no material has "
                                      "tear_stress)",
                            scalpels > 0 ? "" : "cutting passes (no scalpel)",
-                           std::any_of(scene.tools.begin(), scene.tools.end(),
-                                       [](const ToolDesc& t) { return t.grasp.grasps(); })
-                               ? ""
-                               : "grasp passes (no grasper)"})
+                           has_grasper(scene) ? "" : "grasp passes (no grasper)"})
     if (*part) {
       if (!skipped.empty()) skipped += ", ";
       skipped += part;
