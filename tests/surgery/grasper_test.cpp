@@ -58,6 +58,19 @@ std::vector<uint32_t> within(const PhyxelSet& set, const Vec3& tip, double reach
   return out;
 }
 
+TEST(Grasper, TheGripTurnsWithTheToolsAxis) {
+  // Captured 1 mm down the axis (z) from the tip; the tool then moves by (1, 2, 3) cm and turns
+  // its axis to x: the point is 1 mm down x from the new tip, and moves with the tool.
+  const ToolPose at_capture{Vec3(0.01, 0, 0), Vec3::UnitZ()};
+  const Vec3 offset = grip_offset(at_capture, Vec3(0.01, 0, -0.001));
+  EXPECT_LT((grip_point(at_capture, offset) - Vec3(0.01, 0, -0.001)).norm(), 1e-15);
+  const ToolPose turned{Vec3(0.02, 0.02, 0.03), Vec3::UnitX()};
+  EXPECT_LT((grip_point(turned, offset) - Vec3(0.019, 0.02, 0.03)).norm(), 1e-15);
+  const GripTarget target = grip_target({at_capture, turned}, offset, 0.5);
+  EXPECT_LT((target.velocity - (Vec3(0.019, 0.02, 0.03) - Vec3(0.01, 0, -0.001)) / 0.5).norm(),
+            1e-14);
+}
+
 TEST(Grasper, ClosesOnThePhyxelsWithinReachOfTheTip) {
   // Tip 0.6 mm beyond the free end, reach 2.7 mm: a cap of the end (no phyxel at that distance).
   const Vec3 tip(kBarLength + 0.0006, 0, 0);
