@@ -98,6 +98,11 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
         tool["max_friction_force"] = t.max_friction;
         tool["max_penetration_depth"] = t.max_depth;
       }
+      if (t.grasps) {  // engine/surgery/grasper.h
+        tool["held"] = t.held;
+        tool["max_held"] = t.max_held;
+        tool["max_pull_force"] = t.max_pull_force;
+      }
       tools.push_back(tool);
     }
     j["tools"] = tools;

@@ -132,6 +132,11 @@ class GpuSolver final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
   size_t contact_candidates() const override { return candidates_; }
+  // Graspers, with CpuSolver's semantics (engine/surgery/grasper.h): after each substep's
+  // contact reduction, tool_grasp captures (in the substep the jaws close), holds and reduces
+  // the grip's force into the sample (gpu_solver_grasp.cpp); nothing is read back during the
+  // advance. held_phyxels downloads the grip.
+  std::vector<uint32_t> held_phyxels(size_t tool) override;
   // Principal stress (tearing), with CpuSolver's semantics (engine/solver/cpu_solver.h): while
   // on, solver_principal follows every stress pass over the stress list, on the same u, into a
   // float per phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
@@ -230,6 +235,10 @@ class GpuSolver final : public Solver {
   void upload_cut_quads(Recorder& rec);
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
   void finish_cutting();
+  // Graspers (gpu_solver_grasp.cpp): the grip buffers for set_tools, and the capture, hold and
+  // reduction passes of a substep, after the contact reduction.
+  void prepare_grasping();
+  void record_grasp(Recorder& rec, int64_t step, float dt, const Buffer& disp);
   // A host edit (remove_phyxels, sever_pairs): uploads the flags and weights and reruns the
   // precompute for the touched phyxels (ascending).
   void apply_edit(const std::vector<uint32_t>& flags, const std::vector<float>& weights,
@@ -310,6 +319,13 @@ class GpuSolver final : public Solver {
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_upload_;
+
+  // Graspers (gpu_solver_grasp.cpp); allocated by set_tools only when a tool grasps.
+  bool grasping_ = false;             // a tool grasps
+  std::vector<uint8_t> grip_closed_;  // per tool: its jaws closed, as the passes recorded so far
+  Buffer grip_;                       // GraspEntry [tool][count_]
+  Buffer grip_count_;                 // ContactCount per tool (indirect)
+  Buffer grip_force_;                 // vec4 [tool][count_]
 
   // Cutting (gpu_solver_cutting.cpp).
   bool cutting_ = false;                // a tool has a blade

@@ -76,6 +76,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
                               "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
   }
   if (cutting_) prepare_cutting();
+  prepare_grasping();
   if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);
     rec_[0]->fill(contact_count_, 0);
@@ -223,6 +224,10 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
            ContactReducePush{0u, nt, candidate_capacity_, static_cast<uint32_t>(step)},
            {candidate_force_, samples_buffer_, contact_count_},
            nt * kernels_->contact_reduce.workgroup_size()[0]);
+  if (grasping_) {
+    rec.barrier();
+    record_grasp(rec, step, dt, disp);
+  }
 }
 
 void GpuSolver::finish_contact(int64_t substeps, bool ran) {
@@ -244,6 +249,7 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
       const vec4& range = felt[2 * k + 1];
       samples_[k].force = Vec3(f.x, f.y, f.z);
       samples_[k].contacts = static_cast<uint32_t>(f.w);
+      samples_[k].held = static_cast<uint32_t>(range.z);  // tool_grasp's reduction
       if (range.x <= range.y) {
         samples_[k].axial_min = range.x;
         samples_[k].axial_max = range.y;

@@ -23,6 +23,7 @@
 #include "phyxel_spv/tool_broad_scan.spv.h"
 #include "phyxel_spv/tool_contact.spv.h"
 #include "phyxel_spv/tool_contact_reduce.spv.h"
+#include "phyxel_spv/tool_grasp.spv.h"
 #include "phyxel_spv/tool_sever.spv.h"
 
 namespace phyxel::gpu {
@@ -50,7 +51,8 @@ SolverKernels::SolverKernels(Context& ctx)
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
-      sever(ctx, PHYXEL_SHADER(tool_sever), 12, sizeof(SeverPush)) {
+      sever(ctx, PHYXEL_SHADER(tool_sever), 12, sizeof(SeverPush)),
+      grasp(ctx, PHYXEL_SHADER(tool_grasp), 12, sizeof(GraspPush)) {
   if (ctx.float64())
     nbr_pairs_f64 = Pipeline(ctx, PHYXEL_SHADER(nbr_pairs_f64), 11, sizeof(NbrPush));
 }

@@ -36,6 +36,7 @@ class SolverKernels {
   Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
+  Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
 };
 
 // Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for

@@ -411,6 +411,59 @@ struct ContactCount {
 PHYXEL_ASSERT_SIZE(ContactCount, 16);
 
 // ---------------------------------------------------------------------------------------
+// Graspers (compute/gpu_solver_grasp.cpp; shaders/tool_grasp.comp mirrors
+// engine/solver/cpu_solver_grasp.cpp and engine/surgery/grasper.h).
+
+// A held phyxel: its offset from the tip in the tool's frame (m; grip_offset), and its index.
+// Per grasper a region of `capacity` entries of the grip buffer.
+struct GraspEntry {
+  vec4 offset;   // xyz offset, w unused
+  uvec4 phyxel;  // x: the phyxel, y z w unused
+};
+PHYXEL_ASSERT_SIZE(GraspEntry, 32);
+
+// tool_grasp, one pipeline with three modes, after tool_contact_reduce in a substep whose
+// motion closes the tool's jaws:
+//   kGraspCapture  one workgroup: the candidates (ascending) that are neither fixed nor
+//                  removed and lie within reach of the tip at the end pose, appended in order
+//                  with their offsets to the tool's grip; its ContactCount (total, indirect
+//                  dispatch) written (only in the substep the jaws close)
+//   kGraspHold     over the tool's grip (indirect): each held phyxel that is not removed put
+//                  where the tool carries its offset, with the tool's velocity there; its
+//                  force m dv / dt and 1 into force[tool * capacity + entry] (0 for a removed
+//                  one)
+//   kGraspReduce   one workgroup: the forces summed in a fixed order (tool_contact_reduce's),
+//                  subtracted from the tool's sample of the substep, and the held count into
+//                  its second row's z
+PHYXEL_CONST uint kGraspCapture = 0u;
+PHYXEL_CONST uint kGraspHold = 1u;
+PHYXEL_CONST uint kGraspReduce = 2u;
+struct GraspPush {
+  vec4 origin;  // the motion table's frame (ContactPush.origin); w: the reach (m)
+  float dt;     // s
+  uint tool;
+  uint tools;
+  uint motion;    // row of the motion table (ContactPush.motion)
+  uint hold;      // 1 past the chunk's motions (ContactPush.hold)
+  uint capacity;  // entries per tool of the grip and force buffers (the phyxel count)
+  uint mode;      // kGrasp*
+  uint substep;   // of the advance: the row of the samples
+};
+PHYXEL_ASSERT_SIZE(GraspPush, 48);
+PHYXEL_CONST uint kGraspBindingList = 0;        // contact candidates, ascending
+PHYXEL_CONST uint kGraspBindingCandidates = 1;  // their ContactCount
+PHYXEL_CONST uint kGraspBindingRest = 2;
+PHYXEL_CONST uint kGraspBindingDisp = 3;
+PHYXEL_CONST uint kGraspBindingVel = 4;
+PHYXEL_CONST uint kGraspBindingExt = 5;
+PHYXEL_CONST uint kGraspBindingFlags = 6;
+PHYXEL_CONST uint kGraspBindingMotion = 7;
+PHYXEL_CONST uint kGraspBindingGrip = 8;    // GraspEntry [tool][capacity]
+PHYXEL_CONST uint kGraspBindingCount = 9;   // ContactCount per tool: the grip's
+PHYXEL_CONST uint kGraspBindingForce = 10;  // vec4 [tool][capacity]
+PHYXEL_CONST uint kGraspBindingSamples = 11;
+
+// ---------------------------------------------------------------------------------------
 // Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors
 // engine/solver/cpu_solver_cutting.cpp and engine/surgery/cutting.cpp).
 

@@ -73,6 +73,12 @@ std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, in
   return steps;
 }
 
+// Whether a tool grasps (engine/surgery/grasper.h): the grasp passes run only then.
+bool has_grasper(const Scene& scene) {
+  return std::any_of(scene.tools.begin(), scene.tools.end(),
+                     [](const ToolDesc& t) { return t.grasp.grasps(); });
+}
+
 int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping) {
   if (options.check_every > 0) return options.check_every;
   int64_t check = 100;
@@ -197,6 +203,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     throw std::runtime_error(scene.file.string() +
                              ": checkpoints do not hold aspirated tissue yet; run a scene whose "
                              "suction tools aspirate without --checkpoint-every or --resume");
+  if (has_grasper(scene) && (options.checkpoint_every > 0 || options.resume))
+    throw std::runtime_error(scene.file.string() +
+                             ": checkpoints do not hold a grasper's grip yet; run a scene with a "
+                             "grasper without --checkpoint-every or --resume");
   if (!tools.empty()) {
     if (!solver.supports_tools())
       throw std::runtime_error(scene.file.string() + ": the scene has tools, which " +
@@ -558,6 +568,13 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
           scene.tearing_possible()
               ? "between advances the fracture sphere at each mouth (state read back while on)"
               : "nothing aspirated (no material has tear_stress)");
+    const auto graspers = std::count_if(scene.tools.begin(), scene.tools.end(),
+                                        [](const ToolDesc& t) { return t.grasp.grasps(); });
+    if (graspers > 0)
+      add("    grasp          %zu grasper(s): after the contact, while the jaws are closed, the "
+          "phyxels they hold carried with the tool (captured from the candidates within reach "
+          "when they close) and the grip's force summed per substep",
+          static_cast<size_t>(graspers));
     add("  tools: tools.csv (a row per step and tool) and summary.json tools");
   }
   // What the scene does not need, with the reason; nothing when it needs everything.
@@ -567,7 +584,8 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
                            tearing ? ""
                                    : "principal stress and tear passes (no material has "
                                      "tear_stress)",
-                           scalpels > 0 ? "" : "cutting passes (no scalpel)"})
+                           scalpels > 0 ? "" : "cutting passes (no scalpel)",
+                           has_grasper(scene) ? "" : "grasp passes (no grasper)"})
     if (*part) {
       if (!skipped.empty()) skipped += ", ";
       skipped += part;

@@ -3,7 +3,7 @@
 #include "engine/scene/scene_json_tools.h"
 
 #include <algorithm>
-#include <array>
+#include <limits>
 #include <map>
 #include <string>
 #include <string_view>
@@ -28,15 +28,13 @@ constexpr std::string_view kBladeExpected =
     "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m}";
 constexpr std::string_view kSuctionExpected =
     "a suction object {\"pressure\": Pa, \"reach\": m, \"from\": s, \"until\": s}";
+constexpr std::string_view kGraspExpected =
+    "a grasp object {\"reach\": m, \"from\": s, \"until\": s}";
 constexpr std::string_view kCouplingExpected =
     "a coupling object {\"stiffness\": N/m, \"damping\": N s/m, \"mass\": kg, \"max_force\": N}";
 
 // Coulomb coefficients of instruments on tissue are well below 1; above this a value is a typo.
 constexpr double kMaxFriction = 10;
-
-// Instruments of the tool model whose actions (grasping) are not built yet: named so that a
-// scene asking for one is told so, not that the name is unknown.
-constexpr std::array<std::string_view, 1> kComingTypes = {"grasper"};
 
 // Surgical aspirators pull with up to about 80 kPa below the atmosphere; above 1 MPa a value is
 // a typo.
@@ -46,15 +44,10 @@ constexpr double kMaxSuctionPressure = 1e6;
 constexpr double kMaxCutForce = 1e3;
 
 ToolDesc::Type read_type(const Node& node) {
-  const nlohmann::json& v = node.value();
-  if (v.is_string() && std::find(kComingTypes.begin(), kComingTypes.end(), v.get<std::string>()) !=
-                           kComingTypes.end()) {
-    node.fail("tool type \"" + v.get<std::string>() + "\" is not available yet",
-              "allowed probe, scalpel or suction (the grasper comes with its action)");
-  }
-  const std::string type = node.choice({"probe", "scalpel", "suction"});
+  const std::string type = node.choice({"probe", "scalpel", "suction", "grasper"});
   return type == "scalpel"   ? ToolDesc::Type::Scalpel
          : type == "suction" ? ToolDesc::Type::Suction
+         : type == "grasper" ? ToolDesc::Type::Grasper
                              : ToolDesc::Type::Probe;
 }
 
@@ -77,6 +70,19 @@ Blade read_blade(const Node& node, const Vec3& first_axis) {
   return b;
 }
 
+// An action's `until` (s): after `from`; infinity where the key is absent (`open_ended` says
+// what that means).
+double read_until(const Node& node, double from, const char* open_ended) {
+  const auto until = node.find("until");
+  if (!until) return std::numeric_limits<double>::infinity();
+  const double t = until->number(Limits::at_least(0), "s");
+  if (!(t > from))
+    until->fail("until = " + json_reader::format_number(t) +
+                    " is not after from = " + json_reader::format_number(from),
+                std::string("allowed until > from (s), or no until (") + open_ended + ")");
+  return t;
+}
+
 // An aspirator's action: pressure and reach required, on during [from, until).
 Suction read_suction(const Node& node) {
   node.expect_object(kSuctionExpected, {"pressure", "reach", "from", "until"});
@@ -84,14 +90,18 @@ Suction read_suction(const Node& node) {
   s.pressure = node.number("pressure", {0, kMaxSuctionPressure, false, true}, "Pa");
   s.reach = node.number("reach", Limits::above(0), "m");
   s.from = node.number_or("from", 0.0, Limits::at_least(0), "s");
-  if (const auto until = node.find("until")) {
-    s.until = until->number(Limits::at_least(0), "s");
-    if (!(s.until > s.from))
-      until->fail("until = " + json_reader::format_number(s.until) +
-                      " is not after from = " + json_reader::format_number(s.from),
-                  "allowed until > from (s), or no until (on to the end)");
-  }
+  s.until = read_until(node, s.from, "on to the end");
   return s;
+}
+
+// A grasper's jaws: reach required, closed during [from, until).
+Grasp read_grasp(const Node& node) {
+  node.expect_object(kGraspExpected, {"reach", "from", "until"});
+  Grasp g;
+  g.reach = node.number("reach", Limits::above(0), "m");
+  g.from = node.number_or("from", 0.0, Limits::at_least(0), "s");
+  g.until = read_until(node, g.from, "held to the end");
+  return g;
 }
 
 ToolShape read_tool_shape(const Node& node) {
@@ -154,11 +164,12 @@ CouplingSettings read_coupling(const Node& node) {
 }
 
 ToolDesc read_tool(const Node& node) {
-  node.expect_object(kToolExpected, {"name", "type", "shape", "path", "friction", "control",
-                                     "coupling", "blade", "cut_force_threshold", "suction"});
+  node.expect_object(kToolExpected,
+                     {"name", "type", "shape", "path", "friction", "control", "coupling", "blade",
+                      "cut_force_threshold", "suction", "grasp"});
   ToolDesc tool;
   tool.name = node.at("name", "a non-empty string").text();
-  tool.type = read_type(node.at("type", "\"probe\", \"scalpel\" or \"suction\""));
+  tool.type = read_type(node.at("type", "\"probe\", \"scalpel\", \"suction\" or \"grasper\""));
   tool.shape = read_tool_shape(node.at("shape", kToolShapeExpected));
   tool.path = read_path(node.at("path", kPathExpected));
   if (tool.type == ToolDesc::Type::Scalpel) {
@@ -178,6 +189,12 @@ ToolDesc read_tool(const Node& node) {
   } else if (const auto extra = node.find("suction")) {
     extra->fail("\"suction\" applies only to a suction tool",
                 "allowed only with \"type\": \"suction\"; remove it or change the type");
+  }
+  if (tool.type == ToolDesc::Type::Grasper) {
+    tool.grasp = read_grasp(node.at("grasp", kGraspExpected));
+  } else if (const auto extra = node.find("grasp")) {
+    extra->fail("\"grasp\" applies only to a grasper",
+                "allowed only with \"type\": \"grasper\"; remove it or change the type");
   }
   tool.friction = node.number_or("friction", 0.0, {0, kMaxFriction, true, true}, "");
   if (const auto control = node.find("control")) {

@@ -80,6 +80,11 @@ class CpuBackend final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override { motion_ = motion; }
   std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
   size_t contact_candidates() const override { return solver_->contact_candidates(); }
+  std::vector<uint32_t> held_phyxels(size_t tool) override {
+    std::vector<uint32_t> held;
+    for (const GripEntry& e : solver_->grip(tool).held) held.push_back(e.phyxel);
+    return held;
+  }
   bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override { solver_->set_principal_stress(on); }
   bool supports_tearing() const override { return true; }

@@ -269,6 +269,9 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   tools_ = tools;
   cutting_ = false;
   for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
+  grasping_ = false;
+  for (const ContactTool& t : tools_) grasping_ = grasping_ || t.grasp.grasps();
+  grips_.assign(tools_.size(), Grip{});
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();
@@ -352,6 +355,7 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
         felt[t].add_axial((x - now[t].to.position).dot(now[t].to.axis));
     }
   }
+  if (grasping_) apply_grasps(dt, now, felt);
   samples_.insert(samples_.end(), felt.begin(), felt.end());
 }
 

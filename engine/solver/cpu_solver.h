@@ -19,6 +19,7 @@
 #include "engine/solver/neighbours.h"
 #include "engine/surgery/contact.h"
 #include "engine/surgery/cutting.h"
+#include "engine/surgery/grasper.h"
 
 namespace phyxel {
 
@@ -76,6 +77,10 @@ class CpuSolver {
   // The contact force on each phyxel in the last step (N; zero where there was no contact).
   const std::vector<V3>& contact_force() const { return contact_force_; }
   size_t contact_candidates() const { return candidates_.size(); }
+  // Graspers (engine/surgery/grasper.h): after the contacts of every step, each grasper whose
+  // jaws close in the step captures the candidates within its reach, and each closed grasper
+  // carries what it holds (cpu_solver_grasp.cpp). The grip of tool t (empty for other tools).
+  const Grip& grip(size_t tool) const { return grips_.at(tool); }
 
   // Cutting (engine/surgery/cutting.h, docs/cutting.md): after the contacts of every step, each
   // scalpel whose edge force reached its threshold severs the pairs that cross the quad its
@@ -139,8 +144,12 @@ class CpuSolver {
   void apply_contacts(Real dt);  // after the drift of step()
   void find_candidates();        // the chunk's broad phase (contact_candidates)
   void apply_cuts();             // after apply_contacts (cpu_solver_cutting.cpp)
-  void apply_tears();            // after the stress pass of step() (cpu_solver_tearing.cpp)
-  void precompute(size_t i);     // A_i^-1, its residual, kappa_i from the live pairs of i
+  // In apply_contacts, after the contacts: the graspers' capture, hold and release, their
+  // forces and held counts into `felt` (cpu_solver_grasp.cpp).
+  void apply_grasps(Real dt, const std::vector<ToolMotion>& now,
+                    std::vector<ToolContactSample>& felt);
+  void apply_tears();         // after the stress pass of step() (cpu_solver_tearing.cpp)
+  void precompute(size_t i);  // A_i^-1, its residual, kappa_i from the live pairs of i
   bool sever(uint32_t i, uint32_t k, float t);  // pair k of row i; false if already severed
   void precompute_touched(std::vector<uint32_t>& touched);  // sorted, deduplicated, rerun
 
@@ -175,6 +184,8 @@ class CpuSolver {
   std::vector<uint8_t> contact_;
   std::vector<V3> contact_force_;
   std::vector<ToolMotion> now_;  // this substep's motion of each tool (apply_contacts)
+  bool grasping_ = false;        // a tool grasps
+  std::vector<Grip> grips_;      // per tool
 
   // Cutting.
   bool cutting_ = false;              // a tool has a blade

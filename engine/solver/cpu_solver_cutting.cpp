@@ -109,6 +109,8 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
     touched.push_back(i);
   }
   if (touched.empty()) return;
+  for (Grip& g : grips_)  // the jaws hold nothing that left the physics
+    std::erase_if(g.held, [&](const GripEntry& e) { return (flags_[e.phyxel] & kRemoved) != 0; });
   precompute_touched(touched);
   build_pass_lists();
   compute_forces();

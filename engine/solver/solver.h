@@ -65,6 +65,12 @@ class Solver {
   virtual void set_tools(const std::vector<ContactTool>&) {}
   virtual void set_tool_motion(const std::vector<ToolMotion>&) {}
   virtual std::vector<ToolContactSample> tool_samples() { return {}; }
+  // The phyxels a grasper's jaws hold now (ascending; empty for other tools and open jaws;
+  // engine/surgery/grasper.h).
+  virtual std::vector<uint32_t> held_phyxels(size_t tool) {
+    (void)tool;
+    return {};
+  }
   // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
   virtual size_t contact_candidates() const { return 0; }
   // Principal stress (tearing, Scene::tearing_possible): while on, every substep computes the

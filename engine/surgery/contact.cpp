@@ -9,7 +9,7 @@ namespace phyxel {
 
 std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools) {
   std::vector<ContactTool> out;
-  for (const ToolDesc& t : tools) out.push_back({t.shape, t.friction, t.blade, t.suction});
+  for (const ToolDesc& t : tools) out.push_back({t.shape, t.friction, t.blade, t.suction, t.grasp});
   return out;
 }
 
@@ -112,6 +112,7 @@ Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<Too
     Bounds swept = tool_bounds(t.shape, motion[k].from);
     swept.extend(tool_bounds(t.shape, motion[k].to));
     if (t.suction.sucks()) swept.grow(t.suction.reach);  // what its mouth pulls on
+    if (t.grasp.grasps()) swept.grow(t.grasp.reach);     // what its jaws close on
     b.extend(swept);
   }
   return b;

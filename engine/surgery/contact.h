@@ -34,13 +34,15 @@ struct ContactTool {
   double friction = 0;
   Blade blade;      // a scalpel's (cuts() false for every other tool)
   Suction suction;  // an aspirator's (sucks() false for every other tool)
+  Grasp grasp;      // a grasper's (grasps() false for every other tool)
 };
 std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools);
 
 // One substep's motion of one tool, from its pose at the substep's start to its end.
 struct ToolMotion {
   ToolPose from, to;
-  bool suction_on = false;  // an aspirator sucks during the substep (Suction::on_at its middle)
+  bool suction_on = false;   // an aspirator sucks during the substep (Suction::on_at its middle)
+  bool grip_closed = false;  // a grasper's jaws are closed in the substep (Grasp::closed_at)
 };
 
 // What one tool felt during one substep: the force on the tool (N, the negative sum of the
@@ -53,6 +55,7 @@ struct ToolMotion {
 struct ToolContactSample {
   Vec3 force = Vec3::Zero();
   uint32_t contacts = 0;
+  uint32_t held = 0;  // a grasper: the phyxels its jaws hold at the substep's end
   double axial_min = kNoContactAxial;
   double axial_max = -kNoContactAxial;
   static constexpr double kNoContactAxial = 1e30;

@@ -36,6 +36,17 @@ struct Suction {
   bool on_at(double t) const { return sucks() && from <= t && t < until; }
 };
 
+// The action of a grasper (ToolDesc::grasp, ContactTool::grasp; engine/surgery/grasper.h): its
+// jaws close at `from` on every phyxel within `reach` of its tip and carry them rigidly with
+// the tool until `until`, when they let go.
+struct Grasp {
+  double reach = 0;  // m, from the tip (> 0: the tool grasps)
+  double from = 0;   // s: closed during [from, until)
+  double until = std::numeric_limits<double>::infinity();
+  bool grasps() const { return reach > 0; }
+  bool closed_at(double t) const { return grasps() && from <= t && t < until; }
+};
+
 // The tool's rigid shape, in the tool's frame: the tip at `position`, the shaft along `axis`.
 struct ToolShape {
   enum class Type { Sphere, Capsule };
@@ -66,7 +77,7 @@ struct CouplingSettings {
 };
 
 struct ToolDesc {
-  enum class Type { Probe, Scalpel, Suction };  // the grasper comes with its action
+  enum class Type { Probe, Scalpel, Suction, Grasper };
   enum class Control { Path, Haptic };
   std::string name;
   Type type = Type::Probe;
@@ -77,6 +88,7 @@ struct ToolDesc {
   CouplingSettings coupling;  // control haptic only
   Blade blade;                // scalpel only (engine/surgery/cutting.h)
   Suction suction;            // suction only (engine/surgery/suction.h)
+  Grasp grasp;                // grasper only (engine/surgery/grasper.h)
 };
 
 // The pose of a path at time t: position interpolated linearly between keys, the axis by the

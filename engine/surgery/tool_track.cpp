@@ -14,6 +14,7 @@ ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source)
     last_.push_back(pose_at(t.path, 0.0));
     stats_.push_back({t.name, Vec3::Zero(), 0, 0, 0, 0});
     stats_.back().cuts = t.blade.cuts();
+    stats_.back().grasps = t.grasp.grasps();
   }
   if (live() && !source_)
     throw std::invalid_argument("ToolTrack: a haptic tool needs a pose source");
@@ -55,7 +56,9 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
       // suction says, at the substep's middle.
       const bool on =
           tool.suction.sucks() && (live_tool || tool.suction.on_at((double(first + k) + 0.5) * dt));
-      motions_[static_cast<size_t>(k) * nt + t] = {from, to, on};
+      // A grasper's jaws as its grasp says, at the substep's middle, haptic or not.
+      const bool closed = tool.grasp.closed_at((double(first + k) + 0.5) * dt);
+      motions_[static_cast<size_t>(k) * nt + t] = {from, to, on, closed};
       from = to;
     }
     last_[t] = from;
@@ -76,6 +79,7 @@ Bounds ToolTrack::swept_bounds(double from, double to) const {
         if (k.t > from && k.t < to) swept.extend(tool_bounds(tool.shape, {k.position, k.axis}));
     }
     if (tool.suction.sucks()) swept.grow(tool.suction.reach);  // what its mouth pulls on
+    if (tool.grasp.grasps()) swept.grow(tool.grasp.reach);     // what its jaws close on
     b.extend(swept);
   }
   return b;
@@ -121,6 +125,10 @@ std::vector<ToolStepRecord> ToolTrack::fold(const std::vector<ToolContactSample>
       }
       const size_t last = static_cast<size_t>(s * substeps + substeps - 1) * nt + t;
       r.contacts = samples[last].contacts;
+      r.held = samples[last].held;
+      st.held = r.held;
+      st.max_held = std::max(st.max_held, r.held);
+      if (r.held > 0) st.max_pull_force = std::max(st.max_pull_force, r.force.norm());
       r.pose = motions_[last].to;
       st.last_force = r.force;
       st.max_force = std::max(st.max_force, r.force.norm());
@@ -138,7 +146,10 @@ void ToolTrack::restore(const std::vector<ToolPose>& poses,
                                 " tools, got " + std::to_string(poses.size()));
   last_ = poses;
   stats_ = stats;
-  for (size_t t = 0; t < tools_.size(); ++t) stats_[t].cuts = tools_[t].blade.cuts();
+  for (size_t t = 0; t < tools_.size(); ++t) {
+    stats_[t].cuts = tools_[t].blade.cuts();
+    stats_[t].grasps = tools_[t].grasp.grasps();
+  }
 }
 
 }  // namespace phyxel

@@ -33,6 +33,13 @@ struct ToolRunStats {
   double max_feedback = 0;
   double max_friction = 0;
   double max_depth = 0;
+  // Graspers (engine/surgery/grasper.h): the phyxels the jaws hold at the last substep, the
+  // most they held at a step's end, and the largest |force| of a step in which they held any
+  // (N: the tissue pulling on the jaws).
+  bool grasps = false;
+  uint32_t held = 0;
+  uint32_t max_held = 0;
+  double max_pull_force = 0;
 };
 
 // One step's record of one tool (a row of tools.csv).
@@ -40,6 +47,7 @@ struct ToolStepRecord {
   ToolPose pose;              // at the end of the step
   Vec3 force = Vec3::Zero();  // N, on the tool, mean over the step's substeps
   uint32_t contacts = 0;      // at the step's last substep
+  uint32_t held = 0;          // a grasper: phyxels its jaws hold at the step's last substep
   // Scalpels: the cutting force of eqs 21-26, its forces the mean over the step's substeps
   // (theta from the mean parts), the depth at its last substep. Zero for other tools.
   CutFeedback cut;

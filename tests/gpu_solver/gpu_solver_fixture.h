@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,22 @@ AxialAgreement axial_agreement(const std::vector<ToolContactSample>& cpu,
       a.worst = std::max(a.worst, d);
   }
   return a;
+}
+
+// Moves the scene's tools over its first `steps` steps as the run loop does, `chunk` steps per
+// advance: set_tools, then per chunk the motions, the advance, and after(the chunk's samples).
+inline void advance_tools_in_chunks(
+    Solver& solver, const Scene& scene, const PhyxelSet& set, int64_t steps, int64_t chunk,
+    const std::function<void(const std::vector<ToolContactSample>&)>& after) {
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  ToolTrack track(scene.tools, {});
+  solver.set_tools(contact_tools(scene.tools));
+  for (int64_t s = 0; s < steps; s += chunk) {
+    const int64_t n = std::min<int64_t>(chunk, steps - s) * plan.substeps;
+    solver.set_tool_motion(track.motions(s * plan.substeps, n, plan.dt_used));
+    solver.advance(n, plan.dt_used);
+    after(solver.tool_samples());
+  }
 }
 
 class GpuSolverTest : public VulkanTest {};

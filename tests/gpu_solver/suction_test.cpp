@@ -17,17 +17,10 @@ struct PullRun {
 };
 
 PullRun pull(Solver& solver, const Scene& scene, const PhyxelSet& set, int64_t steps) {
-  const TimeStepPlan plan = plan_time_step(scene, set);
-  ToolTrack track(scene.tools, {});
-  solver.set_tools(contact_tools(scene.tools));
   PullRun out;
-  for (int64_t s = 0; s < steps; s += 16) {
-    const int64_t n = std::min<int64_t>(16, steps - s) * plan.substeps;
-    solver.set_tool_motion(track.motions(s * plan.substeps, n, plan.dt_used));
-    solver.advance(n, plan.dt_used);
-    const auto felt = solver.tool_samples();
+  advance_tools_in_chunks(solver, scene, set, steps, 16, [&](const auto& felt) {
     out.samples.insert(out.samples.end(), felt.begin(), felt.end());
-  }
+  });
   out.u = solver.read_state(false).displacement;
   return out;
 }

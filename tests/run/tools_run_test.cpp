@@ -352,6 +352,33 @@ TEST(ToolsRun, ExplainListsTheContactAndCutPasses) {
   EXPECT_EQ(r.out.find("tool(s)"), std::string::npos) << r.out;
 }
 
+TEST(ToolsRun, AGrasperHoldsReportsItsPullAndRefusesCheckpoints) {
+  const auto dir = test::test_output_dir("tools_run_grasper");
+  const std::string scene = std::string(PHYXEL_SOURCE_DIR) + "/scenes/grasper_tear.json";
+  Ran r = phyxel("run " + scene + " --explain --out " + dir.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("grasp          1 grasper(s)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("no grasper"), std::string::npos) << r.out;
+  // 15 ms: the jaws close at 5 ms and pull.
+  r = phyxel("run " + scene + " --steps 15 --threads 1 --render none --out " + dir.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json s = read_json(dir / "summary.json");
+  ASSERT_EQ(s["tools"].size(), 1u);
+  const auto& t = s["tools"][0];
+  EXPECT_GT(t["held"].get<int>(), 100);
+  EXPECT_EQ(t["max_held"], t["held"]);
+  EXPECT_GT(t["max_pull_force"].get<double>(), 0.001);
+  r = phyxel(
+      "run " + scene + " --steps 15 --render none --checkpoint-every 5 --out " + dir.string(), dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("checkpoints do not hold a grasper's grip"), std::string::npos) << r.err;
+  // A scene without a grasper records none of it.
+  const auto without = write_scene(dir, SceneSpec{});
+  r = phyxel("run " + without.string() + " --explain --out " + dir.string(), dir);
+  EXPECT_NE(r.out.find("grasp passes (no grasper)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("grasper(s)"), std::string::npos) << r.out;
+}
+
 // The haptics entry of a summary: one loop, `device`, ticks and finite period statistics.
 void expect_haptics(const nlohmann::json& s, const std::string& device_prefix) {
   ASSERT_TRUE(s.contains("haptics")) << s.dump(2);

@@ -46,6 +46,20 @@ json& tool0(json& j) {
   return j["tools"][0];
 }
 
+// One broken value each: the path of the error and the parts of its message.
+struct ErrorCase {
+  std::function<void(json&)> edit;
+  std::string path;
+  std::vector<std::string> parts;
+};
+
+void expect_errors(const std::vector<ErrorCase>& cases) {
+  for (const ErrorCase& c : cases) {
+    SCOPED_TRACE(c.path);
+    expect_error(tools_error(c.edit), c.path, c.parts);
+  }
+}
+
 // --- valid scenes ---
 
 TEST(SceneTools, EveryKeyIsRead) {
@@ -173,10 +187,60 @@ TEST(SceneToolsErrors, TypeRequired) {
   expect_error(msg, "tools[0].type", {"missing required key \"type\"", "\"probe\""});
 }
 
-TEST(SceneToolsErrors, TheGrasperIsNotAvailableYet) {
-  const std::string msg = tools_error([&](json& j) { tool0(j)["type"] = "grasper"; });
-  expect_error(msg, "tools[0].type",
-               {"tool type \"grasper\" is not available yet", "allowed probe, scalpel or suction"});
+// --- grasper ---
+
+json& make_grasper(json& j) {
+  json& t = tool0(j);
+  t["type"] = "grasper";
+  t["grasp"] = {{"reach", 0.003}, {"from", 0.02}, {"until", 0.3}};
+  return t;
+}
+
+TEST(SceneTools, GraspKeysAreRead) {
+  json j = with_tools();
+  make_grasper(j);
+  const Scene s = parse_scene(j.dump(), kFile);
+  const ToolDesc& t = s.tools[0];
+  EXPECT_EQ(t.type, ToolDesc::Type::Grasper);
+  EXPECT_DOUBLE_EQ(t.grasp.reach, 0.003);
+  EXPECT_TRUE(t.grasp.closed_at(0.02));
+  EXPECT_FALSE(t.grasp.closed_at(0.01));
+  EXPECT_FALSE(t.grasp.closed_at(0.3));
+  EXPECT_FALSE(t.suction.sucks());
+  EXPECT_FALSE(s.tools[1].grasp.grasps());  // the other tool does not grasp
+  // Without from/until: closed from the start to the end.
+  tool0(j)["grasp"].erase("from");
+  tool0(j)["grasp"].erase("until");
+  const Grasp always = parse_scene(j.dump(), kFile).tools[0].grasp;
+  EXPECT_TRUE(always.closed_at(0) && always.closed_at(1e9));
+}
+
+TEST(SceneToolsErrors, GraspValuesAreChecked) {
+  expect_errors({
+      {[](json& j) { make_grasper(j).erase("grasp"); },
+       "tools[0].grasp",
+       {"missing required key \"grasp\""}},
+      {[](json& j) { make_grasper(j)["grasp"].erase("reach"); },
+       "tools[0].grasp.reach",
+       {"missing required key \"reach\""}},
+      {[](json& j) { make_grasper(j)["grasp"]["reach"] = -0.001; },
+       "tools[0].grasp.reach",
+       {"reach > 0"}},
+      {[](json& j) { make_grasper(j)["grasp"]["from"] = -1; },
+       "tools[0].grasp.from",
+       {"from >= 0"}},
+      {[](json& j) { make_grasper(j)["grasp"]["until"] = 0.02; },
+       "tools[0].grasp.until",
+       {"until = 0.02 is not after from = 0.02"}},
+      {[](json& j) { make_grasper(j)["grasp"]["reech"] = 1; },
+       "tools[0].grasp.reech",
+       {"did you mean \"reach\"?"}},
+      {[](json& j) {
+         tool0(j)["grasp"] = {{"reach", 0.001}};
+       },
+       "tools[0].grasp",
+       {"\"grasp\" applies only to a grasper"}},
+  });
 }
 
 // --- suction ---
@@ -208,12 +272,7 @@ TEST(SceneTools, SuctionKeysAreRead) {
 }
 
 TEST(SceneToolsErrors, SuctionValuesAreChecked) {
-  struct Case {
-    std::function<void(json&)> edit;
-    std::string path;
-    std::vector<std::string> parts;
-  };
-  const std::vector<Case> cases = {
+  expect_errors({
       {[](json& j) { make_aspirator(j).erase("suction"); },
        "tools[0].suction",
        {"missing required key \"suction\""}},
@@ -237,11 +296,7 @@ TEST(SceneToolsErrors, SuctionValuesAreChecked) {
        },
        "tools[0].suction",
        {"\"suction\" applies only to a suction tool"}},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.path);
-    expect_error(tools_error(c.edit), c.path, c.parts);
-  }
+  });
 }
 
 // --- scalpel ---
@@ -271,12 +326,7 @@ TEST(SceneTools, AScalpelsBladeIsRead) {
 }
 
 TEST(SceneToolsErrors, BadScalpelInput) {
-  struct Case {
-    std::function<void(json&)> edit;
-    std::string path;
-    std::vector<std::string> parts;
-  };
-  const std::vector<Case> cases = {
+  expect_errors({
       {[](json& j) { make_scalpel(j).erase("blade"); },
        "tools[0].blade",
        {"missing required key \"blade\""}},
@@ -305,11 +355,7 @@ TEST(SceneToolsErrors, BadScalpelInput) {
       {[](json& j) { tool0(j)["cut_force_threshold"] = 1; },
        "tools[0].cut_force_threshold",
        {"\"cut_force_threshold\" applies only to a scalpel"}},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.path);
-    expect_error(tools_error(c.edit), c.path, c.parts);
-  }
+  });
 }
 
 TEST(SceneToolsErrors, UnknownType) {

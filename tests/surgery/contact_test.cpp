@@ -17,9 +17,9 @@ namespace {
 
 using Vec3f = Eigen::Vector3f;
 
-const ContactTool kSphere{{ToolShape::Type::Sphere, 0.01, 0}, 0, {}, {}};
+const ContactTool kSphere{{ToolShape::Type::Sphere, 0.01, 0}, 0, {}, {}, {}};
 // A capsule along z from the origin: its side is the cylinder r = 0.01, 0 <= z <= 0.05.
-const ContactTool kCapsule{{ToolShape::Type::Capsule, 0.01, 0.05}, 0, {}, {}};
+const ContactTool kCapsule{{ToolShape::Type::Capsule, 0.01, 0.05}, 0, {}, {}, {}};
 
 ContactTool with_friction(ContactTool tool, double mu) {
   tool.friction = mu;

@@ -1,0 +1,96 @@
+// GpuSolver: the graspers with CpuSolver's semantics (engine/solver/cpu_solver_grasp.cpp,
+// engine/surgery/grasper.h). Which substeps close, hold or open a tool's jaws follows from the
+// motion table alone, so the host decides while recording: in the substep the jaws close it
+// records tool_grasp's capture (one workgroup over the contact candidates, ascending, into the
+// tool's region of the grip buffer, with the count and indirect dispatch of the hold), and in
+// every substep they are closed the hold (indirect, over the grip) and the reduction of the
+// grip's force into the tool's sample. Jaws that open record nothing more: the grip is
+// forgotten. Nothing is read back during the advance; the held count comes back in the samples
+// (second row, z). Scenes without a grasper allocate and record none of it.
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "compute/gpu_solver.h"
+#include "compute/gpu_solver_kernels.h"
+
+namespace phyxel::gpu {
+
+using namespace layout;
+
+void GpuSolver::prepare_grasping() {
+  grasping_ = std::any_of(tools_.begin(), tools_.end(),
+                          [](const ContactTool& t) { return t.grasp.grasps(); });
+  grip_closed_.assign(tools_.size(), 0);
+  if (!grasping_) return;
+  Context& ctx = *ctx_;
+  const uint64_t entries = uint64_t{std::max<uint32_t>(count_, 1)} * tools_.size();
+  if (!grip_ || grip_.size() < entries * sizeof(GraspEntry)) {
+    grip_ = Buffer(ctx, entries * sizeof(GraspEntry), MemoryIntent::Device, "grasper grips");
+    grip_force_ = Buffer(ctx, entries * sizeof(vec4), MemoryIntent::Device, "grasper grip forces");
+    grip_count_ = Buffer(ctx, tools_.size() * sizeof(ContactCount), MemoryIntent::Device,
+                         "grasper grip counts", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+  }
+  rec_[0]->fill(grip_count_, 0);  // submitted by set_tools with the contact flags' reset
+}
+
+void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
+  const uint32_t nt = static_cast<uint32_t>(tools_.size());
+  const uint64_t k = motion_step_ + uint64_t(step);  // as record_contact
+  const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_ - 1));
+  const uint32_t wg = kernels_->grasp.workgroup_size()[0];
+  for (uint32_t t = 0; t < nt; ++t) {
+    const Grasp& grasp = tools_[t].grasp;
+    if (!grasp.grasps()) continue;
+    if (!motion_[size_t(row) * nt + t].grip_closed) {  // open: the grip is forgotten
+      grip_closed_[t] = 0;
+      continue;
+    }
+    GraspPush push{{contact_origin_.x, contact_origin_.y, contact_origin_.z, float(grasp.reach)},
+                   dt,
+                   t,
+                   nt,
+                   row,
+                   k >= motion_steps_ ? 1u : 0u,
+                   count_,
+                   kGraspCapture,
+                   static_cast<uint32_t>(step)};
+    auto pass = [&](uint32_t mode, uint32_t elements) {
+      push.mode = mode;
+      const std::initializer_list<BufferRef> bindings = {
+          candidate_list_, contact_count_, rest_, disp,        vel_,        ext_,
+          flags_,          motion_table_,  grip_, grip_count_, grip_force_, samples_buffer_};
+      if (elements > 0)
+        dispatch(rec, kernels_->grasp, push, bindings, elements);
+      else
+        dispatch_indirect(rec, kernels_->grasp, push, bindings, grip_count_,
+                          t * sizeof(ContactCount) + offsetof(ContactCount, groups_x));
+    };
+    if (!grip_closed_[t]) {  // closing: take the candidates within reach
+      pass(kGraspCapture, wg);
+      rec.indirect_barrier();
+      grip_closed_[t] = 1;
+    }
+    pass(kGraspHold, 0);
+    rec.barrier();
+    pass(kGraspReduce, wg);
+    // Every mode binds the grip counts as writable: the next substep's hold reads them as its
+    // indirect dispatch.
+    rec.indirect_barrier();
+  }
+}
+
+std::vector<uint32_t> GpuSolver::held_phyxels(size_t tool) {
+  if (tool >= grip_closed_.size() || !grip_closed_[tool]) return {};
+  const auto count = download<ContactCount>(*ctx_, grip_count_, 1, tool * sizeof(ContactCount));
+  if (count.front().total == 0) return {};
+  const auto entries = download<GraspEntry>(*ctx_, grip_, count.front().total,
+                                            tool * uint64_t{count_} * sizeof(GraspEntry));
+  std::vector<uint32_t> held;
+  for (const GraspEntry& e : entries)
+    if (!(phyxel_flags_.at(e.phyxel.x) & kRemoved)) held.push_back(e.phyxel.x);
+  return held;
+}
+
+}  // namespace phyxel::gpu
