@@ -68,7 +68,7 @@ struct VideoWriter::Impl {
 };
 
 VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height,
-                         double fps)
+                         double fps, bool lossless)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.file = file.string();
@@ -88,7 +88,7 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint
   const AVRational rate = av_d2q(fps, 1 << 16);
   m.codec->width = static_cast<int>((width + 1) / 2 * 2);  // 4:2:0 needs even sides
   m.codec->height = static_cast<int>((height + 1) / 2 * 2);
-  m.codec->pix_fmt = AV_PIX_FMT_YUV420P;
+  m.codec->pix_fmt = lossless ? AV_PIX_FMT_YUV444P : AV_PIX_FMT_YUV420P;
   m.codec->time_base = av_inv_q(rate);
   m.codec->framerate = rate;
   m.codec->gop_size = 30;
@@ -96,7 +96,7 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint
     m.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   // Quality over size (crf 18 is visually lossless), fast enough to keep up with the frames.
   av_opt_set(m.codec->priv_data, "preset", "veryfast", 0);
-  av_opt_set(m.codec->priv_data, "crf", "18", 0);
+  av_opt_set(m.codec->priv_data, lossless ? "qp" : "crf", lossless ? "0" : "18", 0);
   m.check(avcodec_open2(m.codec, h264, nullptr), "opening the H.264 encoder");
   m.check(avcodec_parameters_from_context(m.stream->codecpar, m.codec), "stream parameters");
   m.stream->time_base = m.codec->time_base;
@@ -109,7 +109,8 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint
   m.frame->height = m.codec->height;
   m.check(av_frame_get_buffer(m.frame, 0), "frame buffer");
   m.scale = sws_getContext(static_cast<int>(width), static_cast<int>(height), AV_PIX_FMT_RGBA,
-                           m.codec->width, m.codec->height, AV_PIX_FMT_YUV420P, SWS_BICUBIC,
+                           m.codec->width, m.codec->height, m.codec->pix_fmt,
+                           SWS_BICUBIC | (lossless ? SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT : 0),
                            nullptr, nullptr, nullptr);
   if (m.scale == nullptr) m.fail("no RGBA -> YUV 4:2:0 conversion", 0);
 }
