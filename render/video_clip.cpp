@@ -15,17 +15,21 @@ uint8_t to_byte(double v) {
   return static_cast<uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L));
 }
 
-// A vessel: the curve y = y0 + a sin(f x + p) + b sin(g x + q) across the field, in units of
-// the frame's height.
+// A vessel: the curve y = y0 + a sin(f x + p) + b sin(g x + q) across the field (x and y
+// exchanged when `vertical`), in units of the frame's height.
 struct Vessel {
   double y0, a, f, p, b, g, q, width;
+  bool vertical;
 };
 
 constexpr Vessel kVessels[] = {
-    {0.30, 0.06, 7.0, 0.3, 0.02, 19.0, 1.1, 0.020},
-    {0.62, 0.08, 5.0, 2.0, 0.03, 13.0, 0.4, 0.028},
-    {0.85, 0.04, 9.0, 4.1, 0.02, 23.0, 2.7, 0.014},
-    {0.12, 0.05, 6.0, 1.7, 0.01, 29.0, 0.9, 0.010},
+    {0.30, 0.06, 7.0, 0.3, 0.02, 19.0, 1.1, 0.020, false},
+    {0.62, 0.08, 5.0, 2.0, 0.03, 13.0, 0.4, 0.028, false},
+    {0.85, 0.04, 9.0, 4.1, 0.02, 23.0, 2.7, 0.014, false},
+    {0.12, 0.05, 6.0, 1.7, 0.01, 29.0, 0.9, 0.010, false},
+    {0.22, 0.05, 8.0, 0.9, 0.02, 17.0, 2.1, 0.016, true},
+    {0.50, 0.07, 6.0, 3.0, 0.02, 21.0, 0.2, 0.022, true},
+    {0.78, 0.04, 10.0, 1.4, 0.01, 27.0, 1.9, 0.012, true},
 };
 
 }  // namespace
@@ -51,9 +55,11 @@ RgbaImage pulsing_tissue_frame(const VideoClipOptions& o, int index) {
                             0.25 * std::sin(31 * v + 2 * std::sin(17 * u + 1.3));
       double r = 0.80 + 0.08 * mottle, g = 0.42 + 0.10 * mottle, b = 0.42 + 0.08 * mottle;
       for (const Vessel& k : kVessels) {
-        const double y = k.y0 + k.a * std::sin(k.f * u + k.p) + k.b * std::sin(k.g * u + k.q);
+        const double along = k.vertical ? v : u, across = k.vertical ? u : v;
+        const double y =
+            k.y0 + k.a * std::sin(k.f * along + k.p) + k.b * std::sin(k.g * along + k.q);
         const double width = k.width * (1 + 0.45 * beat);
-        const double d = std::abs(v - y) / width;
+        const double d = std::abs(across - y) / width;
         if (d < 2) {
           const double core = std::exp(-d * d * 2.5);
           const double dark = 0.55 + 0.2 * beat;  // fuller, darker at systole
