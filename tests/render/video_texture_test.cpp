@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -236,6 +237,49 @@ TEST(VideoTextureScene, MissingOrUndecodableVideoIsRefusedNamingTheFile) {
               std::string::npos)
         << what;
   }
+}
+
+// The command line: a short CPU run of a block with the clip as its texture, and the same
+// scene with a file that is no video, refused before the first step.
+TEST(VideoTextureCommand, RunShowsTheVideoAndRefusesAnUndecodableOneBeforeItStarts) {
+  const fs::path dir = test::test_out_dir() / "video_texture_run";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy_file(clip_file(), dir / "clip.mp4");
+  std::ofstream(dir / "broken.mp4") << "not a video\n";
+  // Frames every 350 steps of 1e-4 s: clip frames 0, 1 and 2 (30 frames/s).
+  auto scene = [&](const std::string& name, const std::string& video) {
+    std::ofstream(dir / name) << R"({"simulation": {"dt": 1e-4, "steps": 700},
+      "objects": [{"name": "b", "shape": {"type": "box", "min": [0, 0, 0],
+        "max": [0.02, 0.01, 0.01]}, "spacing": 0.0025,
+        "material": {"young": 5000, "poisson": 0.3, "density": 1000},
+        "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [0.001, 1, 1]}]}],
+      "render": {"mode": "mono", "width": 64, "height": 48, "every": 350,
+                 "video_texture": ")" +
+                                     video + R"("}})";
+    return (dir / name).string();
+  };
+  const std::string phyxel = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel run ";
+  const fs::path good = dir / "good", bad = dir / "bad";
+  ASSERT_EQ(std::system((phyxel + scene("good.json", "clip.mp4") + " --quiet --out " +
+                         good.string() + " 2> " + (dir / "good.err").string())
+                            .c_str()),
+            0);
+  for (const char* f : {"frame_000000.png", "frame_000350.png", "frame_000700.png"})
+    EXPECT_TRUE(fs::exists(good / f)) << f;
+  const int status = std::system((phyxel + scene("bad.json", "broken.mp4") + " --quiet --out " +
+                                  bad.string() + " 2> " + (dir / "bad.err").string())
+                                     .c_str());
+  EXPECT_NE(status, 0);
+  std::ifstream in(dir / "bad.err");
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line.find((dir / "bad.json").string() + ": render.video_texture: " +
+                      (dir / "broken.mp4").string() + ": cannot decode the video ("),
+            0u)
+      << line;
+  EXPECT_FALSE(fs::exists(bad / "frame_000000.png")) << "a frame was drawn";
+  EXPECT_FALSE(fs::exists(bad / "summary.json")) << "the run started";
 }
 
 }  // namespace
