@@ -88,7 +88,7 @@ RgbaImage pulsing_tissue_frame(const VideoClipOptions& o, int index) {
 }
 
 void write_pulsing_tissue_clip(const std::filesystem::path& file, const VideoClipOptions& o) {
-  VideoWriter video(file, o.width, o.height, o.fps, /*lossless=*/true);
+  VideoWriter video(file, o.width, o.height, o.fps, VideoEncoding::H264Lossless);
   for (int k = 0; k < o.frames; ++k) video.add(pulsing_tissue_frame(o, k), k);
   video.finish();
 }

@@ -17,6 +17,7 @@
 #include "render/video_decoder.h"
 #include "render/video_loop.h"
 #include "render/video_texture.h"
+#include "render/video_writer.h"
 #include "render/vk_images.h"
 #include "tests/render/render_test_util.h"
 
@@ -79,6 +80,23 @@ TEST(VideoDecoder, DecodedFramesEqualTheFramesTheGeneratorWrote) {
   VideoDecoder half(clip_file(), 48);
   EXPECT_EQ(half.width(), 48u);
   EXPECT_EQ(half.height(), 32u);
+}
+
+TEST(VideoDecoder, AnotherContainerAndCodecFfv1InMatroska) {
+  const fs::path file = test::test_out_dir() / "video_texture_clip.mkv";
+  const VideoClipOptions o = small_clip();
+  {
+    VideoWriter writer(file, o.width, o.height, o.fps, VideoEncoding::Ffv1);
+    for (int k = 0; k < 3; ++k) writer.add(pulsing_tissue_frame(o, k), k);
+    writer.finish();
+  }
+  VideoDecoder decoder(file);
+  RgbaImage frame;
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(decoder.next(&frame)) << k;
+    EXPECT_EQ(frame.pixels, pulsing_tissue_frame(o, k).pixels) << "FFV1 in RGB is lossless";
+  }
+  EXPECT_FALSE(decoder.next(&frame));
 }
 
 TEST(VideoDecoder, MissingOrUndecodableFilesNameTheFile) {
