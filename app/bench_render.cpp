@@ -1,6 +1,7 @@
 // phyxel bench --render: splat rendering speed (render/render_bench.h), mono or stereo, for a
 // list of surfel counts on one Vulkan device, and what rendering at 60 frames/s costs the GPU
-// solver's step rate on the same shell (--no-solver skips that).
+// solver's step rate on the same shell (--no-solver skips that); then the last size again with
+// the video texture and the environment on (--no-video-texture skips that row).
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -24,6 +25,7 @@ int bench_render_command(const Args& args) {
   const int64_t frames = opts.integer("--frames", 10, 1, 10000);
   const std::string json_file = opts.value("--json", "");
   const bool with_solver = !opts.flag("--no-solver");
+  const bool no_video = opts.flag("--no-video-texture");
   opts.finish();
   gpu::ContextOptions context;
   context.device = device;
@@ -33,15 +35,16 @@ int bench_render_command(const Args& args) {
               mono ? "mono" : "stereo", static_cast<long long>(width),
               static_cast<long long>(height), "surfels", "GPU ms", "copy ms", "host ms", "splats/s",
               "GPU passes (ms)");
-  std::stringstream ss(sizes);
-  for (std::string item; std::getline(ss, item, ',');) {
+  // One row: `item` surfels, with the video texture and the environment when `video`.
+  auto bench_one = [&](const std::string& item, bool video) {
     render::RenderBenchOptions o;
     o.surfels = static_cast<uint32_t>(std::stoul(item));
     o.eye_width = static_cast<uint32_t>(width);
     o.height = static_cast<uint32_t>(height);
     o.stereo = !mono;
     o.frames = static_cast<int>(frames);
-    o.with_solver = with_solver;
+    o.with_solver = with_solver && !video;
+    o.video_texture = video;
     const render::RenderBenchResult r = render::bench_render(ctx, o);
     std::string passes;
     nlohmann::json pass_json = nlohmann::json::object();
@@ -54,7 +57,13 @@ int bench_render_command(const Args& args) {
     }
     std::printf("%10u %9.3f %9.3f %9.3f %12.4g  %s\n", r.surfels, r.median_gpu_s * 1e3,
                 r.median_readback_s * 1e3, r.median_frame_s * 1e3, r.splats_per_s, passes.c_str());
-    if (with_solver) {
+    if (video) {
+      std::printf(
+          "%10s with the video texture and the environment (a new clip frame every frame; "
+          "its thread: decode %.3f ms, repair + blend + mips %.3f ms per clip frame)\n",
+          "", r.video_decode_s * 1e3, r.video_process_s * 1e3);
+    }
+    if (o.with_solver) {
       std::printf(
           "%10s solver on the same %u phyxels: %.4g steps/s alone, %.4g steps/s (%.1f %%) "
           "with a frame every %lld steps (%.1f frames/s, GPU %.3f ms per frame)\n",
@@ -80,8 +89,16 @@ int bench_render_command(const Args& args) {
                     {"solver_frame_gpu_ms", r.solver_frame_gpu_s * 1e3},
                     {"splats_per_s", r.splats_per_s},
                     {"gpu_pass_ms", pass_json},
-                    {"frames", r.frames}});
-  }
+                    {"frames", r.frames},
+                    {"video_texture", video},
+                    {"video_decode_ms", r.video_decode_s * 1e3},
+                    {"video_process_ms", r.video_process_s * 1e3}});
+  };
+  std::stringstream ss(sizes);
+  std::string last;
+  for (std::string item; std::getline(ss, item, ',');) bench_one(last = item, false);
+  // And the last size again with the video texture on and the environment (docs/performance.md).
+  if (!last.empty() && !no_video) bench_one(last, true);
   if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
   return 0;
 }

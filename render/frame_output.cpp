@@ -25,11 +25,26 @@ std::string FrameWriter::frame_name(int64_t step) {
 
 FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
                          const FrameWriterOptions& options, gpu::Context* ctx)
-    : ctx_(ctx), set_(&set), options_(options) {
+    : ctx_(ctx), set_(&set), options_(options), dt_(scene.simulation.dt) {
   const std::string file = scene_name(scene);
   const RenderSettings& r = scene.render;
-  const RgbaImage texture = r.texture.empty() ? procedural_tissue_texture()
-                                              : load_image(r.texture, file + ": render.texture");
+  RgbaImage texture;
+  if (!r.video_texture.file.empty()) {
+    VideoTextureOptions video;
+    video.loop_blend = r.video_texture.loop_blend;
+    video.repair_specular = r.video_texture.repair_specular;
+    try {
+      video_ = std::make_unique<VideoTexture>(r.video_texture.file, video);
+    } catch (const std::runtime_error& e) {
+      throw SceneError(file + ": render.video_texture: " + e.what() +
+                       "; allowed a video file that FFmpeg decodes (MP4, MKV, WebM, AVI, ...)");
+    }
+    texture = (*video_->frame_at(0))[0];
+  } else if (!r.texture.empty()) {
+    texture = load_image(r.texture, file + ": render.texture");
+  } else {
+    texture = procedural_tissue_texture();
+  }
   if (ctx_ == nullptr) {
     gpu::ContextOptions o;
     o.device = options.device;
@@ -91,7 +106,16 @@ void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
   renderer_->set_tools(std::move(tools));
 }
 
+bool FrameWriter::advance_video(double t, bool exact) {
+  if (!video_) return false;
+  const std::vector<RgbaImage>* levels = exact ? video_->frame_at(t) : video_->newest(t);
+  if (levels == nullptr) return false;
+  renderer_->set_texture(*levels);
+  return true;
+}
+
 std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
+  advance_video(double(step) * dt_, true);
   RgbaImage image = render(inputs);
   const std::string name = frame_name(step);
   if (!sink_) return name;

@@ -2,7 +2,8 @@
 // image, with the scene's camera and render settings. Never needs a display.
 //
 //   FrameWriter     the renderer of one scene: surfel table, texture (the scene's
-//                   render.texture or the procedural tissue texture), camera, frame setup
+//                   render.video_texture at the frame's simulated time, render.texture or the
+//                   procedural tissue texture), camera, frame setup
 //   write_solver_frame  one frame of a solver's current state and the tools' poses: from the
 //                   GPU solver's buffers, or (CPU solver) from read_state through HostInputs;
 //                   first the cuts made since the last frame (follow_cuts): cut-face surfels,
@@ -23,6 +24,7 @@
 #include "engine/surgery/aspiration.h"
 #include "engine/surgery/cut_faces.h"
 #include "render/splat_renderer.h"
+#include "render/video_texture.h"
 #include "render/video_writer.h"
 
 namespace phyxel::render {
@@ -63,6 +65,12 @@ class FrameWriter {
                     const NeighbourLists& neighbours);
   // Renders without writing (for the viewer and tests).
   RgbaImage render(const RenderInputs& inputs);
+  // The scene's video texture (render.video_texture) at simulated time t from the next frame
+  // on: the frame of t exactly (`exact`, waiting for the decoding thread; write() does this
+  // with step x simulation.dt), or the newest one ready (the viewer). Returns whether the
+  // texture changed; false without a video texture.
+  bool advance_video(double t, bool exact);
+  const VideoTexture* video_texture() const { return video_.get(); }
   // The tools of the frames from now on (SplatRenderer::set_tools; none at first).
   void set_tools(std::vector<ToolDrawable> tools);
   // Cuts: reads the pairs `solver` severed since the last call (its severed_since log, from
@@ -99,6 +107,8 @@ class FrameWriter {
   FrameWriterOptions options_;
   Camera camera_;
   FrameSetup setup_;
+  std::unique_ptr<VideoTexture> video_;  // render.video_texture, decoded on its own thread
+  double dt_ = 0;                        // simulation.dt: a frame's step to simulated time
   std::unique_ptr<SplatRenderer> renderer_;
   std::unique_ptr<HostInputs> host_;
   std::unique_ptr<FrameSink> sink_;  // PNG files and the video, on a thread of its own

@@ -8,8 +8,11 @@
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/solver/neighbours.h"
+#include "render/environment_map.h"
 #include "render/frame_output.h"
 #include "render/sample_shapes.h"
+#include "render/video_clip.h"
+#include "render/video_texture.h"
 
 namespace phyxel::render {
 namespace {
@@ -95,6 +98,27 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   settings.height = static_cast<int>(options.height);
   const Camera camera =
       resolve_camera(CameraSettings{}, table.bounds, double(options.eye_width) / options.height);
+  std::unique_ptr<VideoTexture> video;
+  int64_t video_frame = 0;
+  std::filesystem::path clip;
+  if (options.video_texture) {
+    clip = std::filesystem::temp_directory_path() /
+           ("phyxel-bench-clip-" +
+            std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) + ".mp4");
+    write_pulsing_tissue_clip(clip, VideoClipOptions{});
+    VideoTextureOptions v;
+    v.loop_blend = 12;
+    v.repair_specular = true;
+    video = std::make_unique<VideoTexture>(clip, v);
+    std::filesystem::remove(clip);  // open: the decoder keeps reading it
+    renderer.set_environment(procedural_operating_field(), environment_basis(camera), 4.0);
+  }
+  // The clip's next frame for the next frame recorded (waits for the decoding thread).
+  auto next_video_frame = [&] {
+    if (!video) return;
+    const std::vector<RgbaImage>* levels = video->frame_at(double(video_frame++) / video->fps());
+    if (levels != nullptr) renderer.set_texture(*levels);
+  };
   const FrameSetup setup = make_frame_setup(
       camera, settings, options.stereo ? RenderSettings::Mode::Stereo : RenderSettings::Mode::Mono);
 
@@ -114,6 +138,7 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   constexpr int kBatch = 8;  // frames per submission while timing the GPU: it never idles
   const auto warm = std::chrono::steady_clock::now();
   do {
+    next_video_frame();
     for (int k = 0; k < kBatch; ++k) renderer.record(rec, inputs.inputs(), setup);
     rec.submit_and_wait();
   } while (seconds_since(warm) < 0.5);
@@ -126,6 +151,7 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   for (int done = 0; done < result.frames;) {
     const int n = std::min(kBatch, result.frames - done);
     timer.reset(rec);
+    next_video_frame();  // uploaded in the batch's first frame
     for (int k = 0; k < n; ++k) renderer.record(rec, inputs.inputs(), setup, &timer);
     rec.submit_and_wait();
     done += n;
@@ -151,6 +177,7 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   std::vector<double> frame_s;
   for (int f = 0; f < result.frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
+    next_video_frame();
     renderer.render(inputs.inputs(), setup);
     frame_s.push_back(seconds_since(start));
   }
@@ -161,6 +188,11 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   result.splats_per_s = per_frame > 0 ? double(result.surfels) * result.eyes / per_frame : 0;
   for (size_t p = 0; p < names.size(); ++p) {
     result.median_passes.push_back({names[p], median(pass_ns[p])});
+  }
+  if (video) {
+    const VideoTexture::Timing t = video->timing();
+    result.video_decode_s = t.decode_s / double(std::max<int64_t>(t.frames, 1));
+    result.video_process_s = t.process_s / double(std::max<int64_t>(t.frames, 1));
   }
   if (options.with_solver) bench_with_solver(ctx, set, table, setup, result.frames, result);
   return result;

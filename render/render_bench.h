@@ -23,6 +23,11 @@ struct RenderBenchOptions {
   bool stereo = true;  // side by side (two eyes); false: mono
   int frames = 10;     // timed frames, after one warm-up frame
   bool with_solver = false;
+  // The video texture on (render/video_texture.h: the synthetic clip of render/video_clip.h,
+  // 256 x 256, written to a temporary file, loop_blend 12, repair_specular) with the
+  // procedural operating field as the environment; every timed frame shows the clip's next
+  // frame (its upload recorded into the frame).
+  bool video_texture = false;
 };
 
 struct RenderBenchResult {
@@ -39,6 +44,9 @@ struct RenderBenchResult {
   double solver_steps_per_s = 0, solver_steps_per_s_rendering = 0, frames_per_s_rendering = 0;
   double solver_frame_gpu_s = 0;  // median GPU time of those frames, readback excluded
   int64_t steps_per_frame = 0;
+  // video_texture: the decoding thread's time per frame (decode + RGBA) and its preprocessing
+  // (specular repair, loop blend, mip chain), off the frame's path.
+  double video_decode_s = 0, video_process_s = 0;
 };
 
 RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& options = {});

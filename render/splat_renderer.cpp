@@ -310,6 +310,15 @@ void SplatRenderer::set_environment(const RgbaImage& image, const Eigen::Matrix3
   m.environment_area_ratio = area_ratio;
 }
 
+void SplatRenderer::set_texture(const std::vector<RgbaImage>& levels) {
+  Impl& m = *impl_;
+  if (m.texture.stage(levels)) return;                    // recorded into the next frame
+  VK_CHECK(m.ctx.fn().vkDeviceWaitIdle(m.ctx.device()));  // the old image may be in use
+  m.texture = Texture(m.images, levels);
+  m.write_texture_set(m.texture_set, m.texture);
+  if (!m.has_environment) m.write_texture_set(m.environment_set, m.texture);
+}
+
 void SplatRenderer::set_tools(std::vector<ToolDrawable> tools) {
   for (size_t k = 0; k < tools.size(); ++k) {
     const ToolDrawable& t = tools[k];
@@ -438,6 +447,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   if (tool_count > 0) {
     rec.copy(m.tool_staging, m.tool_buffer, VkDeviceSize{tool_count} * sizeof(layout::RenderTool));
   }
+  m.texture.record_upload(rec.cmd());  // a video frame staged by set_texture, if any
   end();
   begin("render deform");
   layout::DeformPush deform{};

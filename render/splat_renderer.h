@@ -96,6 +96,13 @@ class SplatRenderer {
   void set_environment(const RgbaImage& image, const Eigen::Matrix3d& world_to_cube,
                        double area_ratio);
 
+  // A new texture from the next frame on, as a mip chain (vk_images.h mip_chain; a video
+  // frame's, render/video_texture.h). Of the current texture's sizes it is copied into its
+  // staging buffer and the copy is recorded into the next frame (no extra submission; the
+  // previous frame must have finished, as render() and the callers of record() ensure); of
+  // other sizes the texture is made anew (waits for the device).
+  void set_texture(const std::vector<RgbaImage>& levels);
+
   // Renders one frame of the current state of `inputs` and returns it (waits for the GPU).
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);
 

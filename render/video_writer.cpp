@@ -68,7 +68,7 @@ struct VideoWriter::Impl {
 };
 
 VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height,
-                         double fps)
+                         double fps, VideoEncoding encoding)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.file = file.string();
@@ -76,42 +76,55 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint
   m.width = width;
   m.height = height;
   if (width == 0 || height == 0 || !(fps > 0)) m.fail("empty frames or no frame rate", 0);
-  m.check(avformat_alloc_output_context2(&m.format, nullptr, "mp4", m.file.c_str()), "MP4 muxer");
-  const AVCodec* h264 = avcodec_find_encoder_by_name("libx264");
-  if (h264 == nullptr) m.fail("libavcodec has no libx264 encoder; run scripts/install-deps.sh", 0);
+  const bool ffv1 = encoding == VideoEncoding::Ffv1;
+  const bool lossless = encoding != VideoEncoding::H264;
+  m.check(
+      avformat_alloc_output_context2(&m.format, nullptr, ffv1 ? nullptr : "mp4", m.file.c_str()),
+      ffv1 ? "a muxer for the file's extension" : "MP4 muxer");
+  const AVCodec* encoder =
+      ffv1 ? avcodec_find_encoder(AV_CODEC_ID_FFV1) : avcodec_find_encoder_by_name("libx264");
+  if (encoder == nullptr)
+    m.fail(std::string("libavcodec has no ") + (ffv1 ? "FFV1" : "libx264") +
+               " encoder; run scripts/install-deps.sh",
+           0);
   m.stream = avformat_new_stream(m.format, nullptr);
-  m.codec = avcodec_alloc_context3(h264);
+  m.codec = avcodec_alloc_context3(encoder);
   m.frame = av_frame_alloc();
   m.packet = av_packet_alloc();
   if (m.stream == nullptr || m.codec == nullptr || m.frame == nullptr || m.packet == nullptr)
     m.fail("out of memory", 0);
   const AVRational rate = av_d2q(fps, 1 << 16);
-  m.codec->width = static_cast<int>((width + 1) / 2 * 2);  // 4:2:0 needs even sides
-  m.codec->height = static_cast<int>((height + 1) / 2 * 2);
-  m.codec->pix_fmt = AV_PIX_FMT_YUV420P;
+  const uint32_t even = ffv1 ? 1 : 2;  // 4:2:0 needs even sides
+  m.codec->width = static_cast<int>((width + even - 1) / even * even);
+  m.codec->height = static_cast<int>((height + even - 1) / even * even);
+  m.codec->pix_fmt = ffv1 ? AV_PIX_FMT_BGR0 : lossless ? AV_PIX_FMT_YUV444P : AV_PIX_FMT_YUV420P;
   m.codec->time_base = av_inv_q(rate);
   m.codec->framerate = rate;
   m.codec->gop_size = 30;
   if ((m.format->oformat->flags & AVFMT_GLOBALHEADER) != 0)
     m.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   // Quality over size (crf 18 is visually lossless), fast enough to keep up with the frames.
-  av_opt_set(m.codec->priv_data, "preset", "veryfast", 0);
-  av_opt_set(m.codec->priv_data, "crf", "18", 0);
-  m.check(avcodec_open2(m.codec, h264, nullptr), "opening the H.264 encoder");
+  if (!ffv1) {
+    av_opt_set(m.codec->priv_data, "preset", "veryfast", 0);
+    av_opt_set(m.codec->priv_data, lossless ? "qp" : "crf", lossless ? "0" : "18", 0);
+  }
+  m.check(avcodec_open2(m.codec, encoder, nullptr),
+          ffv1 ? "opening the FFV1 encoder" : "opening the H.264 encoder");
   m.check(avcodec_parameters_from_context(m.stream->codecpar, m.codec), "stream parameters");
   m.stream->time_base = m.codec->time_base;
   m.stream->avg_frame_rate = rate;
   m.check(avio_open(&m.format->pb, m.file.c_str(), AVIO_FLAG_WRITE), "opening the file");
-  m.check(avformat_write_header(m.format, nullptr), "writing the MP4 header");
+  m.check(avformat_write_header(m.format, nullptr), "writing the header");
   m.header = true;
   m.frame->format = m.codec->pix_fmt;
   m.frame->width = m.codec->width;
   m.frame->height = m.codec->height;
   m.check(av_frame_get_buffer(m.frame, 0), "frame buffer");
   m.scale = sws_getContext(static_cast<int>(width), static_cast<int>(height), AV_PIX_FMT_RGBA,
-                           m.codec->width, m.codec->height, AV_PIX_FMT_YUV420P, SWS_BICUBIC,
+                           m.codec->width, m.codec->height, m.codec->pix_fmt,
+                           SWS_BICUBIC | (lossless ? SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT : 0),
                            nullptr, nullptr, nullptr);
-  if (m.scale == nullptr) m.fail("no RGBA -> YUV 4:2:0 conversion", 0);
+  if (m.scale == nullptr) m.fail("no conversion from RGBA", 0);
 }
 
 VideoWriter::~VideoWriter() {

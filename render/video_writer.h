@@ -23,12 +23,21 @@
 
 namespace phyxel::render {
 
+enum class VideoEncoding {
+  H264,          // MP4, CRF 18 in YUV 4:2:0 (what players expect of rendered frames)
+  H264Lossless,  // MP4, QP 0 in YUV 4:4:4 (High 4:4:4 Predictive; only the RGB <-> YUV
+                 // rounding is lost: the clips of tools/make_video_clip)
+  Ffv1,          // FFV1 in RGB, exactly lossless, the container from the file's extension
+                 // (.mkv, .avi, .nut): a second container and codec for the video texture's tests
+};
+
 class VideoWriter {
  public:
   // Opens `file` (created or truncated) for frames of width x height at `fps` frames per
   // second of the video. Throws std::runtime_error "FILE: cannot write the video (REASON)"
-  // when the file cannot be opened or the encoder is missing.
-  VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height, double fps);
+  // when the file cannot be opened or the encoder is missing. `encoding`: see VideoEncoding.
+  VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height, double fps,
+              VideoEncoding encoding = VideoEncoding::H264);
   ~VideoWriter();  // finishes the file when finish() was not called (errors then ignored)
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;

@@ -280,6 +280,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     // Cuts since the last frame: cut-face surfels; the GPU solver's buffers carry its pair
     // weights, the CPU solver's alive mask is uploaded when its severed count changed.
     writer.follow_cuts(solver, false);
+    // The video texture: the newest frame decoded by now (never waits for the decoder).
+    writer.advance_video(double(step) * scene.simulation.dt, false);
     if (on_gpu) {
       presenter.present(writer.render(gpu_solver->buffers()));
     } else {

@@ -30,6 +30,20 @@ RgbaImage half_size(const RgbaImage& image) {
 
 }  // namespace
 
+std::vector<RgbaImage> mip_chain(const RgbaImage& source, uint32_t max_side) {
+  if (source.width == 0 || source.height == 0) {
+    throw std::invalid_argument("the texture is empty (0 x 0 pixels)");
+  }
+  std::vector<RgbaImage> levels{source};
+  while (levels.back().width > max_side || levels.back().height > max_side) {
+    levels.back() = half_size(levels.back());
+  }
+  while (levels.back().width > 1 || levels.back().height > 1) {
+    levels.push_back(half_size(levels.back()));
+  }
+  return levels;
+}
+
 Images::Images(gpu::Context& ctx) : ctx_(&ctx), library_(ctx.instance().loader_path()) {
   const gpu::InstanceFunctions& ifn = ctx.instance().fn();
   const VkDevice device = ctx.device();
@@ -145,49 +159,31 @@ void GpuImage::reset() {
 }
 
 Texture::Texture(const Images& images, const RgbaImage& source, uint32_t max_side)
-    : images_(&images) {
-  if (source.width == 0 || source.height == 0) {
+    : Texture(images, mip_chain(source, max_side)) {}
+
+Texture::Texture(const Images& images, const std::vector<RgbaImage>& levels) : images_(&images) {
+  if (levels.empty() || levels[0].width == 0 || levels[0].height == 0) {
     throw std::invalid_argument("the texture is empty (0 x 0 pixels)");
-  }
-  std::vector<RgbaImage> levels{source};
-  while (levels.back().width > max_side || levels.back().height > max_side) {
-    levels.back() = half_size(levels.back());
-  }
-  while (levels.back().width > 1 || levels.back().height > 1) {
-    levels.push_back(half_size(levels.back()));
   }
   gpu::Context& ctx = images.context();
   const uint32_t count = static_cast<uint32_t>(levels.size());
   constexpr VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-  constexpr VkImageAspectFlags colour = VK_IMAGE_ASPECT_COLOR_BIT;
   image_ = GpuImage(images, levels[0].width, levels[0].height, format,
-                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, colour,
-                    "render texture", count);
-  size_t bytes = 0;
-  for (const RgbaImage& l : levels) bytes += l.pixels.size();
-  gpu::Buffer staging(ctx, bytes, gpu::MemoryIntent::Upload, "texture staging");
-  std::vector<VkBufferImageCopy> regions(count);
+                    VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                    VK_IMAGE_ASPECT_COLOR_BIT, "render texture", count);
+  regions_.resize(count);
   size_t offset = 0;
   for (uint32_t i = 0; i < count; ++i) {
-    std::memcpy(static_cast<uint8_t*>(staging.mapped()) + offset, levels[i].pixels.data(),
-                levels[i].pixels.size());
-    regions[i].bufferOffset = offset;
-    regions[i].imageSubresource = {colour, i, 0, 1};
-    regions[i].imageExtent = {levels[i].width, levels[i].height, 1};
+    regions_[i].bufferOffset = offset;
+    regions_[i].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, i, 0, 1};
+    regions_[i].imageExtent = {levels[i].width, levels[i].height, 1};
     offset += levels[i].pixels.size();
   }
+  stage(levels);
   gpu::Recorder rec(ctx, "texture upload");
-  const VkCommandBuffer cmd = rec.cmd();
-  image_barrier(cmd, ctx.fn(), image_.image(), colour, VK_IMAGE_LAYOUT_UNDEFINED,
-                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
-                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-  images.fn().vkCmdCopyBufferToImage(cmd, staging.handle(), image_.image(),
-                                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, count, regions.data());
-  image_barrier(cmd, ctx.fn(), image_.image(), colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                VK_ACCESS_SHADER_READ_BIT);
+  record_upload(rec.cmd());
   rec.submit_and_wait();
+  staging_.reset();  // a texture that changes (stage()) makes it again and keeps it
 
   const bool linear = images.supports(format, VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT);
   auto info = vk_struct<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
@@ -196,6 +192,45 @@ Texture::Texture(const Images& images, const RgbaImage& source, uint32_t max_sid
   info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   info.maxLod = static_cast<float>(count);
   VK_CHECK(images.fn().vkCreateSampler(ctx.device(), &info, nullptr, &sampler_));
+}
+
+bool Texture::stage(const std::vector<RgbaImage>& levels) {
+  if (levels.size() != regions_.size()) return false;
+  for (size_t i = 0; i < levels.size(); ++i) {
+    if (levels[i].width != regions_[i].imageExtent.width ||
+        levels[i].height != regions_[i].imageExtent.height)
+      return false;
+  }
+  if (!staging_) {
+    const VkBufferImageCopy& last = regions_.back();
+    const VkDeviceSize bytes =
+        last.bufferOffset + VkDeviceSize{last.imageExtent.width} * last.imageExtent.height * 4;
+    staging_ = gpu::Buffer(images_->context(), bytes, gpu::MemoryIntent::Upload, "texture staging");
+  }
+  for (size_t i = 0; i < levels.size(); ++i) {
+    std::memcpy(static_cast<uint8_t*>(staging_.mapped()) + regions_[i].bufferOffset,
+                levels[i].pixels.data(), levels[i].pixels.size());
+  }
+  staged_ = true;
+  return true;
+}
+
+void Texture::record_upload(VkCommandBuffer cmd) {
+  if (!staged_) return;
+  const gpu::DeviceFunctions& fn = images_->context().fn();
+  constexpr VkImageAspectFlags colour = VK_IMAGE_ASPECT_COLOR_BIT;
+  // From UNDEFINED: every level is overwritten, the old contents need not be kept.
+  image_barrier(cmd, fn, image_.image(), colour, VK_IMAGE_LAYOUT_UNDEFINED,
+                VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+  images_->fn().vkCmdCopyBufferToImage(cmd, staging_.handle(), image_.image(),
+                                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                       static_cast<uint32_t>(regions_.size()), regions_.data());
+  image_barrier(cmd, fn, image_.image(), colour, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT);
+  staged_ = false;
 }
 
 Texture::~Texture() {
@@ -212,6 +247,9 @@ Texture& Texture::operator=(Texture&& other) noexcept {
     images_ = std::exchange(other.images_, nullptr);
     image_ = std::move(other.image_);
     sampler_ = std::exchange(other.sampler_, VK_NULL_HANDLE);
+    staging_ = std::move(other.staging_);
+    regions_ = std::move(other.regions_);
+    staged_ = std::exchange(other.staged_, false);
   }
   return *this;
 }
@@ -221,6 +259,9 @@ void Texture::reset() {
     images_->fn().vkDestroySampler(images_->context().device(), sampler_, nullptr);
   }
   sampler_ = VK_NULL_HANDLE;
+  staging_.reset();
+  regions_.clear();
+  staged_ = false;
   image_.reset();
   images_ = nullptr;
 }

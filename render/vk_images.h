@@ -6,7 +6,9 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
+#include "compute/buffer.h"
 #include "compute/context.h"
 #include "compute/loader.h"
 #include "compute/pipeline.h"
@@ -79,6 +81,10 @@ class GpuImage {
   uint32_t width_ = 0, height_ = 0, mips_ = 1;
 };
 
+// The mip chain of a texture: `image` halved until it fits `max_side`, then 2 x 2 box-filtered
+// halves down to 1 x 1. Throws std::invalid_argument when `image` is empty.
+std::vector<RgbaImage> mip_chain(const RgbaImage& image, uint32_t max_side);
+
 // A sampled RGBA8 texture with its full mip chain (2 x 2 box filter, built on the host, so no
 // blit and no graphics queue is needed), trilinear filtering, clamped at the edges. Images
 // larger than `max_side` are halved until they fit. Throws std::invalid_argument when `image`
@@ -87,6 +93,8 @@ class Texture {
  public:
   Texture() = default;
   Texture(const Images& images, const RgbaImage& image, uint32_t max_side);
+  // From a ready mip chain (mip_chain), e.g. a video frame's.
+  Texture(const Images& images, const std::vector<RgbaImage>& levels);
   ~Texture();
   Texture(Texture&& other) noexcept;
   Texture& operator=(Texture&& other) noexcept;
@@ -95,12 +103,25 @@ class Texture {
 
   VkImageView view() const { return image_.view(); }
   VkSampler sampler() const { return sampler_; }
+  uint32_t width() const { return image_.width(); }
+  uint32_t height() const { return image_.height(); }
+
+  // New contents of the same sizes (a video frame's mip chain): copies `levels` into the
+  // texture's staging buffer, for record_upload() to record the copy into a frame's command
+  // buffer. The frame that last read the texture must have finished. Returns false (and stages
+  // nothing) when the sizes differ.
+  bool stage(const std::vector<RgbaImage>& levels);
+  // Records the copy of what stage() staged (nothing when nothing was staged since).
+  void record_upload(VkCommandBuffer cmd);
 
  private:
   void reset();
   const Images* images_ = nullptr;
   GpuImage image_;
   VkSampler sampler_ = VK_NULL_HANDLE;
+  gpu::Buffer staging_;  // the mip chain, level after level
+  std::vector<VkBufferImageCopy> regions_;
+  bool staged_ = false;
 };
 
 // Records an image layout transition of all mip levels (and the memory dependency).

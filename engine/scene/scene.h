@@ -149,6 +149,14 @@ struct RenderSettings {
   // dark background).
   std::filesystem::path environment;
   double environment_area_ratio = 1;  // K of eq 33: texture area / cube area of the top face
+  // `render.video_texture` (the paper's section VI): a video file mapped on the objects'
+  // surfaces in place of `texture`, advancing with simulated time (render/video_texture.h).
+  // Empty file: none.
+  struct VideoTexture {
+    std::filesystem::path file;    // resolved against the scene's folder
+    int loop_blend = 0;            // B: the last B frames blended into the first B (eq 32)
+    bool repair_specular = false;  // specular spots found (eq 31) and repaired in every frame
+  } video_texture;
   // `render.video`: an H.264 MP4 of the frames (render/video_writer.h); empty: none.
   std::filesystem::path video;
 };

@@ -81,15 +81,19 @@ StereoSettings read_stereo(const Node& node) {
   return s;
 }
 
-// An existing image file named by `node` (a string), relative to the scene's folder.
-fs::path read_image_path(const Node& node, const fs::path& folder, const std::string& what) {
+// An existing image file named by `node` (a string), relative to the scene's folder; `noun`
+// names it in the message (default: the key).
+fs::path read_image_path(const Node& node, const fs::path& folder, const std::string& what,
+                         const std::string& noun = {}) {
   const fs::path path = folder / node.text();
   std::string allowed = "allowed " + what + ", relative to the scene file's folder (";
   allowed += folder.empty() ? std::string("the working directory") : folder.string();
   allowed += ")";
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {
-    node.fail(node.leaf() + " file \"" + path.string() + "\" does not exist", allowed);
+    node.fail(
+        (noun.empty() ? node.leaf() : noun) + " file \"" + path.string() + "\" does not exist",
+        allowed);
   }
   return path;
 }
@@ -110,12 +114,35 @@ void read_environment(const Node& node, const fs::path& folder, RenderSettings& 
       node.number_or("area_ratio", r.environment_area_ratio, Limits::above(0), "");
 }
 
+// `render.video_texture`: "clip.mp4", or {"file": "clip.mp4", "loop_blend": B,
+// "repair_specular": true}. Whether the file decodes is checked when the renderer opens it
+// (render/video_texture.h), before the run starts.
+void read_video_texture(const Node& node, const fs::path& folder, RenderSettings& r) {
+  const std::string what = "a video file that FFmpeg decodes (MP4, MKV, WebM, AVI, ...)";
+  if (node.value().is_string()) {
+    r.video_texture.file = read_image_path(node, folder, what, "video");
+    return;
+  }
+  node.expect_object(
+      "a video file name, or a video texture object {\"file\": \"clip.mp4\", \"loop_blend\": "
+      "frames, \"repair_specular\": true}",
+      {"file", "loop_blend", "repair_specular"});
+  r.video_texture.file =
+      read_image_path(node.at("file", "a video file name"), folder, what, "video");
+  r.video_texture.loop_blend =
+      static_cast<int>(node.integer_or("loop_blend", 0, Limits{0, 1000, true, true}));
+  if (const auto repair = node.find("repair_specular")) {
+    r.video_texture.repair_specular = read_bool(*repair);
+  }
+}
+
 RenderSettings read_render(const Node& node, const fs::path& folder) {
   node.expect_object(
       "a render object {\"mode\": \"none\" | \"mono\" | \"stereo\", \"width\": px, \"height\": "
-      "px, \"every\": n, \"texture\": \"image.png\", \"environment\": \"image.png\", "
-      "\"video\": \"out.mp4\", \"stereo\": {...}}",
-      {"mode", "width", "height", "every", "texture", "environment", "video", "stereo"});
+      "px, \"every\": n, \"texture\": \"image.png\", \"video_texture\": \"clip.mp4\", "
+      "\"environment\": \"image.png\", \"video\": \"out.mp4\", \"stereo\": {...}}",
+      {"mode", "width", "height", "every", "texture", "video_texture", "environment", "video",
+       "stereo"});
   RenderSettings r;
   if (const auto mode = node.find("mode")) {
     const std::string m = mode->choice({"none", "mono", "stereo"});
@@ -130,6 +157,7 @@ RenderSettings read_render(const Node& node, const fs::path& folder) {
   if (const auto texture = node.find("texture")) {
     r.texture = read_image_path(*texture, folder, "a PNG or JPEG image");
   }
+  if (const auto video = node.find("video_texture")) read_video_texture(*video, folder, r);
   if (const auto environment = node.find("environment")) {
     read_environment(*environment, folder, r);
   }
