@@ -34,7 +34,7 @@ constexpr const char* kTearingHelp =
     "  --device D        cpu (default), gpu, gpu:N or part of a GPU's name\n"
     "  --sizes LIST      box sizes in phyxels (default 10000,100000 on the CPU,\n"
     "                    10000,100000,1000000 on a GPU)\n"
-    "  --tear-stress T   Pa (default 3000)\n"
+    "  --tear-stress T   Pa (default 12000)\n"
     "  --steps N         steps per timed repeat (default 64)\n"
     "  --repeats N       timed repeats, the median is reported (default 5)\n"
     "  --threads N       CPU solver threads (default: all cores)\n"
@@ -121,7 +121,7 @@ int bench_tearing(const Args& args) {
   const std::string device = opts.value("--device", "cpu");
   const auto sizes = parse_phyxel_sizes(
       opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"), 1000);
-  const double tear_stress = opts.number("--tear-stress", 3000, 1e-3, 1e12);
+  const double tear_stress = opts.number("--tear-stress", 12000, 1e-3, 1e12);
   const int64_t steps = opts.integer("--steps", 64, 1, 1 << 20);
   const int64_t repeats = opts.integer("--repeats", 5, 1, 1000);
   const int threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));

@@ -2,7 +2,7 @@
 // inverse through a symmetric eigen-decomposition (cyclic Jacobi), regularised when the
 // condition number exceeds kMaxCondition (small eigenvalues raised to lambda_max / 100), the
 // residual R_i = A^-1 A A^-1 - A^-1 of a regularised inverse, and the hourglass stiffness
-// kappa_i = gamma mu v_i / (tr A_i / 3). The GLSL twin of regularised_inverse() in
+// kappa_i = gamma mu v_i / (tr A_i / 3), both scaled by the phyxel's damage. The GLSL twin of regularised_inverse() in
 // engine/solver/mls_model.h. Idempotent, so cutting can rerun it for the phyxels it touched.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +20,7 @@ layout(std430, binding = kPrecomputeBindingClasses) readonly buffer Classes {
   SolverClass classes[];
 };
 layout(std430, binding = kPrecomputeBindingRest) readonly buffer Rest { vec4 rest[]; };
-layout(std430, binding = kPrecomputeBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kPrecomputeBindingAinv) buffer Ainv { vec4 ainv[]; };
 layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
 
@@ -59,9 +59,7 @@ void main() {
   }
   const uint fl = flags[i];
   const SolverClass cls = classes[fl >> kFlagClassShift];
-  const float volume = rest[i].w;
   const float trace = a[0][0] + a[1][1] + a[2][2];
-  local_pos[i].w = trace > 0.0 ? cls.kernel.z * cls.elastic.y * volume / (trace / 3.0) : 0.0;
 
   // Cyclic Jacobi: a few sweeps bring a 3x3 matrix to float round-off.
   mat3 d = a;
@@ -87,8 +85,16 @@ void main() {
           transpose(q);
     if (regularised) residual = inv * a * inv - inv;
   }
+  // Damage (engine/solver/mls_model.h damage_factor): the elastic volume and kappa scaled by
+  // lambda_min over lambda_min with every pair, which the full pass (p.indexed == 0, the
+  // neighbour search's) records in ainv[2i + 1].w and the reruns after cuts and tears read.
+  const float intact_lmin = p.indexed == 0u ? lmin : ainv[2u * i + 1u].w;
+  const float damage = intact_lmin > 0.0 ? clamp(lmin / intact_lmin, 0.0, 1.0)
+                                         : (lmin >= intact_lmin ? 1.0 : 0.0);
+  const float volume = damage * rest[i].w;
+  local_pos[i].w = trace > 0.0 ? cls.kernel.z * cls.elastic.y * volume / (trace / 3.0) : 0.0;
   ainv[2u * i] = vec4(inv[0][0], inv[1][0], inv[2][0], inv[1][1]);
-  ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, 0.0);
+  ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, intact_lmin);
   resid[2u * i] = vec4(residual[0][0], residual[1][0], residual[2][0], residual[1][1]);
   resid[2u * i + 1u] = vec4(residual[2][1], residual[2][2], 0.0, 0.0);
   const uint kept = cut_list ? (fl & ~kFlagCutDirty) : fl;

@@ -49,6 +49,8 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     max_support_ = std::max(max_support_, support_[o]);
   }
   kappa_scale_.resize(n);
+  intact_lmin_.assign(n, -1.0);
+  elastic_volume_.resize(n);
   for (size_t i = 0; i < n; ++i) {
     // Hourglass stiffness: gamma mu v_i / (tr A_i / 3), so that the penalty energy of a
     // gradient error dG is about gamma/2 mu v_i |dG|^2, comparable to the elastic energy.
@@ -95,8 +97,15 @@ void CpuSolver<Real>::precompute(size_t i) {
   a_inv_[i] = inv.inverse.cast<Real>();
   a_residual_[i] = inv.residual.cast<Real>();
   regularised_[i] = inv.regularised;
+  // Damage: once pairs are gone, the smallest eigenvalue of A_i falls and the gradient's
+  // stiffest mode grows as 1/lambda_min, beyond what the stable step allows. The phyxel's
+  // elastic response is scaled by lambda_min / lambda_min(intact), so no mode gets stiffer.
+  const double lmin = min_moment_eigenvalue(a);
+  if (intact_lmin_[i] < 0) intact_lmin_[i] = lmin;
+  const double damage = damage_factor(lmin, intact_lmin_[i]);
+  elastic_volume_[i] = Real(damage * double(volume_[i]));
   const double tr = a.trace() / 3;
-  kappa_[i] = tr > 0 ? Real(kappa_scale_[i] / tr) : Real(0);
+  kappa_[i] = tr > 0 ? Real(damage * kappa_scale_[i] / tr) : Real(0);
 }
 
 template <class Real>
@@ -138,7 +147,7 @@ void CpuSolver<Real>::compute_forces() {
       const M3 g = m * a_inv_[i];
       const M3 f = M3::Identity() + g;
       const M3 p = first_piola<Real>(f, params_[i], nullptr);
-      M3 d = volume_[i] * p * a_inv_[i] - kappa_[i] * g;
+      M3 d = elastic_volume_[i] * p * a_inv_[i] - kappa_[i] * g;
       if (regularised_[i]) d += kappa_[i] * m * a_residual_[i];
       d_[i] = d;
       if (tearing_) {
@@ -374,7 +383,7 @@ double CpuSolver<Real>::internal_energy() const {
       const V3 e = g * (rest_[j] - rest_[i]) - (u_[j] - u_[i]);
       hourglass += w_[k] * e.squaredNorm();
     }
-    total += double(volume_[i] * w_density) + 0.5 * double(kappa_[i] * hourglass);
+    total += double(elastic_volume_[i] * w_density) + 0.5 * double(kappa_[i] * hourglass);
   }
   return total;
 }

@@ -162,6 +162,9 @@ class CpuSolver {
   std::vector<uint32_t> flags_;
   std::vector<V3> rest_;
   std::vector<Real> mass_, volume_, damping_, kappa_;
+  // The volume whose elastic energy a phyxel carries: v_i, times its damage factor once cuts or
+  // tears took some of its pairs (precompute; docs/tearing.md "Damaged phyxels").
+  std::vector<Real> elastic_volume_;
   std::vector<ElasticParams<Real>> params_;
   std::vector<M3> a_inv_, a_residual_;
   std::vector<uint8_t> regularised_;
@@ -193,6 +196,7 @@ class CpuSolver {
   std::vector<double> support_;       // per object
   std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)
   std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
+  std::vector<double> intact_lmin_;   // smallest eigenvalue of A_i with every pair (-1: unset)
   std::vector<SeveredPair> severed_;  // the log
 
   std::vector<V3> u_, v_, f_;

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 
 #include "engine/solver/sym_eigen.h"
 
@@ -52,6 +53,18 @@ inline MomentInverse regularised_inverse(const Eigen::Matrix3d& a) {
   out.inverse = q * lam.cwiseInverse().asDiagonal() * q.transpose();
   if (out.regularised) out.residual = out.inverse * a * out.inverse - out.inverse;
   return out;
+}
+
+// The smallest eigenvalue of a moment matrix.
+inline double min_moment_eigenvalue(const Eigen::Matrix3d& a) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(a, Eigen::EigenvaluesOnly).eigenvalues()[0];
+}
+
+// A phyxel's damage factor in [0, 1] (docs/tearing.md, "Damaged phyxels"): lambda_min of its
+// moment matrix over the pairs still alive, over lambda_min with all of them; 1 while intact.
+inline double damage_factor(double lmin, double intact_lmin) {
+  if (!(intact_lmin > 0)) return lmin >= intact_lmin ? 1.0 : 0.0;
+  return std::clamp(lmin / intact_lmin, 0.0, 1.0);
 }
 
 // Cofactor matrix of F (= det F * F^-T where F is invertible), defined for every F.

@@ -17,7 +17,7 @@ namespace {
 TEST(BenchTearing, WritesARowPerSizeWithFiniteFiguresAndTears) {
   const std::filesystem::path dir = test::test_output_dir("bench_tearing");
   const std::string command = std::string("timeout 600 ") + PHYXEL_BINARY_DIR +
-                              "/app/phyxel bench --tearing --sizes 3000 --steps 8 --repeats 1 "
+                              "/app/phyxel bench --tearing --sizes 3000 --tear-stress 3000 --steps 8 --repeats 1 "
                               "--threads 1 --out " +
                               dir.string() + " > " + (dir / "stdout.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
