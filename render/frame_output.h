@@ -63,7 +63,8 @@ class FrameWriter {
                     const NeighbourLists& neighbours);
   // Renders without writing (for the viewer and tests).
   RgbaImage render(const RenderInputs& inputs);
-  // The tools of the frames from now on (SplatRenderer::set_tools; none at first).
+  // The tools of the frames from now on (SplatRenderer::set_tools; none at first), drawn
+  // with the scene's `render.instruments` (always).
   void set_tools(std::vector<ToolDrawable> tools);
   // Cuts: reads the pairs `solver` severed since the last call (its severed_since log, from
   // this writer's cursor), adds them to the cut faces and updates the renderer's cut-face
@@ -99,6 +100,7 @@ class FrameWriter {
   FrameWriterOptions options_;
   Camera camera_;
   FrameSetup setup_;
+  std::vector<ToolDrawable> instruments_;  // render.instruments: drawn, never simulated
   std::unique_ptr<SplatRenderer> renderer_;
   std::unique_ptr<HostInputs> host_;
   std::unique_ptr<FrameSink> sink_;  // PNG files and the video, on a thread of its own

@@ -68,6 +68,10 @@ struct RendererOptions {
   float epsilon = 1.0f;                 // visibility offset, in splat radii
   float max_stretch = 4.0f;             // splat radius growth limit under tangential stretch
   float min_inverse_condition = 1e-4f;  // of A (see deform_surfels.comp)
+  // Visibility offset of the backdrop's discs, in their radii: they are large (a drape's
+  // spacing is centimetres) and mostly flat, so half a radius joins neighbours without
+  // blending the drape into tissue that lies just above it.
+  float backdrop_epsilon = 0.5f;
 };
 
 class SplatRenderer {
@@ -95,6 +99,14 @@ class SplatRenderer {
   // device. Throws std::invalid_argument for an image that is not square or K <= 0.
   void set_environment(const RgbaImage& image, const Eigen::Matrix3d& world_to_cube,
                        double area_ratio);
+
+  // The backdrop (render/backdrop.h: bake_backdrop): static splats drawn by the visibility
+  // and accumulation passes after the deformed ones, in every frame from the next on, their
+  // colour baked (kSplatBaked in normal.w; the deform pass never sees them). Uploaded once;
+  // an empty list removes it. Waits for the device. Throws std::invalid_argument for a splat
+  // without kSplatBaked or with a radius that is not finite and > 0.
+  void set_backdrop(const std::vector<layout::Splat>& splats);
+  uint32_t backdrop_count() const;
 
   // Renders one frame of the current state of `inputs` and returns it (waits for the GPU).
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);
