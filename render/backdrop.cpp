@@ -17,7 +17,7 @@ constexpr double kPi = 3.14159265358979323846;
 // Disc radius over the diagonal of a box face's grid cell (0.5 would just cover it): the
 // discs of neighbours overlap enough that their colours blend, and no more (each overlap costs
 // the splat passes a ray-disc test and the accumulation its atomics, per pixel).
-constexpr double kGridRadius = 0.6;
+constexpr double kGridRadius = 0.55;
 // Disc radius over the local spacing of the Fibonacci lattice and of mesh samples.
 constexpr double kScatterRadius = 0.85;
 
