@@ -4,7 +4,8 @@
 // splat rasteriser in the manner of Schuetz et al. 2021), so it runs on any queue that the
 // solver's does and uses every shader core (on the H100 only a few can rasterise):
 //
-//   clear              depth to far, accumulators to 0
+//   clear              depth to far (with a backdrop: its layer's depth, the layer drawn
+//                      first when the view changed), accumulators to 0
 //   deform             centre x0 + u, normal (I + grad u)^-T n, texture gradients, radius
 //   per eye, with tools only (set_tools), one invocation per pixel:
 //     0 tools          ray cast of every tool (ball or capsule); the nearest writes its exact
@@ -100,11 +101,13 @@ class SplatRenderer {
   void set_environment(const RgbaImage& image, const Eigen::Matrix3d& world_to_cube,
                        double area_ratio);
 
-  // The backdrop (render/backdrop.h: bake_backdrop): static splats drawn by the visibility
-  // and accumulation passes after the deformed ones, in every frame from the next on, their
-  // colour baked (kSplatBaked in normal.w; the deform pass never sees them). Uploaded once;
-  // an empty list removes it. Waits for the device. Throws std::invalid_argument for a splat
-  // without kSplatBaked or with a radius that is not finite and > 0.
+  // The backdrop (render/backdrop.h: bake_backdrop): static splats with their colour baked
+  // (kSplatBaked in normal.w; the deform pass never sees them), uploaded once. They are drawn
+  // into a layer once per view (when the eyes, frusta or size change, or after this call or
+  // set_environment): its depth starts each frame's depth buffer and its shaded colour shows
+  // where no disc is (unless a tool is nearer). An empty list removes it. Waits for the
+  // device. Throws std::invalid_argument for a splat without kSplatBaked or with a radius
+  // that is not finite and > 0.
   void set_backdrop(const std::vector<layout::Splat>& splats);
   uint32_t backdrop_count() const;
 
