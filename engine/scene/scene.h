@@ -145,8 +145,8 @@ struct BackdropItem {
   Shape shape;
   double spacing = 0;  // m (> 0)
   Look look = Look::Drape;
-  Vec3 colour = Vec3::Zero();  // RGB in [0, 1] (as texture texels): the look's base colour
-  std::optional<Shape> hole;   // unset: nothing cut out
+  Vec3 colour = Vec3::Zero();   // RGB in [0, 1] (as texture texels): the look's base colour
+  std::optional<Shape> hole;    // unset: nothing cut out
   std::optional<Shape> within;  // unset: the whole surface; else only its part inside this
 };
 
