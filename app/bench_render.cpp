@@ -1,8 +1,10 @@
 // phyxel bench --render: splat rendering speed (render/render_bench.h), mono or stereo, for a
 // list of surfel counts on one Vulkan device, and what rendering at 60 frames/s costs the GPU
 // solver's step rate on the same shell (--no-solver skips that); then the last size again with
-// the video texture and the environment on (--no-video-texture skips that row).
+// the video texture and the environment on (--no-video-texture skips that row). With --scene
+// FILE: that scene's frames at rest, with and without its backdrop (start-up and frame time).
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -10,13 +12,86 @@
 
 #include "app/bench_extras.h"
 #include "app/options.h"
+#include "engine/sampling/phyxel_set.h"
+#include "engine/solver/neighbours.h"
+#include "render/frame_output.h"
 #include "render/render_bench.h"
 
 namespace phyxel::app {
 
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// phyxel bench --render --scene FILE: the frames of a scene's rest state, as `phyxel run`
+// renders them, with the scene's backdrop and without it: the renderer's start-up (surfel
+// table, texture, environment, backdrop baked and uploaded) and the median frame time.
+int bench_render_scene(const std::string& file, const std::string& device, int64_t width,
+                       int64_t height, bool mono, int64_t frames, const std::string& json_file) {
+  gpu::ContextOptions context;
+  context.device = device;
+  gpu::Context ctx(context);
+  Scene scene = load_scene(file);
+  scene.render.width = static_cast<int>(width);
+  scene.render.height = static_cast<int>(height);
+  const PhyxelSet set = sample_scene(scene);
+  const NeighbourLists neighbours = find_rest_neighbours(set);
+  const std::vector<Vec3> rest(set.size(), Vec3::Zero());
+  std::printf("%s: %s, %s %lldx%lld per eye, %zu phyxels\n%10s %9s %9s %12s %12s\n",
+              ctx.info().name.c_str(), file.c_str(), mono ? "mono" : "stereo",
+              static_cast<long long>(width), static_cast<long long>(height), set.size(), "backdrop",
+              "splats", "start s", "first ms", "frame ms");
+  nlohmann::json rows = nlohmann::json::array();
+  const std::vector<BackdropItem> backdrop = scene.render.backdrop;
+  for (const bool with : {false, true}) {
+    if (with && backdrop.empty()) break;
+    scene.render.backdrop = with ? backdrop : std::vector<BackdropItem>{};
+    const auto t0 = std::chrono::steady_clock::now();
+    render::FrameWriter writer(
+        scene, set, {mono ? RenderSettings::Mode::Mono : RenderSettings::Mode::Stereo, {}}, &ctx);
+    render::HostInputs host(ctx, set, neighbours);
+    host.set_displacement(rest);
+    const double start = seconds_since(t0);
+    const auto t1 = std::chrono::steady_clock::now();
+    writer.render(host.inputs());  // the first frame draws the backdrop's layer too
+    const double first = seconds_since(t1);
+    std::vector<double> times;
+    for (int64_t f = 0; f < frames; ++f) {
+      const auto t = std::chrono::steady_clock::now();
+      writer.render(host.inputs());
+      times.push_back(seconds_since(t));
+    }
+    const double frame = median(times);
+    std::printf("%10s %9u %9.3f %12.1f %12.1f\n", with ? "yes" : "no",
+                writer.renderer().backdrop_count(), start, first * 1e3, frame * 1e3);
+    std::fflush(stdout);
+    rows.push_back({{"device", ctx.info().name},
+                    {"scene", file},
+                    {"backdrop", with},
+                    {"backdrop_splats", writer.renderer().backdrop_count()},
+                    {"surfels", writer.renderer().surfel_count()},
+                    {"startup_s", start},
+                    {"first_frame_ms", first * 1e3},
+                    {"median_frame_ms", frame * 1e3},
+                    {"frames", frames}});
+  }
+  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace
+
 int bench_render_command(const Args& args) {
   OptionParser opts("bench", args);
   opts.flag("--render");
+  const std::string scene_file = opts.value("--scene", "");
   const std::string device = opts.value("--device", "gpu");
   const std::string sizes = opts.value("--surfels", "10000,100000,1000000");
   const int64_t width = opts.integer("--width", 1920, 16, 16384);
@@ -27,6 +102,9 @@ int bench_render_command(const Args& args) {
   const bool with_solver = !opts.flag("--no-solver");
   const bool no_video = opts.flag("--no-video-texture");
   opts.finish();
+  if (!scene_file.empty()) {
+    return bench_render_scene(scene_file, device, width, height, mono, frames, json_file);
+  }
   gpu::ContextOptions context;
   context.device = device;
   gpu::Context ctx(context);

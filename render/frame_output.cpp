@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "render/backdrop.h"
 #include "render/cut_surfels.h"
 #include "render/environment_map.h"
 
@@ -59,6 +60,9 @@ FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
     renderer_->set_environment(load_environment(r.environment, file + ": render.environment"),
                                environment_basis(camera_), r.environment_area_ratio);
   }
+  if (!r.backdrop.empty()) renderer_->set_backdrop(bake_backdrop(r.backdrop, camera_.position));
+  for (const InstrumentDrawable& i : r.instruments) instruments_.push_back({i.shape, i.pose});
+  if (!instruments_.empty()) renderer_->set_tools(instruments_);
   setup_ = make_frame_setup(camera_, r, options.mode);
   const uint32_t limit = renderer_->max_frame_side();
   const uint32_t wide = setup_.eye_count() * setup_.eye_width;
@@ -103,6 +107,7 @@ RgbaImage FrameWriter::render(const RenderInputs& inputs) {
 }
 
 void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
+  tools.insert(tools.end(), instruments_.begin(), instruments_.end());
   renderer_->set_tools(std::move(tools));
 }
 

@@ -71,7 +71,8 @@ class FrameWriter {
   // texture changed; false without a video texture.
   bool advance_video(double t, bool exact);
   const VideoTexture* video_texture() const { return video_.get(); }
-  // The tools of the frames from now on (SplatRenderer::set_tools; none at first).
+  // The tools of the frames from now on (SplatRenderer::set_tools; none at first), drawn
+  // with the scene's `render.instruments` (always).
   void set_tools(std::vector<ToolDrawable> tools);
   // Cuts: reads the pairs `solver` severed since the last call (its severed_since log, from
   // this writer's cursor), adds them to the cut faces and updates the renderer's cut-face
@@ -109,6 +110,7 @@ class FrameWriter {
   FrameSetup setup_;
   std::unique_ptr<VideoTexture> video_;  // render.video_texture, decoded on its own thread
   double dt_ = 0;                        // simulation.dt: a frame's step to simulated time
+  std::vector<ToolDrawable> instruments_;  // render.instruments: drawn, never simulated
   std::unique_ptr<SplatRenderer> renderer_;
   std::unique_ptr<HostInputs> host_;
   std::unique_ptr<FrameSink> sink_;  // PNG files and the video, on a thread of its own

@@ -100,6 +100,8 @@ struct SplatRenderer::Impl {
   void write_texture_set(VkDescriptorSet set, const Texture& image);
   void ensure_targets(const FrameSetup& setup);
   void grow(size_t slots);
+  layout::ShadePush shade_push(const FrameSetup& setup) const;
+  void record_backdrop_layer(gpu::Recorder& rec, const FrameSetup& setup);
 
   gpu::Context& ctx;
   Images images;
@@ -118,6 +120,14 @@ struct SplatRenderer::Impl {
   std::unordered_map<uint32_t, uint32_t> cut_slot;
   size_t capacity = 0;
   gpu::Buffer surfels, splats;
+  // The backdrop's static splats (set_backdrop) and its layer: per pixel of each eye (the
+  // depth buffer's indexing) its visible depth and its shaded colour, drawn by the splat and
+  // shading passes once per view (`layer_view`; `layer_stale` after set_backdrop or
+  // set_environment) and copied into each frame's depth buffer and under its pixels.
+  gpu::Buffer backdrop, layer_depth, layer_colour;
+  uint32_t backdrop_count = 0;
+  bool layer_stale = true;
+  FrameSetup layer_view{};
   gpu::Buffer no_weights;  // bound as the pair weights when the inputs have none
   Texture texture;
   VkDescriptorSetLayout texture_layout = VK_NULL_HANDLE;
@@ -242,6 +252,98 @@ void SplatRenderer::Impl::grow(size_t slots) {
   capacity = grown;
 }
 
+layout::ShadePush SplatRenderer::Impl::shade_push(const FrameSetup& setup) const {
+  const uint32_t n = setup.eye_count();
+  layout::ShadePush shade{};
+  shade.frustum0 = frustum_of(setup.eyes[0]);
+  shade.frustum1 = frustum_of(setup.eyes[n - 1]);
+  shade.near = {float(setup.eyes[0].frustum.near), float(setup.eyes[n - 1].frustum.near), 0, 0};
+  shade.frame = {setup.eye_width, setup.height, shade_layout(setup.layout), eye_stride};
+  if (has_environment) {
+    shade.near.z = 1;
+    shade.near.w = static_cast<float>(environment_area_ratio);
+  }
+  // Both eyes look the same way (parallel stereo): eye 0's rotation serves both.
+  Eigen::Matrix4d eye_to_cube = Eigen::Matrix4d::Identity();
+  eye_to_cube.topLeftCorner<3, 3>() =
+      world_to_environment * setup.eyes[0].view.topLeftCorner<3, 3>().transpose();
+  shade.eye_to_environment = to_mat4(eye_to_cube);
+  return shade;
+}
+
+namespace {
+
+bool same_view(const FrameSetup& a, const FrameSetup& b) {
+  if (a.eye_width != b.eye_width || a.height != b.height || a.eye_count() != b.eye_count()) {
+    return false;
+  }
+  for (uint32_t e = 0; e < a.eye_count(); ++e) {
+    const Frustum &f = a.eyes[e].frustum, &g = b.eyes[e].frustum;
+    if (a.eyes[e].view != b.eyes[e].view || f.left != g.left || f.right != g.right ||
+        f.bottom != g.bottom || f.top != g.top || f.near != g.near || f.far != g.far) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+// The backdrop layer of this view, when it is stale: the backdrop's splats through the
+// visibility and accumulation passes alone (into layer_depth and the frame's accumulation
+// buffer), then the shading pass per eye in the mono layout into layer_colour. Every frame
+// starts from its depth; the shading pass shows its colour where no disc is.
+void SplatRenderer::Impl::record_backdrop_layer(gpu::Recorder& rec, const FrameSetup& setup) {
+  const VkDeviceSize depth_range = VkDeviceSize{eye_stride} * sizeof(uint32_t);
+  const VkDeviceSize accum_range = depth_range * layout::kAccumChannels;
+  const VkDeviceSize bytes = eyes * depth_range;
+  if (!layer_depth || layer_depth.size() != bytes) {
+    layer_depth = gpu::Buffer(ctx, bytes, gpu::MemoryIntent::Device, "render backdrop depth");
+    layer_colour = gpu::Buffer(ctx, bytes, gpu::MemoryIntent::Device, "render backdrop colour");
+    layer_stale = true;
+  }
+  if (!layer_stale && same_view(setup, layer_view)) return;
+  const uint32_t n = setup.eye_count();
+  rec.fill(layer_depth, layout::kDepthClear, 0, n * depth_range);
+  rec.fill(accum, 0, 0, n * accum_range);
+  rec.barrier();
+  for (uint32_t e = 0; e < n; ++e) {
+    gpu::dispatch(rec, visibility,
+                  raster_push(setup.eyes[e], options.backdrop_epsilon, setup.eye_width,
+                              setup.height, backdrop_count),
+                  {backdrop, gpu::BufferRef(layer_depth, e * depth_range, depth_range)},
+                  backdrop_count);
+  }
+  rec.barrier();
+  ctx.fn().vkCmdBindDescriptorSets(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, accumulate.layout(),
+                                   layout::kRasterSetTexture, 1, &texture_set, 0, nullptr);
+  for (uint32_t e = 0; e < n; ++e) {
+    gpu::dispatch(rec, accumulate,
+                  raster_push(setup.eyes[e], options.backdrop_epsilon, setup.eye_width,
+                              setup.height, backdrop_count),
+                  {backdrop, gpu::BufferRef(layer_depth, e * depth_range, depth_range),
+                   gpu::BufferRef(accum, e * accum_range, accum_range)},
+                  backdrop_count);
+  }
+  rec.barrier();
+  ctx.fn().vkCmdBindDescriptorSets(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, shade.layout(),
+                                   layout::kShadeSetEnvironment, 1, &environment_set, 0, nullptr);
+  for (uint32_t e = 0; e < n; ++e) {
+    FrameSetup one = setup;
+    one.layout = FrameLayout::Mono;
+    one.eyes[0] = setup.eyes[e];
+    const gpu::BufferRef eye_depth(layer_depth, e * depth_range, depth_range);
+    gpu::dispatch(rec, shade, shade_push(one),
+                  {gpu::BufferRef(accum, e * accum_range, accum_range),
+                   gpu::BufferRef(layer_colour, e * depth_range, depth_range), eye_depth, eye_depth,
+                   eye_depth},
+                  setup.eye_width * setup.height);
+  }
+  rec.barrier();
+  layer_view = setup;
+  layer_stale = false;
+}
+
 SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const RgbaImage& texture,
                              const RendererOptions& options)
     : impl_(std::make_unique<Impl>(ctx, options)) {
@@ -255,7 +357,7 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.visibility = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_visibility), 2, sizeof(layout::RasterPush));
   m.accumulate = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_accumulate), 3, sizeof(layout::RasterPush),
                                m.texture_layout);
-  m.shade = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 2, sizeof(layout::ShadePush),
+  m.shade = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 5, sizeof(layout::ShadePush),
                           m.texture_layout);
   m.tool_pass = gpu::Pipeline(ctx, PHYXEL_SHADER(tool_visibility), 3, sizeof(layout::ToolPush));
   m.count = static_cast<uint32_t>(table.surfels.size());
@@ -308,6 +410,35 @@ void SplatRenderer::set_environment(const RgbaImage& image, const Eigen::Matrix3
   m.has_environment = true;
   m.world_to_environment = world_to_cube;
   m.environment_area_ratio = area_ratio;
+  m.layer_stale = true;  // the backdrop layer's background
+}
+
+void SplatRenderer::set_backdrop(const std::vector<layout::Splat>& splats) {
+  Impl& m = *impl_;
+  for (size_t k = 0; k < splats.size(); ++k) {
+    const layout::Splat& s = splats[k];
+    const auto bits = static_cast<uint32_t>(s.normal.w);
+    if ((bits & layout::kSplatBaked) == 0 || !(s.centre.w > 0) || !std::isfinite(s.centre.w)) {
+      throw std::invalid_argument("SplatRenderer::set_backdrop: splat " + std::to_string(k) +
+                                  " needs kSplatBaked and a finite radius > 0");
+    }
+  }
+  VK_CHECK(m.ctx.fn().vkDeviceWaitIdle(m.ctx.device()));  // the old buffer may be in use
+  m.backdrop_count = static_cast<uint32_t>(splats.size());
+  m.layer_stale = true;
+  if (splats.empty()) {
+    m.backdrop = gpu::Buffer();
+    m.layer_depth = gpu::Buffer();
+    m.layer_colour = gpu::Buffer();
+    return;
+  }
+  m.backdrop = gpu::Buffer(m.ctx, splats.size() * sizeof(layout::Splat), gpu::MemoryIntent::Device,
+                           "render backdrop");
+  gpu::upload(m.ctx, m.backdrop, splats);
+}
+
+uint32_t SplatRenderer::backdrop_count() const {
+  return impl_->backdrop_count;
 }
 
 void SplatRenderer::set_texture(const std::vector<RgbaImage>& levels) {
@@ -442,7 +573,12 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   // The solver's writes, and the last frame's reads of every buffer here, come first.
   rec.barrier();
   begin("render clear");
-  rec.fill(m.depth, layout::kDepthClear, 0, eyes * depth_range);
+  if (m.backdrop_count > 0) {
+    m.record_backdrop_layer(rec, setup);  // when the view changed; leaves `accum` dirty
+    rec.copy(m.layer_depth, m.depth, eyes * depth_range);
+  } else {
+    rec.fill(m.depth, layout::kDepthClear, 0, eyes * depth_range);
+  }
   rec.fill(m.accum, 0, 0, eyes * accum_range);
   if (tool_count > 0) {
     rec.copy(m.tool_staging, m.tool_buffer, VkDeviceSize{tool_count} * sizeof(layout::RenderTool));
@@ -499,24 +635,18 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   end();
   rec.barrier();
   begin("render shade");
-  layout::ShadePush shade{};
-  shade.frustum0 = frustum_of(setup.eyes[0]);
-  shade.frustum1 = frustum_of(setup.eyes[eyes - 1]);
-  shade.near = {float(setup.eyes[0].frustum.near), float(setup.eyes[eyes - 1].frustum.near), 0, 0};
-  shade.frame = {setup.eye_width, setup.height, shade_layout(setup.layout), m.eye_stride};
-  if (m.has_environment) {
-    shade.near.z = 1;
-    shade.near.w = static_cast<float>(m.environment_area_ratio);
-  }
-  // Both eyes look the same way (parallel stereo): eye 0's rotation serves both.
-  Eigen::Matrix4d eye_to_cube = Eigen::Matrix4d::Identity();
-  eye_to_cube.topLeftCorner<3, 3>() =
-      m.world_to_environment * setup.eyes[0].view.topLeftCorner<3, 3>().transpose();
-  shade.eye_to_environment = to_mat4(eye_to_cube);
+  layout::ShadePush shade = m.shade_push(setup);
+  const bool layer = m.backdrop_count > 0;
+  if (layer) shade.frame.z |= layout::kShadeBackdropBit;
   m.ctx.fn().vkCmdBindDescriptorSets(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, m.shade.layout(),
                                      layout::kShadeSetEnvironment, 1, &m.environment_set, 0,
                                      nullptr);
-  gpu::dispatch(rec, m.shade, shade, {gpu::BufferRef(m.accum, 0, eyes * accum_range), m.frame},
+  // Without a layer the depth buffer stands in for its buffers (never read then).
+  gpu::dispatch(rec, m.shade, shade,
+                {gpu::BufferRef(m.accum, 0, eyes * accum_range), m.frame,
+                 gpu::BufferRef(m.depth, 0, eyes * depth_range),
+                 gpu::BufferRef(layer ? m.layer_depth : m.depth, 0, eyes * depth_range),
+                 gpu::BufferRef(layer ? m.layer_colour : m.depth, 0, eyes * depth_range)},
                 m.out_width * m.out_height);
   end();
   rec.barrier();

@@ -4,7 +4,8 @@
 // splat rasteriser in the manner of Schuetz et al. 2021), so it runs on any queue that the
 // solver's does and uses every shader core (on the H100 only a few can rasterise):
 //
-//   clear              depth to far, accumulators to 0
+//   clear              depth to far (with a backdrop: its layer's depth, the layer drawn
+//                      first when the view changed), accumulators to 0
 //   deform             centre x0 + u, normal (I + grad u)^-T n, texture gradients, radius
 //   per eye, with tools only (set_tools), one invocation per pixel:
 //     0 tools          ray cast of every tool (ball or capsule); the nearest writes its exact
@@ -68,6 +69,10 @@ struct RendererOptions {
   float epsilon = 1.0f;                 // visibility offset, in splat radii
   float max_stretch = 4.0f;             // splat radius growth limit under tangential stretch
   float min_inverse_condition = 1e-4f;  // of A (see deform_surfels.comp)
+  // Visibility offset of the backdrop's discs, in their radii: they are large (a drape's
+  // spacing is centimetres) and mostly flat, so half a radius joins neighbours without
+  // blending the drape into tissue that lies just above it.
+  float backdrop_epsilon = 0.5f;
 };
 
 class SplatRenderer {
@@ -102,6 +107,15 @@ class SplatRenderer {
   // previous frame must have finished, as render() and the callers of record() ensure); of
   // other sizes the texture is made anew (waits for the device).
   void set_texture(const std::vector<RgbaImage>& levels);
+  // The backdrop (render/backdrop.h: bake_backdrop): static splats with their colour baked
+  // (kSplatBaked in normal.w; the deform pass never sees them), uploaded once. They are drawn
+  // into a layer once per view (when the eyes, frusta or size change, or after this call or
+  // set_environment): its depth starts each frame's depth buffer and its shaded colour shows
+  // where no disc is (unless a tool is nearer). An empty list removes it. Waits for the
+  // device. Throws std::invalid_argument for a splat without kSplatBaked or with a radius
+  // that is not finite and > 0.
+  void set_backdrop(const std::vector<layout::Splat>& splats);
+  uint32_t backdrop_count() const;
 
   // Renders one frame of the current state of `inputs` and returns it (waits for the GPU).
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);

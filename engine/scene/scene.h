@@ -136,6 +136,28 @@ struct StereoSettings {
   bool swap_eyes = false;
 };
 
+// `render.backdrop`: a rigid, never simulated surface of the surgical field (drapes, scalp,
+// skull, chest wall) drawn around the objects as static splats (render/backdrop.h). The
+// surface of `shape` is sampled every `spacing`, without the part inside `hole`.
+struct BackdropItem {
+  enum class Look { Drape, Skin, Bone, Tissue };
+  std::string name;
+  Shape shape;
+  double spacing = 0;  // m (> 0)
+  Look look = Look::Drape;
+  Vec3 colour = Vec3::Zero();   // RGB in [0, 1] (as texture texels): the look's base colour
+  std::optional<Shape> hole;    // unset: nothing cut out
+  std::optional<Shape> within;  // unset: the whole surface; else only its part inside this
+};
+
+// `render.instruments`: rigid instruments drawn where they lie (as the tools are: polished
+// steel balls or capsules) but never simulated: nothing touches them.
+struct InstrumentDrawable {
+  std::string name;
+  ToolShape shape;
+  ToolPose pose;  // the tip and the unit axis of the shaft
+};
+
 // `render`: splat rendering of the surface phyxels (render/).
 struct RenderSettings {
   enum class Mode { None, Mono, Stereo };
@@ -159,6 +181,8 @@ struct RenderSettings {
   } video_texture;
   // `render.video`: an H.264 MP4 of the frames (render/video_writer.h); empty: none.
   std::filesystem::path video;
+  std::vector<BackdropItem> backdrop;           // `render.backdrop`; empty: none
+  std::vector<InstrumentDrawable> instruments;  // `render.instruments`; empty: none
 };
 
 struct Scene {

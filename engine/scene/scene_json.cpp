@@ -23,8 +23,6 @@ namespace fs = std::filesystem;
 using json_reader::Limits;
 using json_reader::Node;
 
-constexpr std::string_view kShapeExpected =
-    "a shape object {\"type\": \"box\" | \"sphere\" | \"ellipsoid\" | \"mesh\", ...}";
 constexpr std::string_view kMaterialExpected =
     "a material object {\"young\": Pa, \"poisson\": 1, \"density\": kg/m^3, ...}";
 // A phyxel at a convex lattice corner needs this many neighbours for a usable MLS fit.
@@ -62,6 +60,9 @@ void load_mesh(const Node& path_node, Shape& s, const fs::path& folder) {
   }
 }
 
+}  // namespace
+
+// Declared in scene_json_tools.h (the backdrop's shapes use it too).
 Shape read_shape(const Node& node, const fs::path& folder) {
   node.expect_object(kShapeExpected,
                      {"type", "min", "max", "center", "radius", "radii", "path", "scale"});
@@ -94,6 +95,8 @@ Shape read_shape(const Node& node, const fs::path& folder) {
   }
   return s;
 }
+
+namespace {
 
 // Inclusions start from the host's material: damping, hourglass, volume_stiffness and
 // tear_stress default to the host's values; young, poisson and density are always required.

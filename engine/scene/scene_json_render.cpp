@@ -6,6 +6,7 @@
 
 #include "engine/scene/json_reader.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_json_tools.h"
 
 namespace phyxel {
 namespace {
@@ -140,9 +141,10 @@ RenderSettings read_render(const Node& node, const fs::path& folder) {
   node.expect_object(
       "a render object {\"mode\": \"none\" | \"mono\" | \"stereo\", \"width\": px, \"height\": "
       "px, \"every\": n, \"texture\": \"image.png\", \"video_texture\": \"clip.mp4\", "
-      "\"environment\": \"image.png\", \"video\": \"out.mp4\", \"stereo\": {...}}",
+      "\"environment\": \"image.png\", \"video\": \"out.mp4\", \"stereo\": {...}, "
+      "\"backdrop\": [...], \"instruments\": [...]}",
       {"mode", "width", "height", "every", "texture", "video_texture", "environment", "video",
-       "stereo"});
+       "stereo", "backdrop", "instruments"});
   RenderSettings r;
   if (const auto mode = node.find("mode")) {
     const std::string m = mode->choice({"none", "mono", "stereo"});
@@ -164,6 +166,9 @@ RenderSettings read_render(const Node& node, const fs::path& folder) {
   // Relative to the run's output folder (phyxel run --out), where the frames go.
   if (const auto video = node.find("video")) r.video = video->text();
   if (const auto stereo = node.find("stereo")) r.stereo = read_stereo(*stereo);
+  if (const auto backdrop = node.find("backdrop")) r.backdrop = read_backdrop(*backdrop, folder);
+  if (const auto instruments = node.find("instruments"))
+    r.instruments = read_instruments(*instruments);
   return r;
 }
 

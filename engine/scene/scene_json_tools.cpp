@@ -104,6 +104,9 @@ Grasp read_grasp(const Node& node) {
   return g;
 }
 
+}  // namespace
+
+// Declared in scene_json_tools.h (render.instruments use it too).
 ToolShape read_tool_shape(const Node& node) {
   node.expect_object(kToolShapeExpected, {"type", "radius", "length"});
   const std::string type =
@@ -121,6 +124,8 @@ ToolShape read_tool_shape(const Node& node) {
   }
   return s;
 }
+
+namespace {
 
 // The keys of a path: t strictly increasing, the axis non-zero and stored as a unit vector.
 std::vector<ToolKey> read_path(const Node& node) {

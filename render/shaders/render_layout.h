@@ -68,6 +68,9 @@ PHYXEL_ASSERT_SIZE(Splat, 64);
 PHYXEL_CONST uint kSplatUsable = 1;
 PHYXEL_CONST uint kSplatCutFace = 2;
 PHYXEL_CONST uint kSplatTornFace = 4;
+// A backdrop splat (render/backdrop.h, SplatRenderer::set_backdrop): static, its look baked
+// on the CPU; ds_dx.xyz holds its colour (RGB in [0, 1]) instead of a texture gradient.
+PHYXEL_CONST uint kSplatBaked = 8;
 // Bits 8-15 of Splat::normal.w: the surfel's mirror level (0 ... kMirrorLevels).
 PHYXEL_CONST uint kSplatMirrorShift = 8;
 
@@ -155,15 +158,26 @@ PHYXEL_ASSERT_SIZE(ToolPush, 112);
 // reached shows the environment (render/environment_map.h) when there is one.
 PHYXEL_CONST uint kShadeBindingAccum = 0;    // kAccumChannels ints per pixel
 PHYXEL_CONST uint kShadeBindingFrame = 1;    // RGBA8 per pixel of the frame, one uint
+// The backdrop layer (SplatRenderer::set_backdrop), read only with kShadeBackdropBit: the
+// frame's depth buffer (kRasterBindingDepth's, both eyes), and per pixel of each eye (the
+// accumulation's indexing) the backdrop's own visible depth and its shaded colour (RGBA8,
+// the environment where no backdrop disc is), drawn once per view.
+PHYXEL_CONST uint kShadeBindingDepth = 2;
+PHYXEL_CONST uint kShadeBindingBackdropDepth = 3;
+PHYXEL_CONST uint kShadeBindingBackdrop = 4;
 PHYXEL_CONST uint kShadeSetEnvironment = 1;  // set 1, binding 0: the environment image
 PHYXEL_CONST uint kShadeLayoutMono = 0;
 PHYXEL_CONST uint kShadeLayoutSideBySide = 1;  // eye 0 left, eye 1 right: 2 width x height
 PHYXEL_CONST uint kShadeLayoutAnaglyph = 2;    // red from eye 0, green and blue from eye 1
+PHYXEL_CONST uint kShadeLayoutMask = 0xffu;     // frame.z: the layout in the low bits ...
+// ... and this bit with a backdrop layer: a pixel that no disc reached shows the layer,
+// unless a tool was hit nearer than the layer's depth.
+PHYXEL_CONST uint kShadeBackdropBit = 0x100u;
 struct ShadePush {
   vec4 frustum0;  // eye 0: left, right, bottom, top at the near plane
   vec4 frustum1;  // eye 1
   vec4 near;      // x: eye 0, y: eye 1; z: 1 with an environment, else 0; w: its area ratio K
-  uvec4 frame;    // eye width, height, layout (kShadeLayout*), eye_stride
+  uvec4 frame;    // eye width, height, layout (kShadeLayout* | kShadeBackdropBit), eye_stride
   mat4 eye_to_environment;  // rotation: eye space (both eyes) -> the environment cube's frame
 };
 PHYXEL_ASSERT_SIZE(ShadePush, 128);

@@ -6,6 +6,7 @@
 // Cut faces (kSplatCutFace) take the procedural cut tissue of cut_tissue.glsl at their own
 // (s, t) instead of the texture, and add w to the cut channel (kAccumCut) as well. Torn faces
 // (kSplatTornFace) take the torn tissue of torn_tissue.glsl instead, and its bumped normal.
+// Backdrop discs (kSplatBaked) take the colour baked into them (render/backdrop.h).
 // Mirror surfaces add mirror x w to kAccumMirror (the shading pass reflects the environment
 // there).
 #version 450
@@ -38,25 +39,30 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   if (!h.hit) return;
   const uint pixel = y * p.target.x + x;
   if (h.depth > uintBitsToFloat(depth[pixel])) return;
-  const vec3 d = h.point - s.c;
-  const vec2 st = vec2(s.ds.w + dot(s.ds.xyz, d), s.dt.w + dot(s.dt.xyz, d));
-  const vec3 step_x = vec3((p.frustum.y - p.frustum.x) / float(p.target.x), 0.0, 0.0);
-  const vec3 step_y = vec3(0.0, (p.frustum.z - p.frustum.w) / float(p.target.y), 0.0);
-  const vec2 st_dx = plane_st(s, dir + step_x) - st;
-  const vec2 st_dy = plane_st(s, dir + step_y) - st;
   // A truncated Gaussian: weight 1 at the centre, exp(-2) at the rim.
   const float w = exp(-2.0 * h.q2);
   // Branches, not ternaries: a ternary of calls may evaluate both sides (llvmpipe does), and
-  // the procedural tissues are far dearer than the texture.
+  // the procedural tissues are far dearer than the texture. A backdrop disc's colour was
+  // baked on the CPU: nothing to evaluate here.
   vec3 colour;
   vec3 n_splat = s.n;
-  if (s.torn) {
-    colour = torn_tissue(st, st_dx, st_dy);
-    n_splat = torn_normal(s.n, s.ds.xyz, s.dt.xyz, st, st_dx, st_dy);
-  } else if (s.cut) {
-    colour = cut_tissue(st, st_dx, st_dy);
+  if (s.baked) {
+    colour = s.ds.xyz;
   } else {
-    colour = textureGrad(tissue, st, st_dx, st_dy).rgb;
+    const vec3 d = h.point - s.c;
+    const vec2 st = vec2(s.ds.w + dot(s.ds.xyz, d), s.dt.w + dot(s.dt.xyz, d));
+    const vec3 step_x = vec3((p.frustum.y - p.frustum.x) / float(p.target.x), 0.0, 0.0);
+    const vec3 step_y = vec3(0.0, (p.frustum.z - p.frustum.w) / float(p.target.y), 0.0);
+    const vec2 st_dx = plane_st(s, dir + step_x) - st;
+    const vec2 st_dy = plane_st(s, dir + step_y) - st;
+    if (s.torn) {
+      colour = torn_tissue(st, st_dx, st_dy);
+      n_splat = torn_normal(s.n, s.ds.xyz, s.dt.xyz, st, st_dx, st_dy);
+    } else if (s.cut) {
+      colour = cut_tissue(st, st_dx, st_dy);
+    } else {
+      colour = textureGrad(tissue, st, st_dx, st_dy).rgb;
+    }
   }
   // Two-sided: the normal that faces the eye (cut or thin tissue shows its back).
   const vec3 n = dot(s.n, dir) > 0.0 ? -n_splat : n_splat;

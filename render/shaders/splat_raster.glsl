@@ -18,10 +18,11 @@ struct EyeSplat {
   vec3 c;    // centre
   float r;   // radius (0: not drawn)
   vec3 n;    // unit normal
-  vec4 ds;   // xyz: gradient of the texture coordinate s; w: s at the centre
+  vec4 ds;   // xyz: gradient of the texture coordinate s (baked: the colour); w: s at the centre
   vec4 dt;   // the same for t
   bool cut;   // a cut face (kSplatCutFace): cut tissue instead of the texture
   bool torn;  // a torn face (kSplatTornFace, cut too): torn tissue, bumped
+  bool baked;  // a backdrop splat (kSplatBaked): its colour is ds.xyz
   float mirror;  // the fraction of its colour that reflects the environment
 };
 
@@ -32,11 +33,13 @@ EyeSplat eye_splat(uint k) {
   e.c = (p.view * vec4(s.centre.xyz, 1.0)).xyz;
   e.r = s.centre.w;
   e.n = rot * s.normal.xyz;
-  e.ds = vec4(rot * s.ds_dx.xyz, s.ds_dx.w);
+  const uint bits = uint(s.normal.w);
+  e.baked = (bits & kSplatBaked) != 0u;
+  e.ds = e.baked ? s.ds_dx : vec4(rot * s.ds_dx.xyz, s.ds_dx.w);
   e.dt = vec4(rot * s.dt_dx.xyz, s.dt_dx.w);
-  e.cut = (uint(s.normal.w) & kSplatCutFace) != 0u;
-  e.torn = (uint(s.normal.w) & kSplatTornFace) != 0u;
-  e.mirror = float((uint(s.normal.w) >> kSplatMirrorShift) & kMirrorLevels) / float(kMirrorLevels);
+  e.cut = (bits & kSplatCutFace) != 0u;
+  e.torn = (bits & kSplatTornFace) != 0u;
+  e.mirror = float((bits >> kSplatMirrorShift) & kMirrorLevels) / float(kMirrorLevels);
   return e;
 }
 

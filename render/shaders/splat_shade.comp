@@ -7,7 +7,9 @@
 // side, or the red/cyan anaglyph of the two. With an environment (render/environment_map.h,
 // the paper's eqs 33-34) a pixel that nothing covers shows the cube at its ray's direction,
 // and the mirror fraction of a pixel's weight (kAccumMirror) shows the cube at the reflected
-// ray instead of the lit texture (the highlight stays).
+// ray instead of the lit texture (the highlight stays). With a backdrop layer
+// (kShadeBackdropBit) a pixel that no disc reached shows the layer's colour (the backdrop
+// shaded by this pass once per view, SplatRenderer::set_backdrop) unless a tool is nearer.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
@@ -20,6 +22,11 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 layout(push_constant) uniform Push { ShadePush p; };
 layout(std430, binding = kShadeBindingAccum) readonly buffer Accum { int accum[]; };
 layout(std430, binding = kShadeBindingFrame) writeonly buffer Frame { uint frame[]; };
+layout(std430, binding = kShadeBindingDepth) readonly buffer Depth { uint depth[]; };
+layout(std430, binding = kShadeBindingBackdropDepth) readonly buffer BackdropDepth {
+  uint backdrop_depth[];
+};
+layout(std430, binding = kShadeBindingBackdrop) readonly buffer Backdrop { uint backdrop[]; };
 layout(set = kShadeSetEnvironment, binding = 0) uniform sampler2D environment;
 
 // The environment along eye-space direction `d` (level 0: the background is magnified).
@@ -68,6 +75,11 @@ vec3 shade(uint eye, uint x, uint y) {
   const float w = float(accum[at + 3]);
   const uint tool = uint(accum[at + kAccumTool]);
   const bool has_environment = p.near.z > 0.0;
+  if (!(w > 0.0) && (p.frame.z & kShadeBackdropBit) != 0u) {
+    // The backdrop layer, unless a tool is nearer (its exact depth won the depth buffer).
+    const uint b = eye * p.frame.w + y * p.frame.x + x;
+    if (tool == 0u || depth[b] >= backdrop_depth[b]) return unpackUnorm4x8(backdrop[b]).rgb;
+  }
   if (!(w > 0.0) && tool == 0u && !has_environment) return kBackground;
   const vec4 frustum = eye == 0 ? p.frustum0 : p.frustum1;
   const float near = eye == 0 ? p.near.x : p.near.y;
@@ -100,7 +112,7 @@ vec3 shade(uint eye, uint x, uint y) {
 
 void main() {
   const uint i = PHYXEL_GLOBAL_INDEX;
-  const uint eye_width = p.frame.x, height = p.frame.y, layout_kind = p.frame.z;
+  const uint eye_width = p.frame.x, height = p.frame.y, layout_kind = p.frame.z & kShadeLayoutMask;
   const uint width = layout_kind == kShadeLayoutSideBySide ? 2 * eye_width : eye_width;
   if (i >= width * height) return;
   const uint y = i / width;
