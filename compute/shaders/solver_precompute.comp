@@ -7,6 +7,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
+#include "solver_mls.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
@@ -20,7 +21,7 @@ layout(std430, binding = kPrecomputeBindingClasses) readonly buffer Classes {
   SolverClass classes[];
 };
 layout(std430, binding = kPrecomputeBindingRest) readonly buffer Rest { vec4 rest[]; };
-layout(std430, binding = kPrecomputeBindingAinv) buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kPrecomputeBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
 layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
 
@@ -46,24 +47,11 @@ void rotate(inout mat3 m, inout mat3 q, int a, int b) {
   q = q * r;
 }
 
-void main() {
-  const uint invocation = PHYXEL_GLOBAL_INDEX;
-  const bool cut_list = p.indexed == kPrecomputeCutList;
-  if (invocation >= (cut_list ? list[0] : p.count)) return;
-  const uint i = cut_list ? list[4u + invocation] : p.indexed != 0u ? list[invocation] : invocation;
-  const vec3 xi = local_pos[i].xyz;
-  mat3 a = mat3(0.0);
-  for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-    const vec3 x = local_pos[nbr_index[k]].xyz - xi;
-    a += outerProduct(weight[k] * x, x);
-  }
-  const uint fl = flags[i];
-  const SolverClass cls = classes[fl >> kFlagClassShift];
-  const float trace = a[0][0] + a[1][1] + a[2][2];
-
-  // Cyclic Jacobi: a few sweeps bring a 3x3 matrix to float round-off.
+// The eigenvalues of a symmetric a (cyclic Jacobi: a few sweeps bring a 3x3 matrix to float
+// round-off); q accumulates the eigenvectors.
+vec3 jacobi_eigen(mat3 a, out mat3 q) {
   mat3 d = a;
-  mat3 q = mat3(1.0);
+  q = mat3(1.0);
   for (int sweep = 0; sweep < 8; ++sweep) {
     const float off = d[1][0] * d[1][0] + d[2][0] * d[2][0] + d[2][1] * d[2][1];
     const float diag = d[0][0] * d[0][0] + d[1][1] * d[1][1] + d[2][2] * d[2][2];
@@ -72,7 +60,32 @@ void main() {
     rotate(d, q, 0, 2);
     rotate(d, q, 1, 2);
   }
-  vec3 lambda = vec3(d[0][0], d[1][1], d[2][2]);
+  return vec3(d[0][0], d[1][1], d[2][2]);
+}
+
+void main() {
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  const bool cut_list = p.indexed == kPrecomputeCutList;
+  if (invocation >= (cut_list ? list[0] : p.count)) return;
+  const uint i = cut_list ? list[4u + invocation] : p.indexed != 0u ? list[invocation] : invocation;
+  const vec3 xi = local_pos[i].xyz;
+  const uint fl = flags[i];
+  const SolverClass cls = classes[fl >> kFlagClassShift];
+  // a over the live pairs; reference over every pair to a phyxel not removed (for the damage).
+  mat3 a = mat3(0.0);
+  mat3 reference = mat3(0.0);
+  for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
+    const uint j = nbr_index[k];
+    const vec3 x = local_pos[j].xyz - xi;
+    const mat3 term = outerProduct(weight[k] * x, x);
+    a += term;
+    // A live pair's own term, so that a neighbourhood without cuts gives reference == a.
+    if ((flags[j] & kFlagRemoved) == 0u)
+      reference += weight[k] != 0.0 ? term : outerProduct(poly6_weight(dot(x, x), cls.kernel) * x, x);
+  }
+  const float trace = a[0][0] + a[1][1] + a[2][2];
+  mat3 q;
+  vec3 lambda = jacobi_eigen(a, q);
   const float lmax = max(lambda.x, max(lambda.y, lambda.z));
   const float lmin = min(lambda.x, min(lambda.y, lambda.z));
   mat3 inv = mat3(0.0);
@@ -86,15 +99,16 @@ void main() {
     if (regularised) residual = inv * a * inv - inv;
   }
   // Damage (engine/solver/mls_model.h damage_factor): the elastic volume and kappa scaled by
-  // lambda_min over lambda_min with every pair, which the full pass (p.indexed == 0, the
-  // neighbour search's) records in ainv[2i + 1].w and the reruns after cuts and tears read.
-  const float intact_lmin = p.indexed == 0u ? lmin : ainv[2u * i + 1u].w;
-  const float damage = intact_lmin > 0.0 ? clamp(lmin / intact_lmin, 0.0, 1.0)
-                                         : (lmin >= intact_lmin ? 1.0 : 0.0);
+  // lambda_min over the reference's (the same matrix, so exactly 1, until a cut or a tear).
+  mat3 q_reference;
+  const vec3 lr = jacobi_eigen(reference, q_reference);
+  const float reference_lmin = min(lr.x, min(lr.y, lr.z));
+  const float damage = reference_lmin > 0.0 ? clamp(lmin / reference_lmin, 0.0, 1.0)
+                                            : (lmin >= reference_lmin ? 1.0 : 0.0);
   const float volume = damage * rest[i].w;
   local_pos[i].w = trace > 0.0 ? cls.kernel.z * cls.elastic.y * volume / (trace / 3.0) : 0.0;
   ainv[2u * i] = vec4(inv[0][0], inv[1][0], inv[2][0], inv[1][1]);
-  ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, intact_lmin);
+  ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, 0.0);
   resid[2u * i] = vec4(residual[0][0], residual[1][0], residual[2][0], residual[1][1]);
   resid[2u * i + 1u] = vec4(residual[2][1], residual[2][2], 0.0, 0.0);
   const uint kept = cut_list ? (fl & ~kFlagCutDirty) : fl;

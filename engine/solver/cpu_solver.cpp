@@ -49,7 +49,6 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     max_support_ = std::max(max_support_, support_[o]);
   }
   kappa_scale_.resize(n);
-  intact_lmin_.assign(n, -1.0);
   elastic_volume_.resize(n);
   for (size_t i = 0; i < n; ++i) {
     // Hourglass stiffness: gamma mu v_i / (tr A_i / 3), so that the penalty energy of a
@@ -87,22 +86,25 @@ void CpuSolver<Real>::precompute(size_t i) {
   // In double from the rest positions, over the pairs still alive (w != 0): exactly the
   // construction's values for an untouched phyxel.
   const double h = support_[object_[i]];
-  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  // a: over the live pairs; reference: over every pair to a phyxel still in the physics (what
+  // the phyxel's neighbourhood is without cuts and tears, as if sampled without the removed).
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), reference = Eigen::Matrix3d::Zero();
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
-    if (w_[k] == Real(0)) continue;
-    const Vec3 x = rest_d_[nbr_.index[k]] - rest_d_[i];
-    a += poly6(x.squaredNorm(), h) * x * x.transpose();
+    const uint32_t j = nbr_.index[k];
+    const Vec3 x = rest_d_[j] - rest_d_[i];
+    const Eigen::Matrix3d term = poly6(x.squaredNorm(), h) * x * x.transpose();
+    if (!(flags_[j] & kRemoved)) reference += term;
+    if (w_[k] != Real(0)) a += term;
   }
   const MomentInverse inv = regularised_inverse(a);
   a_inv_[i] = inv.inverse.cast<Real>();
   a_residual_[i] = inv.residual.cast<Real>();
   regularised_[i] = inv.regularised;
-  // Damage: once pairs are gone, the smallest eigenvalue of A_i falls and the gradient's
-  // stiffest mode grows as 1/lambda_min, beyond what the stable step allows. The phyxel's
-  // elastic response is scaled by lambda_min / lambda_min(intact), so no mode gets stiffer.
-  const double lmin = min_moment_eigenvalue(a);
-  if (intact_lmin_[i] < 0) intact_lmin_[i] = lmin;
-  const double damage = damage_factor(lmin, intact_lmin_[i]);
+  // Damage: once pairs are cut or torn, the smallest eigenvalue of A_i falls and the
+  // gradient's stiffest mode grows as 1/lambda_min, beyond what the stable step allows. The
+  // phyxel's elastic response is scaled by lambda_min over the reference's, so no mode gets
+  // stiffer (docs/tearing.md, "Damaged phyxels").
+  const double damage = damage_factor(min_moment_eigenvalue(a), min_moment_eigenvalue(reference));
   elastic_volume_[i] = Real(damage * double(volume_[i]));
   const double tr = a.trace() / 3;
   kappa_[i] = tr > 0 ? Real(damage * kappa_scale_[i] / tr) : Real(0);

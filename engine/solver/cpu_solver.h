@@ -196,7 +196,6 @@ class CpuSolver {
   std::vector<double> support_;       // per object
   std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)
   std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
-  std::vector<double> intact_lmin_;   // smallest eigenvalue of A_i with every pair (-1: unset)
   std::vector<SeveredPair> severed_;  // the log
 
   std::vector<V3> u_, v_, f_;

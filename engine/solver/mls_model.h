@@ -61,10 +61,11 @@ inline double min_moment_eigenvalue(const Eigen::Matrix3d& a) {
 }
 
 // A phyxel's damage factor in [0, 1] (docs/tearing.md, "Damaged phyxels"): lambda_min of its
-// moment matrix over the pairs still alive, over lambda_min with all of them; 1 while intact.
-inline double damage_factor(double lmin, double intact_lmin) {
-  if (!(intact_lmin > 0)) return lmin >= intact_lmin ? 1.0 : 0.0;
-  return std::clamp(lmin / intact_lmin, 0.0, 1.0);
+// moment matrix over the pairs still alive, over lambda_min with every pair to a phyxel not
+// removed (cut and torn pairs included); 1 while nothing was cut or torn.
+inline double damage_factor(double lmin, double reference_lmin) {
+  if (!(reference_lmin > 0)) return lmin >= reference_lmin ? 1.0 : 0.0;
+  return std::clamp(lmin / reference_lmin, 0.0, 1.0);
 }
 
 // Cofactor matrix of F (= det F * F^-T where F is invertible), defined for every F.
