@@ -20,6 +20,9 @@ if [ -f "$b/lib.tar.xz" ]; then
 fi
 # Many Vulkan instances in one test binary: room for the driver's static TLS (compute/README.md).
 export GLIBC_TUNABLES=glibc.rtld.optional_static_tls=16777216
+# That static TLS is carved out of every thread's stack: with the default 8 MiB stacks the
+# encoder's threads (libx264, for --video and the video-texture bench row) overflow theirs.
+ulimit -s 65536
 out="${OUT:-/tmp/phyxel-out}"
 mkdir -p "$out"
 if ! "$b"/app/phyxel info >/dev/null 2>&1; then
