@@ -1,8 +1,11 @@
 // phyxel bench --render: splat rendering speed (render/render_bench.h), mono or stereo, for a
 // list of surfel counts on one Vulkan device, and what rendering at 60 frames/s costs the GPU
 // solver's step rate on the same shell (--no-solver skips that); then the last size again with
-// the video texture and the environment on (--no-video-texture skips that row). With --scene
+// the video texture and the environment on, and the rate of --video's encoder at the frames'
+// size (--no-video-texture skips both). With --scene
 // FILE: that scene's frames at rest, with and without its backdrop (start-up and frame time).
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -16,6 +19,8 @@
 #include "engine/solver/neighbours.h"
 #include "render/frame_output.h"
 #include "render/render_bench.h"
+#include "render/video_clip.h"
+#include "render/video_writer.h"
 
 namespace phyxel::app {
 
@@ -84,6 +89,30 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
   }
   if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
   return 0;
+}
+
+// `--video`'s encoder alone (VideoWriter: H.264 in MP4, on the calling thread as on the writer
+// thread of a run): `frames` frames of the synthetic surgery clip at the frames' size (both eyes
+// side by side in stereo) into a temporary file. Returns frames per second of wall time.
+double bench_video_encode(uint32_t width, uint32_t height, int frames) {
+  render::VideoClipOptions clip;
+  clip.width = width;
+  clip.height = height;
+  std::vector<render::RgbaImage> images;  // made before the clock starts
+  for (int k = 0; k < 8; ++k) images.push_back(render::pulsing_tissue_frame(clip, k));
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("phyxel_bench_encode_" + std::to_string(::getpid()) + ".mp4");
+  const auto start = std::chrono::steady_clock::now();
+  {
+    render::VideoWriter video(file, width, height, 60);
+    for (int k = 0; k < frames; ++k) video.add(images[size_t(k) % images.size()], k);
+    video.finish();
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::error_code ec;
+  std::filesystem::remove(file, ec);
+  return frames / std::max(seconds, 1e-30);
 }
 
 }  // namespace
@@ -177,6 +206,19 @@ int bench_render_command(const Args& args) {
   for (std::string item; std::getline(ss, item, ',');) bench_one(last = item, false);
   // And the last size again with the video texture on and the environment (docs/performance.md).
   if (!last.empty() && !no_video) bench_one(last, true);
+  if (!no_video) {  // and what --video's encoder sustains at this frame size
+    const uint32_t video_width = static_cast<uint32_t>((mono ? 1 : 2) * width);
+    const int encoded = static_cast<int>(std::max<int64_t>(frames, 30));
+    const double fps = bench_video_encode(video_width, static_cast<uint32_t>(height), encoded);
+    std::printf(
+        "%10s --video encodes %ux%lld frames (H.264, libx264) at %.1f frames/s of wall "
+        "time (%d frames of the synthetic clip)\n",
+        "", video_width, static_cast<long long>(height), fps, encoded);
+    rows.push_back({{"video_encode_width", video_width},
+                    {"video_encode_height", height},
+                    {"video_encode_frames", encoded},
+                    {"video_encode_frames_per_s", fps}});
+  }
   if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
   return 0;
 }

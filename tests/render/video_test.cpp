@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "render/video_writer.h"
@@ -200,6 +201,25 @@ TEST(VideoCommand, TheReadmeDemoWritesItsVideoAndFrames) {
   EXPECT_EQ(d.height, 540);
   EXPECT_NEAR(d.rate, 40, 1e-6);
   EXPECT_TRUE(std::filesystem::exists(dir / "frame_000100.png"));
+}
+
+// `phyxel bench --render` ends with the encoder's rate at the frames' size (the 1080p-per-eye
+// per eye figure on the device machine; here tiny, on lavapipe): a row in its JSON.
+TEST(VideoCommand, RenderBenchReportsTheEncodeRate) {
+  const std::filesystem::path json = test::test_out_dir() / "bench_render_encode.json";
+  const std::string cmd = std::string(PHYXEL_BINARY_DIR) +
+                          "/app/phyxel bench --render --surfels 1000 --width 64 --height 48 "
+                          "--frames 2 --no-solver --json " +
+                          json.string() + " > " + json.string() + ".out 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream in(json);
+  const nlohmann::json rows = nlohmann::json::parse(in);
+  ASSERT_FALSE(rows.empty());
+  const nlohmann::json& last = rows.back();
+  ASSERT_TRUE(last.contains("video_encode_frames_per_s")) << last.dump();
+  EXPECT_EQ(last["video_encode_width"].get<int>(), 128);  // stereo: both eyes side by side
+  EXPECT_EQ(last["video_encode_frames"].get<int>(), 30);
+  EXPECT_GT(last["video_encode_frames_per_s"].get<double>(), 0.0);
 }
 
 }  // namespace
