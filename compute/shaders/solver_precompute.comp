@@ -74,14 +74,16 @@ void main() {
   // a over the live pairs; reference over every pair to a phyxel not removed (for the damage).
   mat3 a = mat3(0.0);
   mat3 reference = mat3(0.0);
+  bool damaged = false;  // a pair cut or torn (not lost to a removal): reference != a
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
     const uint j = nbr_index[k];
     const vec3 x = local_pos[j].xyz - xi;
     const mat3 term = outerProduct(weight[k] * x, x);
     a += term;
-    // A live pair's own term, so that a neighbourhood without cuts gives reference == a.
-    if ((flags[j] & kFlagRemoved) == 0u)
+    if ((flags[j] & kFlagRemoved) == 0u) {
+      damaged = damaged || weight[k] == 0.0;
       reference += weight[k] != 0.0 ? term : outerProduct(poly6_weight(dot(x, x), cls.kernel) * x, x);
+    }
   }
   const float trace = a[0][0] + a[1][1] + a[2][2];
   mat3 q;
@@ -99,12 +101,16 @@ void main() {
     if (regularised) residual = inv * a * inv - inv;
   }
   // Damage (engine/solver/mls_model.h damage_factor): the elastic volume and kappa scaled by
-  // lambda_min over the reference's (the same matrix, so exactly 1, until a cut or a tear).
-  mat3 q_reference;
-  const vec3 lr = jacobi_eigen(reference, q_reference);
-  const float reference_lmin = min(lr.x, min(lr.y, lr.z));
-  const float damage = reference_lmin > 0.0 ? clamp(lmin / reference_lmin, 0.0, 1.0)
-                                            : (lmin >= reference_lmin ? 1.0 : 0.0);
+  // lambda_min over the reference's; exactly 1, without a second eigen-decomposition, until a
+  // cut or a tear took one of its pairs.
+  float damage = 1.0;
+  if (damaged) {
+    mat3 q_reference;
+    const vec3 lr = jacobi_eigen(reference, q_reference);
+    const float reference_lmin = min(lr.x, min(lr.y, lr.z));
+    damage = reference_lmin > 0.0 ? clamp(lmin / reference_lmin, 0.0, 1.0)
+                                  : (lmin >= reference_lmin ? 1.0 : 0.0);
+  }
   const float volume = damage * rest[i].w;
   local_pos[i].w = trace > 0.0 ? cls.kernel.z * cls.elastic.y * volume / (trace / 3.0) : 0.0;
   ainv[2u * i] = vec4(inv[0][0], inv[1][0], inv[2][0], inv[1][1]);

@@ -89,12 +89,16 @@ void CpuSolver<Real>::precompute(size_t i) {
   // a: over the live pairs; reference: over every pair to a phyxel still in the physics (what
   // the phyxel's neighbourhood is without cuts and tears, as if sampled without the removed).
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), reference = Eigen::Matrix3d::Zero();
+  bool damaged = false;  // a pair cut or torn (not lost to a removal): reference != a
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
     const uint32_t j = nbr_.index[k];
     const Vec3 x = rest_d_[j] - rest_d_[i];
     const Eigen::Matrix3d term = poly6(x.squaredNorm(), h) * x * x.transpose();
     if (!(flags_[j] & kRemoved)) reference += term;
-    if (w_[k] != Real(0)) a += term;
+    if (w_[k] != Real(0))
+      a += term;
+    else
+      damaged = damaged || !(flags_[j] & kRemoved);
   }
   const MomentInverse inv = regularised_inverse(a);
   a_inv_[i] = inv.inverse.cast<Real>();
@@ -104,7 +108,8 @@ void CpuSolver<Real>::precompute(size_t i) {
   // gradient's stiffest mode grows as 1/lambda_min, beyond what the stable step allows. The
   // phyxel's elastic response is scaled by lambda_min over the reference's, so no mode gets
   // stiffer (docs/tearing.md, "Damaged phyxels").
-  const double damage = damage_factor(min_moment_eigenvalue(a), min_moment_eigenvalue(reference));
+  const double damage =
+      damaged ? damage_factor(min_moment_eigenvalue(a), min_moment_eigenvalue(reference)) : 1.0;
   elastic_volume_[i] = Real(damage * double(volume_[i]));
   const double tr = a.trace() / 3;
   kappa_[i] = tr > 0 ? Real(damage * kappa_scale_[i] / tr) : Real(0);
