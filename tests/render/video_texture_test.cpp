@@ -3,6 +3,7 @@
 // exactly and loops, a video-textured sphere on lavapipe at two simulated times (goldens), and a
 // missing or undecodable video is refused naming the file before anything runs.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -37,7 +38,10 @@ VideoClipOptions small_clip() {
 
 const fs::path& clip_file() {
   static const fs::path file = [] {
-    const fs::path f = test::test_out_dir() / "video_texture_clip.mp4";
+    // One file per process: ctest runs this binary's tests in parallel processes, and one
+    // rewriting a shared clip while another decodes it fails the other.
+    const fs::path f =
+        test::test_out_dir() / ("video_texture_clip_" + std::to_string(::getpid()) + ".mp4");
     write_pulsing_tissue_clip(f, small_clip());
     return f;
   }();
