@@ -21,6 +21,8 @@
 #include "render/render_bench.h"
 #include "render/video_clip.h"
 #include "render/video_writer.h"
+#include "render/viewer_controls.h"
+#include "render/yuv_convert.h"
 
 namespace phyxel::app {
 
@@ -37,7 +39,8 @@ double median(std::vector<double> v) {
 
 // phyxel bench --render --scene FILE: the frames of a scene's rest state, as `phyxel run`
 // renders them, with the scene's backdrop and without it: the renderer's start-up (surfel
-// table, texture, environment, backdrop baked and uploaded) and the median frame time.
+// table, texture, environment, backdrop baked and uploaded), the median frame time, and the
+// median while the view turns every frame (the viewer's drag).
 int bench_render_scene(const std::string& file, const std::string& device, int64_t width,
                        int64_t height, bool mono, int64_t frames, const std::string& json_file) {
   gpu::ContextOptions context;
@@ -49,10 +52,10 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
   const PhyxelSet set = sample_scene(scene);
   const NeighbourLists neighbours = find_rest_neighbours(set);
   const std::vector<Vec3> rest(set.size(), Vec3::Zero());
-  std::printf("%s: %s, %s %lldx%lld per eye, %zu phyxels\n%10s %9s %9s %12s %12s\n",
+  std::printf("%s: %s, %s %lldx%lld per eye, %zu phyxels\n%10s %9s %9s %12s %12s %12s\n",
               ctx.info().name.c_str(), file.c_str(), mono ? "mono" : "stereo",
               static_cast<long long>(width), static_cast<long long>(height), set.size(), "backdrop",
-              "splats", "start s", "first ms", "frame ms");
+              "splats", "start s", "first ms", "frame ms", "orbit ms");
   nlohmann::json rows = nlohmann::json::array();
   const std::vector<BackdropItem> backdrop = scene.render.backdrop;
   for (const bool with : {false, true}) {
@@ -74,8 +77,23 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
       times.push_back(seconds_since(t));
     }
     const double frame = median(times);
-    std::printf("%10s %9u %9.3f %12.1f %12.1f\n", with ? "yes" : "no",
-                writer.renderer().backdrop_count(), start, first * 1e3, frame * 1e3);
+    // As the viewer while its camera is dragged round: a new view every frame (0.5 degrees of
+    // yaw), so the backdrop's layer is drawn anew each time.
+    render::Orbit orbit(writer.camera());
+    times.clear();
+    for (int64_t f = 0; f < frames; ++f) {
+      orbit.yaw += 0.5 * 3.14159265358979 / 180;
+      writer.set_setup(render::make_frame_setup(
+          orbit.camera(writer.camera()), scene.render,
+          mono ? RenderSettings::Mode::Mono : RenderSettings::Mode::Stereo));
+      const auto t = std::chrono::steady_clock::now();
+      writer.render(host.inputs());
+      times.push_back(seconds_since(t));
+    }
+    const double orbiting = median(times);
+    std::printf("%10s %9u %9.3f %12.1f %12.1f %12.1f\n", with ? "yes" : "no",
+                writer.renderer().backdrop_count(), start, first * 1e3, frame * 1e3,
+                orbiting * 1e3);
     std::fflush(stdout);
     rows.push_back({{"device", ctx.info().name},
                     {"scene", file},
@@ -85,6 +103,7 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
                     {"startup_s", start},
                     {"first_frame_ms", first * 1e3},
                     {"median_frame_ms", frame * 1e3},
+                    {"median_orbit_frame_ms", orbiting * 1e3},
                     {"frames", frames}});
   }
   if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
@@ -93,8 +112,13 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
 
 // `--video`'s encoder alone (VideoWriter: H.264 in MP4, on the calling thread as on the writer
 // thread of a run): `frames` frames of the synthetic surgery clip at the frames' size (both eyes
-// side by side in stereo) into a temporary file. Returns frames per second of wall time.
-double bench_video_encode(uint32_t width, uint32_t height, int frames) {
+// side by side in stereo) into a temporary file, timed from opening the file to its index
+// written. Also times the RGBA -> YUV 4:2:0 conversion alone (`convert_ms`, per frame).
+struct EncodeRate {
+  double frames_per_s = 0, convert_ms = 0;
+};
+EncodeRate bench_video_encode(uint32_t width, uint32_t height, int frames,
+                              const std::string& preset) {
   render::VideoClipOptions clip;
   clip.width = width;
   clip.height = height;
@@ -102,9 +126,21 @@ double bench_video_encode(uint32_t width, uint32_t height, int frames) {
   for (int k = 0; k < 8; ++k) images.push_back(render::pulsing_tissue_frame(clip, k));
   const std::filesystem::path file = std::filesystem::temp_directory_path() /
                                      ("phyxel_bench_encode_" + std::to_string(::getpid()) + ".mp4");
+  EncodeRate rate;
+  {
+    const uint32_t w = (width + 1) / 2 * 2, h = (height + 1) / 2 * 2;
+    std::vector<uint8_t> y(size_t(w) * h), u(size_t(w / 2) * (h / 2)), v(u.size());
+    const render::YuvPlanes planes{
+        {y.data(), u.data(), v.data()}, {int(w), int(w / 2), int(w / 2)}, w, h};
+    const auto start = std::chrono::steady_clock::now();
+    for (const render::RgbaImage& image : images) render::rgba_to_yuv420(image, planes);
+    rate.convert_ms =
+        1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+        double(images.size());
+  }
   const auto start = std::chrono::steady_clock::now();
   {
-    render::VideoWriter video(file, width, height, 60);
+    render::VideoWriter video(file, width, height, 60, render::VideoEncoding::H264, preset);
     for (int k = 0; k < frames; ++k) video.add(images[size_t(k) % images.size()], k);
     video.finish();
   }
@@ -112,7 +148,8 @@ double bench_video_encode(uint32_t width, uint32_t height, int frames) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::error_code ec;
   std::filesystem::remove(file, ec);
-  return frames / std::max(seconds, 1e-30);
+  rate.frames_per_s = frames / std::max(seconds, 1e-30);
+  return rate;
 }
 
 }  // namespace
@@ -130,6 +167,7 @@ int bench_render_command(const Args& args) {
   const std::string json_file = opts.value("--json", "");
   const bool with_solver = !opts.flag("--no-solver");
   const bool no_video = opts.flag("--no-video-texture");
+  const std::string preset = opts.value("--video-preset", render::kVideoPreset);
   opts.finish();
   if (!scene_file.empty()) {
     return bench_render_scene(scene_file, device, width, height, mono, frames, json_file);
@@ -209,15 +247,19 @@ int bench_render_command(const Args& args) {
   if (!no_video) {  // and what --video's encoder sustains at this frame size
     const uint32_t video_width = static_cast<uint32_t>((mono ? 1 : 2) * width);
     const int encoded = static_cast<int>(std::max<int64_t>(frames, 30));
-    const double fps = bench_video_encode(video_width, static_cast<uint32_t>(height), encoded);
+    const EncodeRate rate =
+        bench_video_encode(video_width, static_cast<uint32_t>(height), encoded, preset);
     std::printf(
         "%10s --video encodes %ux%lld frames (H.264, libx264) at %.1f frames/s of wall "
-        "time (%d frames of the synthetic clip)\n",
-        "", video_width, static_cast<long long>(height), fps, encoded);
+        "time (%d frames of the synthetic clip; RGBA -> YUV %.2f ms a frame)\n",
+        "", video_width, static_cast<long long>(height), rate.frames_per_s, encoded,
+        rate.convert_ms);
     rows.push_back({{"video_encode_width", video_width},
                     {"video_encode_height", height},
                     {"video_encode_frames", encoded},
-                    {"video_encode_frames_per_s", fps}});
+                    {"video_preset", preset},
+                    {"video_encode_frames_per_s", rate.frames_per_s},
+                    {"video_convert_ms", rate.convert_ms}});
   }
   if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
   return 0;

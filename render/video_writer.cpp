@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "render/yuv_convert.h"
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -68,7 +70,7 @@ struct VideoWriter::Impl {
 };
 
 VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height,
-                         double fps, VideoEncoding encoding)
+                         double fps, VideoEncoding encoding, const std::string& preset)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.file = file.string();
@@ -101,11 +103,18 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint
   m.codec->time_base = av_inv_q(rate);
   m.codec->framerate = rate;
   m.codec->gop_size = 30;
+  if (!lossless) {  // what rgba_to_yuv420 writes, so that players convert it back alike
+    m.codec->color_range = AVCOL_RANGE_MPEG;
+    m.codec->colorspace = AVCOL_SPC_SMPTE170M;
+    m.codec->color_primaries = AVCOL_PRI_SMPTE170M;
+    m.codec->color_trc = AVCOL_TRC_SMPTE170M;
+  }
   if ((m.format->oformat->flags & AVFMT_GLOBALHEADER) != 0)
     m.codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   // Quality over size (crf 18 is visually lossless), fast enough to keep up with the frames.
   if (!ffv1) {
-    av_opt_set(m.codec->priv_data, "preset", "veryfast", 0);
+    if (av_opt_set(m.codec->priv_data, "preset", preset.c_str(), 0) < 0)
+      m.fail("x264 has no preset " + preset, 0);
     av_opt_set(m.codec->priv_data, lossless ? "qp" : "crf", lossless ? "0" : "18", 0);
   }
   m.check(avcodec_open2(m.codec, encoder, nullptr),
@@ -120,10 +129,11 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, uint32_t width, uint
   m.frame->width = m.codec->width;
   m.frame->height = m.codec->height;
   m.check(av_frame_get_buffer(m.frame, 0), "frame buffer");
+  if (!lossless) return;  // 4:2:0 frames are converted by rgba_to_yuv420 on several threads
   m.scale = sws_getContext(static_cast<int>(width), static_cast<int>(height), AV_PIX_FMT_RGBA,
                            m.codec->width, m.codec->height, m.codec->pix_fmt,
-                           SWS_BICUBIC | (lossless ? SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT : 0),
-                           nullptr, nullptr, nullptr);
+                           SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr,
+                           nullptr);
   if (m.scale == nullptr) m.fail("no conversion from RGBA", 0);
 }
 
@@ -139,10 +149,17 @@ void VideoWriter::add(const RgbaImage& image, int64_t index) {
   if (m.done) m.fail("a frame after finish()", 0);
   if (image.width != m.width || image.height != m.height) m.fail("a frame of another size", 0);
   m.check(av_frame_make_writable(m.frame), "frame buffer");
-  const uint8_t* src[1] = {image.pixels.data()};
-  const int stride[1] = {static_cast<int>(image.width * 4)};
-  sws_scale(m.scale, src, stride, 0, static_cast<int>(image.height), m.frame->data,
-            m.frame->linesize);
+  if (m.scale == nullptr) {
+    rgba_to_yuv420(image, {{m.frame->data[0], m.frame->data[1], m.frame->data[2]},
+                           {m.frame->linesize[0], m.frame->linesize[1], m.frame->linesize[2]},
+                           static_cast<uint32_t>(m.codec->width),
+                           static_cast<uint32_t>(m.codec->height)});
+  } else {
+    const uint8_t* src[1] = {image.pixels.data()};
+    const int stride[1] = {static_cast<int>(image.width * 4)};
+    sws_scale(m.scale, src, stride, 0, static_cast<int>(image.height), m.frame->data,
+              m.frame->linesize);
+  }
   m.frame->pts = index;
   m.encode(m.frame);
   ++frames_;

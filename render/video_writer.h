@@ -1,10 +1,11 @@
-// H.264 in MP4 of the rendered frames (libavformat, libavcodec with Debian's libx264,
-// libswscale for RGBA -> YUV 4:2:0), for `phyxel run --video` and render.video, and the
-// writer thread that takes PNG and video writing off the simulation thread.
+// H.264 in MP4 of the rendered frames (libavformat, libavcodec with Debian's libx264;
+// RGBA -> YUV 4:2:0 by render/yuv_convert.h on several threads, libswscale for the lossless
+// encodings), for `phyxel run --video` and render.video, and the writer thread that takes PNG
+// and video writing off the simulation thread.
 //
 //   VideoWriter  one MP4 file: frames of one size at a constant rate (the scene's simulated
-//                time between frames, render.every x simulation.dt); odd sizes are scaled to
-//                the next even one (4:2:0 needs even sides)
+//                time between frames, render.every x simulation.dt); an odd side gets its
+//                last column or row repeated (4:2:0 needs even sides)
 //   FrameSink    a thread that writes frames handed to it (PNG files and/or the video), a few
 //                frames queued at most; failures come back from the next push() or finish()
 #pragma once
@@ -31,13 +32,19 @@ enum class VideoEncoding {
                  // (.mkv, .avi, .nut): a second container and codec for the video texture's tests
 };
 
+// x264's preset of --video: "veryfast" keeps CRF 18 visually lossless at a rate that stereo
+// 1080p needs (docs/performance.md).
+inline constexpr const char* kVideoPreset = "veryfast";
+
 class VideoWriter {
  public:
   // Opens `file` (created or truncated) for frames of width x height at `fps` frames per
   // second of the video. Throws std::runtime_error "FILE: cannot write the video (REASON)"
   // when the file cannot be opened or the encoder is missing. `encoding`: see VideoEncoding.
+  // `preset`: x264's speed preset for the H.264 encodings (bench --render --video-preset).
   VideoWriter(const std::filesystem::path& file, uint32_t width, uint32_t height, double fps,
-              VideoEncoding encoding = VideoEncoding::H264);
+              VideoEncoding encoding = VideoEncoding::H264,
+              const std::string& preset = kVideoPreset);
   ~VideoWriter();  // finishes the file when finish() was not called (errors then ignored)
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;

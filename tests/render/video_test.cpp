@@ -90,7 +90,7 @@ TEST(Video, EncodedMp4DecodesToItsFramesSizeAndRate) {
   EXPECT_NEAR(d.first_luma, 188, 3);
 }
 
-TEST(Video, OddSizesAreScaledToEvenOnes) {
+TEST(Video, OddSidesArePaddedToEvenOnes) {
   const std::filesystem::path file = test::test_out_dir() / "video_odd.mp4";
   {
     VideoWriter video(file, 65, 33, 30);
@@ -220,6 +220,7 @@ TEST(VideoCommand, RenderBenchReportsTheEncodeRate) {
   EXPECT_EQ(last["video_encode_width"].get<int>(), 128);  // stereo: both eyes side by side
   EXPECT_EQ(last["video_encode_frames"].get<int>(), 30);
   EXPECT_GT(last["video_encode_frames_per_s"].get<double>(), 0.0);
+  EXPECT_GT(last["video_convert_ms"].get<double>(), 0.0);
 }
 
 }  // namespace
