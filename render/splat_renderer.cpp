@@ -31,13 +31,28 @@ layout::vec4 frustum_of(const EyeView& eye) {
   return {float(f.left), float(f.right), float(f.bottom), float(f.top)};
 }
 
+// Slices of a raster pass over `count` splats (splat_raster.glsl): enough workgroups that a
+// few thousand splats, each covering thousands of pixels (a backdrop, tissue seen close up),
+// keep every shader core busy; one for a million splats.
+constexpr uint32_t kRasterGroupsWanted = 4096, kMaxRasterSlices = 32;
+constexpr uint32_t kGroup = PHYXEL_WORKGROUP_SIZE;
+uint32_t raster_slices(uint32_t count) {
+  const uint32_t groups = std::max<uint32_t>(1, (count + kGroup - 1) / kGroup);
+  return std::clamp<uint32_t>(kRasterGroupsWanted / groups, 1, kMaxRasterSlices);
+}
+// Invocations of a raster pass: `slices` copies of the splats rounded up to whole workgroups.
+uint32_t raster_invocations(uint32_t count) {
+  const uint32_t padded = (count + kGroup - 1) / kGroup * kGroup;
+  return padded * raster_slices(count);
+}
+
 layout::RasterPush raster_push(const EyeView& eye, float epsilon, uint32_t width, uint32_t height,
                                uint32_t count) {
   layout::RasterPush p{};
   p.view = to_mat4(eye.view);
   p.frustum = frustum_of(eye);
   p.depth = {float(eye.frustum.near), float(eye.frustum.far), epsilon, 0.0f};
-  p.target = {width, height, count, 0};
+  p.target = {width, height, count, raster_slices(count)};
   return p;
 }
 
@@ -312,7 +327,7 @@ void SplatRenderer::Impl::record_backdrop_layer(gpu::Recorder& rec, const FrameS
                   raster_push(setup.eyes[e], options.backdrop_epsilon, setup.eye_width,
                               setup.height, backdrop_count),
                   {backdrop, gpu::BufferRef(layer_depth, e * depth_range, depth_range)},
-                  backdrop_count);
+                  raster_invocations(backdrop_count));
   }
   rec.barrier();
   ctx.fn().vkCmdBindDescriptorSets(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, accumulate.layout(),
@@ -323,7 +338,7 @@ void SplatRenderer::Impl::record_backdrop_layer(gpu::Recorder& rec, const FrameS
                               setup.height, backdrop_count),
                   {backdrop, gpu::BufferRef(layer_depth, e * depth_range, depth_range),
                    gpu::BufferRef(accum, e * accum_range, accum_range)},
-                  backdrop_count);
+                  raster_invocations(backdrop_count));
   }
   rec.barrier();
   ctx.fn().vkCmdBindDescriptorSets(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, shade.layout(),
@@ -616,7 +631,8 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
     gpu::dispatch(
         rec, m.visibility,
         raster_push(setup.eyes[e], m.options.epsilon, setup.eye_width, setup.height, m.count),
-        {m.splats, gpu::BufferRef(m.depth, e * depth_range, depth_range)}, m.count);
+        {m.splats, gpu::BufferRef(m.depth, e * depth_range, depth_range)},
+        raster_invocations(m.count));
   }
   end();
   rec.barrier();
@@ -630,7 +646,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
         raster_push(setup.eyes[e], m.options.epsilon, setup.eye_width, setup.height, m.count),
         {m.splats, gpu::BufferRef(m.depth, e * depth_range, depth_range),
          gpu::BufferRef(m.accum, e * accum_range, accum_range)},
-        m.count);
+        raster_invocations(m.count));
   }
   end();
   rec.barrier();

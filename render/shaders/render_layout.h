@@ -126,7 +126,7 @@ struct RasterPush {
   mat4 view;     // world -> eye space (camera looks down -z, y up)
   vec4 frustum;  // left, right, bottom, top of the view frustum at the near plane, m
   vec4 depth;    // near, far, visibility offset epsilon in splat radii, 0
-  uvec4 target;  // width, height of the eye in pixels, splat count, 0
+  uvec4 target;  // width, height of the eye in pixels, splat count, slices (splat_raster.glsl)
 };
 PHYXEL_ASSERT_SIZE(RasterPush, 112);
 

@@ -5,7 +5,8 @@
 // for each of them (the pass intersects the pixel's ray with the disc). A splat with up to
 // kOwnPixels pixels is drawn by its own invocation; larger ones (close to the eye) are queued
 // in shared memory and drawn by the whole workgroup, pixel i by invocation i mod the
-// workgroup size, so that one large splat does not hold up its neighbours.
+// workgroup size, so that one large splat does not hold up its neighbours; and by
+// p.target.w workgroups (slices) when there are few splats.
 #ifndef PHYXEL_SPLAT_RASTER_GLSL
 #define PHYXEL_SPLAT_RASTER_GLSL
 
@@ -85,14 +86,26 @@ shared uvec4 big_box[PHYXEL_WORKGROUP_SIZE];
 void main() {
   if (gl_LocalInvocationIndex == 0) big_count = 0;
   barrier();
-  const uint k = PHYXEL_GLOBAL_INDEX;
-  if (k < p.target.z) {
+  // p.target.w slices of the splats, each rounded up to whole workgroups (so a workgroup lies
+  // in one slice): slice 0 draws the small splats, and slice j the pixels j, j + S, ... (in
+  // units of the workgroup) of the large ones, so that a few thousand large splats (a backdrop,
+  // tissue close to the eye) still fill the GPU. The sums are of integers: the image does not
+  // depend on who drew which pixel.
+  const uint slices = max(p.target.w, 1u);
+  const uint padded = (p.target.z + PHYXEL_WORKGROUP_SIZE - 1) / PHYXEL_WORKGROUP_SIZE *
+                      PHYXEL_WORKGROUP_SIZE;
+  const uint index = PHYXEL_GLOBAL_INDEX;
+  const uint slice = index / padded;
+  const uint k = index - slice * padded;
+  if (k < p.target.z && slice < slices) {
     const EyeSplat s = eye_splat(k);
     uvec4 box;
     if (pixel_bounds(s, box)) {
       if ((box.z - box.x + 1) * (box.w - box.y + 1) <= kOwnPixels) {
-        for (uint y = box.y; y <= box.w; ++y)
-          for (uint x = box.x; x <= box.z; ++x) splat_pixel(s, x, y);
+        if (slice == 0) {
+          for (uint y = box.y; y <= box.w; ++y)
+            for (uint x = box.x; x <= box.z; ++x) splat_pixel(s, x, y);
+        }
       } else {
         const uint slot = atomicAdd(big_count, 1u);
         big_splat[slot] = k;
@@ -107,7 +120,8 @@ void main() {
     const uvec4 box = big_box[b];
     const uint w = box.z - box.x + 1;
     const uint pixels = w * (box.w - box.y + 1);
-    for (uint i = gl_LocalInvocationIndex; i < pixels; i += PHYXEL_WORKGROUP_SIZE) {
+    for (uint i = gl_LocalInvocationIndex + slice * PHYXEL_WORKGROUP_SIZE; i < pixels;
+         i += PHYXEL_WORKGROUP_SIZE * slices) {
       const uint row = i / w;
       splat_pixel(s, box.x + (i - row * w), box.y + row);
     }

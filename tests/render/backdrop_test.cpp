@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "compute/gpu_solver.h"
@@ -326,6 +329,28 @@ TEST_F(BackdropRender, SolverStateIsBitIdenticalWithAndWithout) {
     moved = std::max(moved, cpu[0][i].norm());
   }
   EXPECT_GT(moved, 0) << "the block sagged";
+}
+
+// phyxel bench --render --scene: a row without and one with the scene's backdrop, each with
+// its frame time still and while the view turns every frame (the viewer's drag).
+TEST(BackdropBench, SceneBenchTimesFramesStillAndOrbitingWithAndWithoutTheBackdrop) {
+  const std::filesystem::path json = test::test_out_dir() / "bench_render_scene.json";
+  const std::string cmd = std::string(PHYXEL_BINARY_DIR) +
+                          "/app/phyxel bench --render --scene " PHYXEL_SOURCE_DIR
+                          "/scenes/brain_tumour.json --width 64 --height 48 --frames 2 --json " +
+                          json.string() + " > " + json.string() + ".out 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << json << ".out";
+  std::ifstream in(json);
+  const nlohmann::json rows = nlohmann::json::parse(in);
+  ASSERT_EQ(rows.size(), 2u) << rows.dump();
+  EXPECT_FALSE(rows[0]["backdrop"].get<bool>());
+  EXPECT_TRUE(rows[1]["backdrop"].get<bool>());
+  EXPECT_EQ(rows[0]["backdrop_splats"].get<int>(), 0);
+  EXPECT_GT(rows[1]["backdrop_splats"].get<int>(), 1000);
+  for (const nlohmann::json& row : rows) {
+    EXPECT_GT(row["median_frame_ms"].get<double>(), 0.0) << row.dump();
+    EXPECT_GT(row["median_orbit_frame_ms"].get<double>(), 0.0) << row.dump();
+  }
 }
 
 }  // namespace
