@@ -20,6 +20,7 @@ constexpr const char* kViewHelp =
     "Needs a display; without one use phyxel run SCENE --render mono|stereo --out DIR.\n"
     "\n"
     "  mouse drag: orbit   wheel: zoom   space: pause   n: one step   s: mono/stereo   q: quit\n"
+    "  p: save the view as a PNG (DIR/view-STEP.png, DIR from --out)\n"
     "  tools with \"control\": \"haptic\": right drag (or shift + left drag) moves the one\n"
     "  nearest the cursor in the view plane through its tip; shift + wheel pushes it along\n"
     "  the view (up: away). Path tools move along their paths. A scalpel on the mouse cuts\n"
@@ -38,6 +39,7 @@ constexpr const char* kViewHelp =
     "                      (as \"control\": \"haptic\"), e.g. the scalpel of\n"
     "                      scenes/breast_resection.json\n"
     "  --validate          Vulkan validation layers on for the renderer\n"
+    "  --out DIR           where p saves the view (default: the current directory)\n"
     "  --help              this text\n"
     "\n"
     "SIGINT (Ctrl-C) or SIGTERM closes the viewer as closing its window does; a second signal\n"
@@ -60,6 +62,7 @@ int view_command(const Args& args) {
   options.render_device = opts.value("--render-device", "gpu");
   options.threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
   options.validation = opts.flag("--validate");
+  options.picture_dir = opts.value("--out", ".");
   const std::string hand = opts.value("--hand", "");
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {

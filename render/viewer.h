@@ -1,9 +1,9 @@
 // `phyxel view`: a scene simulated live in a window (GLFW + a Vulkan swapchain), with the
 // same splat passes, mono or stereo (side by side or anaglyph) as the scene's `render` says.
 // Mouse and keys: render/viewer_controls.h (drag: orbit, wheel: zoom, space: pause, n: one
-// step while paused, s: mono/stereo, q or escape: quit; right drag or shift + left drag: move
-// the haptic tool nearest the cursor in the view plane, shift + wheel: push it along the
-// view). The title shows the step, the pause state, the mode and the frame rate.
+// step while paused, s: mono/stereo, p: save the view as a PNG, q or escape: quit; right drag or
+// shift + left drag: move the haptic tool nearest the cursor in the view plane, shift + wheel: push
+// it along the view). The title shows the step, the pause state, the mode and the frame rate.
 //
 // Tools: every tool of the scene is drawn (steel, render/tool_raycast.h). A path-controlled
 // tool is drawn at pose_at(path, simulated time), the time being steps x simulation.dt. A
@@ -33,6 +33,9 @@ struct ViewerOptions {
   int threads = 0;                           // CPU solver threads, 0: all cores
   std::optional<RenderSettings::Mode> mode;  // overrides the scene's render.mode
   bool validation = false;
+  // Where p saves the view: picture_dir/view-STEP.png (view-STEP-K.png when that exists),
+  // created when missing; the file is named on standard output.
+  std::string picture_dir = ".";
 
   // Haptic tools. Both run on the viewer's thread, between frames; `tool` is the index in
   // scene.tools, the poses are in world coordinates (m), the axis a unit vector.

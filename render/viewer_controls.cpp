@@ -46,6 +46,9 @@ void ViewerControls::key(ViewerKey k) {
     case ViewerKey::S:
       toggle_stereo_ = !toggle_stereo_;
       break;
+    case ViewerKey::P:
+      screenshot_ = true;
+      break;
     case ViewerKey::Q:
     case ViewerKey::Escape:
       quit_ = true;
@@ -169,6 +172,12 @@ bool ViewerControls::take_stereo_toggle() {
   const bool toggle = toggle_stereo_;
   toggle_stereo_ = false;
   return toggle;
+}
+
+bool ViewerControls::take_screenshot() {
+  const bool take = screenshot_;
+  screenshot_ = false;
+  return take;
 }
 
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,

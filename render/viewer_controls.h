@@ -60,7 +60,7 @@ struct Orbit {
   Camera camera(const Camera& base) const;
 };
 
-enum class ViewerKey { Space, N, S, Q, Escape, Other };
+enum class ViewerKey { Space, N, S, P, Q, Escape, Other };
 enum class ViewerButton { Left, Right };
 
 // A haptic tool under the mouse: its index in the scene's tools and its target pose.
@@ -113,6 +113,8 @@ class ViewerControls {
   int64_t steps_for_frame(int64_t every);
   // Whether s was pressed since the last call.
   bool take_stereo_toggle();
+  // Whether p (save the view as a PNG) was pressed since the last call.
+  bool take_screenshot();
 
   const Orbit& orbit() const { return orbit_; }
   bool paused() const { return paused_; }
@@ -124,7 +126,8 @@ class ViewerControls {
 
   Orbit orbit_;
   Camera base_;
-  bool paused_ = false, quit_ = false, step_once_ = false, toggle_stereo_ = false;
+  bool paused_ = false, quit_ = false, step_once_ = false, toggle_stereo_ = false,
+       screenshot_ = false;
   Drag drag_ = Drag::None;
   double last_x_ = 0, last_y_ = 0;
   std::vector<HapticTarget> tools_;

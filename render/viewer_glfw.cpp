@@ -6,15 +6,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/surgery/haptic_session.h"
 #include "render/frame_output.h"
+#include "render/image.h"
 #include "render/present_glfw.h"
 #include "render/real_time_pacer.h"
 #include "render/viewer.h"
@@ -30,6 +33,24 @@ ViewerControls& controls_of(GLFWwindow* w) {
   return *static_cast<ViewerControls*>(glfwGetWindowUserPointer(w));
 }
 
+// p: the frame just shown as DIR/view-STEP.png (view-STEP-K.png when taken before). A picture
+// that cannot be written is reported, and the viewer goes on.
+void save_picture(const std::filesystem::path& dir, int64_t step, const RgbaImage& frame) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::string stem = "view-" + std::to_string(step);
+  std::filesystem::path file = dir / (stem + ".png");
+  for (int k = 2; std::filesystem::exists(file, ec); ++k)
+    file = dir / (stem + "-" + std::to_string(k) + ".png");
+  try {
+    write_png(file, frame);
+    std::printf("phyxel view: saved %s (%ux%u)\n", file.c_str(), frame.width, frame.height);
+    std::fflush(stdout);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "phyxel view: the picture was not saved: %s\n", e.what());
+  }
+}
+
 ViewerKey key_of(int key) {
   switch (key) {
     case GLFW_KEY_SPACE:
@@ -38,6 +59,8 @@ ViewerKey key_of(int key) {
       return ViewerKey::N;
     case GLFW_KEY_S:
       return ViewerKey::S;
+    case GLFW_KEY_P:
+      return ViewerKey::P;
     case GLFW_KEY_Q:
       return ViewerKey::Q;
     case GLFW_KEY_ESCAPE:
@@ -191,7 +214,7 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   glfwSetScrollCallback(window, on_scroll);
   std::printf(
       "phyxel view: %s, %zu phyxels, simulating on %s, rendering on %s, showing on %s\n"
-      "  drag: orbit, wheel: zoom, space: pause, n: one step, s: mono/stereo, q: quit\n"
+      "  drag: orbit, wheel: zoom, space: pause, n: one step, s: mono/stereo, p: picture, q: quit\n"
       "%s",
       file.c_str(), set.size(), solver.device().c_str(), ctx.info().name.c_str(),
       presenter.device_name().c_str(),
@@ -282,16 +305,19 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     writer.follow_cuts(solver, false);
     // The video texture: the newest frame decoded by now (never waits for the decoder).
     writer.advance_video(double(step) * scene.simulation.dt, false);
+    RgbaImage frame;
     if (on_gpu) {
-      presenter.present(writer.render(gpu_solver->buffers()));
+      frame = writer.render(gpu_solver->buffers());
     } else {
       if (const size_t severed = solver.severed_pairs(); severed != alive_at) {
         host->set_pair_alive(solver.pair_alive());
         alive_at = severed;
       }
       host->set_displacement(cpu_solver->read_state(false).displacement);
-      presenter.present(writer.render(host->inputs()));
+      frame = writer.render(host->inputs());
     }
+    presenter.present(frame);
+    if (controls.take_screenshot()) save_picture(options.picture_dir, step, frame);
     ++frames;
     const auto now = std::chrono::steady_clock::now();
     const double seconds = std::chrono::duration<double>(now - last_title).count();

@@ -98,7 +98,7 @@ TEST(ViewerControls, SpacePausesAndNStepsOnceWhilePaused) {
   EXPECT_EQ(v.steps_for_frame(7), 7);
 }
 
-TEST(ViewerControls, STogglesStereoAndQOrEscapeQuit) {
+TEST(ViewerControls, STogglesStereoPTakesAPictureAndQOrEscapeQuit) {
   ViewerControls v(oblique_camera());
   EXPECT_FALSE(v.take_stereo_toggle());
   v.key(ViewerKey::S);
@@ -107,6 +107,11 @@ TEST(ViewerControls, STogglesStereoAndQOrEscapeQuit) {
   v.key(ViewerKey::S);
   v.key(ViewerKey::S);
   EXPECT_FALSE(v.take_stereo_toggle()) << "two presses before a frame cancel";
+  EXPECT_FALSE(v.take_screenshot());
+  v.key(ViewerKey::P);
+  v.key(ViewerKey::P);
+  EXPECT_TRUE(v.take_screenshot());
+  EXPECT_FALSE(v.take_screenshot()) << "one picture per frame however many presses";
   v.key(ViewerKey::Other);
   EXPECT_FALSE(v.quit());
   v.key(ViewerKey::Escape);

@@ -4,6 +4,7 @@
 # state read back from its window title (step, "(paused)", mono/stereo, "halted: ..."). Checks
 # that the simulation runs, space pauses it (the step stops), n advances exactly one step, s
 # switches to stereo, a drag (and the tool controls' right drag and shift + wheel) is taken,
+# p saves mono and stereo pictures of an operating field (environment, backdrop, instruments),
 # q quits with status 0 and validation said nothing; the same with the GPU solver; that a
 # runaway simulation is halted with a message; and that SIGINT / SIGTERM close it (130 / 143).
 # Registered with ctest by tests/CMakeLists.txt when the viewer is built.
@@ -105,6 +106,32 @@ start_viewer view_gpu.log "$src/scenes/beam.json" --device gpu --render stereo -
 wait_for ' step [1-9][0-9]*  stereo ' 120
 quit_viewer
 grep -q "simulating on gpu:0 llvmpipe" "$log" || fail "the GPU solver was not used ($log)"
+
+# 2b. An operating field (environment cube, backdrop, instruments, a mirror tumour): p saves
+# the view as a PNG of the window's size; after a drag (a new view, so the backdrop's layer is
+# drawn anew) and s, a stereo picture of the same size (each eye half the window). The pictures are looked at by people; here
+# their size and that they are written.
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ print $1*16777216 + $2*65536 + $3*256 + $4 "x" $5*16777216 + $6*65536 + $7*256 + $8 }'; }
+rm -rf "${out:?}/pictures"
+start_viewer view_field.log "$src/scenes/brain_tumour.json" --threads 1 --validate --out "$out/pictures"
+wait_for ' step [1-9][0-9]*  mono ' 180
+xdotool key --window "$win" space
+wait_for ' \(paused\)  mono ' 60
+xdotool key --window "$win" p
+for _ in $(seq 600); do grep -q "saved" "$log" && break; alive; sleep 0.1; done
+shot="$(sed -nE 's/^phyxel view: saved (.*\.png) .*/\1/p' "$log" | head -1)"
+[ -f "$shot" ] || fail "p saved no picture ($log)"
+[ "$(png_size "$shot")" = 640x360 ] || fail "the picture is $(png_size "$shot"), not 640x360"
+xdotool mousemove --window "$win" 200 200 mousedown 1 mousemove --window "$win" 260 220 mouseup 1
+xdotool key --window "$win" s
+wait_for ' stereo ' 60
+xdotool key --window "$win" p
+for _ in $(seq 600); do [ "$(grep -c saved "$log")" -ge 2 ] && break; alive; sleep 0.1; done
+shot2="$(sed -nE 's/^phyxel view: saved (.*\.png) .*/\1/p' "$log" | sed -n 2p)"
+[ -f "$shot2" ] && [ "$shot2" != "$shot" ] || fail "the second p saved no new picture ($log)"
+# Side by side in the same window: each eye gets half of it.
+[ "$(png_size "$shot2")" = 640x360 ] || fail "the stereo picture is $(png_size "$shot2")"
+quit_viewer
 
 # 3. A runaway load: the viewer halts the simulation and says where, instead of drawing NaN.
 cat >"$out/runaway.json" <<'JSON'
