@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -166,6 +167,30 @@ TEST(VideoCommand, RunWritesAnMp4AtTheSimulatedFrameRate) {
   EXPECT_EQ(d.height, 48);
   EXPECT_NEAR(d.rate, 1000, 1e-6);
   EXPECT_TRUE(std::filesystem::exists(dir / "frame_000040.png")) << "PNG frames stay";
+}
+
+// render.video in the scene file: the MP4 goes into the run's output folder; no render mode
+// set, so the run renders mono.
+TEST(VideoCommand, SceneRenderVideoIsWrittenIntoTheOutputFolder) {
+  const std::filesystem::path dir = test::test_out_dir() / "video_scene_key";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::string text;
+  {
+    std::ifstream in(small_scene(dir));
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string key = R"("every": 10})";
+  ASSERT_NE(text.find(key), std::string::npos);
+  text.replace(text.find(key), key.size(), R"("every": 20, "video": "clip.mp4"})");
+  std::ofstream(dir / "keyed.json") << text;
+  ASSERT_EQ(run((dir / "keyed.json").string() + " --quiet --out " + (dir / "out").string() +
+                " 2> " + (dir / "err.txt").string()),
+            0);
+  const Decoded d = decode(dir / "out" / "clip.mp4");
+  EXPECT_EQ(d.frames, 3);  // steps 0, 20 and 40
+  EXPECT_EQ(d.width, 64);
+  EXPECT_NEAR(d.rate, 500, 1e-6);
 }
 
 TEST(VideoCommand, UnwritableVideoPathIsRefusedBeforeTheRun) {
