@@ -52,14 +52,23 @@ class PassTimer {
 
 struct CopyBandwidth {
   uint64_t bytes = 0;       // size of the buffer copied
-  double seconds = 0;       // median duration of one vkCmdCopyBuffer of it
-  double gb_per_s = 0;      // memory traffic, read + written (2 * bytes / seconds / 1e9), as STREAM
+  double seconds = 0;       // median duration of one copy by the stream_copy kernel
+  double gb_per_s = 0;      // its memory traffic, read + written (2 * bytes / seconds / 1e9), as
+                            // STREAM counts it: the roofline the solver is compared with
+  double dma_seconds = 0;   // the same copy by vkCmdCopyBuffer (on NVIDIA a copy engine, which
+  double dma_gb_per_s = 0;  // streams at a fraction of what the shader cores do)
   bool timestamps = false;  // false: timed with the host clock around submit and wait
 };
 
-// Copies a `bytes` device buffer to another `repeats` times (after one warm-up) and reports
-// the median. Checks that 2 * bytes fit first.
-CopyBandwidth measure_copy_bandwidth(Context& ctx, uint64_t bytes = uint64_t{256} << 20,
-                                     int repeats = 5);
+// The probe's buffer size for `ctx`: 1 GiB on a GPU whose memory holds 8 GiB or more (far past
+// its caches), 64 MiB on a CPU driver or a small GPU.
+uint64_t default_bandwidth_bytes(const Context& ctx);
+
+// Copies a `bytes` device buffer (0: default_bandwidth_bytes) to another `repeats` times with
+// the stream_copy kernel and `repeats` times with vkCmdCopyBuffer, after a warm-up of both
+// (clocks, caches, first touch), and reports the medians. Checks that 2 * bytes fit first,
+// and that the kernel copied (throws std::runtime_error naming the device when not). Throws
+// std::invalid_argument for a size that is not a positive multiple of 16 within one binding.
+CopyBandwidth measure_copy_bandwidth(Context& ctx, uint64_t bytes = 0, int repeats = 9);
 
 }  // namespace phyxel::gpu

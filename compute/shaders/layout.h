@@ -56,6 +56,19 @@ struct AxpyPush {
 };
 PHYXEL_ASSERT_SIZE(AxpyPush, 8);
 
+// stream_copy.comp: dst[i] = src[i] over `count` uvec4, `per_thread` of them per invocation,
+// `threads` apart (each warp's loads and stores contiguous): the streaming bandwidth that
+// measure_copy_bandwidth reports as the roofline (compute/timing.h).
+PHYXEL_CONST uint kStreamCopyBindingSrc = 0;
+PHYXEL_CONST uint kStreamCopyBindingDst = 1;
+struct StreamCopyPush {
+  uint count;
+  uint per_thread;
+  uint threads;
+  uint pad;
+};
+PHYXEL_ASSERT_SIZE(StreamCopyPush, 16);
+
 // ---------------------------------------------------------------------------------------
 // GPU solver (compute/gpu_solver*.cpp, shaders/nbr_*.comp, scan_*.comp, solver_*.comp).
 // Per-phyxel buffers are arrays of vec4 (or uint/float), indexed by phyxel; per-pair buffers

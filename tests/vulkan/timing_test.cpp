@@ -67,7 +67,22 @@ TEST_F(TimingTest, CopyBandwidthIsPositiveAndFinite) {
   EXPECT_TRUE(std::isfinite(bw.gb_per_s));
   EXPECT_GT(bw.gb_per_s, 0.0);
   EXPECT_DOUBLE_EQ(bw.gb_per_s, 2.0 * static_cast<double>(bw.bytes) / bw.seconds / 1e9);
+  EXPECT_GT(bw.dma_seconds, 0.0);
+  EXPECT_DOUBLE_EQ(bw.dma_gb_per_s, 2.0 * static_cast<double>(bw.bytes) / bw.dma_seconds / 1e9);
   EXPECT_THROW(measure_copy_bandwidth(ctx(), 6, 1), std::invalid_argument);
+  EXPECT_THROW(measure_copy_bandwidth(ctx(), 24, 1), std::invalid_argument);  // not 16-aligned
+  EXPECT_THROW(measure_copy_bandwidth(ctx(), 64, 0), std::invalid_argument);
+}
+
+// The roofline's buffer: far past a GPU's caches, small on a CPU driver (lavapipe here).
+TEST_F(TimingTest, BandwidthProbeSizeFollowsTheDevice) {
+  const uint64_t bytes = default_bandwidth_bytes(ctx());
+  if (ctx().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    EXPECT_EQ(bytes, uint64_t{64} << 20);
+  } else {
+    EXPECT_GE(bytes, uint64_t{64} << 20);
+  }
+  EXPECT_EQ(bytes % 16, 0u);
 }
 
 }  // namespace
