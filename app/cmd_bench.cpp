@@ -1,4 +1,6 @@
 // phyxel bench: solver speed on elastic boxes of several sizes.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -34,6 +36,8 @@ constexpr const char* kBenchHelp =
     "  --sizes LIST          approximate phyxel counts (default 1000,10000,100000 on the CPU,\n"
     "                        10000,100000,1000000 with a GPU)\n"
     "  --threads LIST        CPU thread counts (default 1,2)\n"
+    "  --no-check            no GPU-vs-CPU comparison (sizes whose CPU reference would not\n"
+    "                        fit the host's memory); the error column then reads nan\n"
     "  --check-steps N       steps of the GPU-vs-CPU comparison (default 100; 20 above 200k\n"
     "                        phyxels)\n"
     "  --pair-weights W      GPU pair weights: auto (default: recomputed from x0 unless a pair\n"
@@ -117,6 +121,13 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The largest resident set of this process so far (getrusage), bytes.
+uint64_t host_peak_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return uint64_t(usage.ru_maxrss) * 1024;  // kilobytes on Linux
+}
+
 // The GPU rows: one Vulkan context for every size, its streaming bandwidth measured once.
 void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
                     const std::string& pair_weights, int64_t steps, int64_t repeats,
@@ -136,6 +147,18 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
               "s/step", "phyxel-steps/s", "B/phyxel", "B/phx-step", "roofline", "vs cpu",
               "err/extent", "passes (us)");
   for (const int64_t size : sizes) {
+    // A size the device cannot hold is refused before the box is sampled on the host (the
+    // bench box's lattice has 26 neighbours within its support of two spacings).
+    try {
+      gpu::GpuSolver::check_capacity(ctx, uint64_t(size), uint64_t(size) * 26);
+    } catch (const std::exception& e) {
+      std::printf("%9lld refused: %s\n", static_cast<long long>(size), e.what());
+      rows.push_back({{"device", ctx.info().name},
+                      {"backend", "gpu"},
+                      {"phyxels", size},
+                      {"refused", e.what()}});
+      continue;
+    }
     Scene scene = bench_scene(size);
     const PhyxelSet set = sample_scene(scene);
     const double dt = plan_time_step(scene, set).dt_stable;
@@ -186,7 +209,12 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
                       {"error_over_extent", r.error_over_extent},
                       {"error_over_max_displacement", r.error_over_max_displacement},
                       {"max_displacement", r.max_displacement},
-                      {"finite", r.finite}});
+                      {"finite", r.finite},
+                      {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
+                      {"host_peak_bytes", host_peak_bytes()}});
+      std::printf("%9s memory: %s on the device, host peak %s\n", "",
+                  gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
+                  gpu::format_bytes(host_peak_bytes()).c_str());
       std::fflush(stdout);
     }
   }
@@ -235,7 +263,8 @@ int bench_command(const Args& args) {
   const int64_t fixed_steps = opts.integer("--steps", 0, 0, 1 << 30);
   const int64_t repeats = opts.integer("--repeats", 5, 1, 1000);
   const std::string json_file = opts.value("--json", "");
-  const int64_t check_steps = opts.integer("--check-steps", 0, 0, 1 << 30);
+  int64_t check_steps = opts.integer("--check-steps", 0, 0, 1 << 30);
+  if (opts.flag("--no-check")) check_steps = -1;
   const std::string pair_weights = opts.value("--pair-weights", "auto");
   opts.finish();
   if (pair_weights != "auto" && pair_weights != "stored" && pair_weights != "both")

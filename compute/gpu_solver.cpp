@@ -38,14 +38,24 @@ std::vector<vec4> to_vec4(const std::vector<Vec3>& x) {
 }  // namespace
 
 uint64_t GpuSolver::required_device_bytes(const PhyxelSet& set) {
-  const uint64_t n = set.size();
-  const uint64_t buckets = hash_buckets(set.size());
+  return required_device_bytes(set.size(), lattice_pair_bound(set));
+}
+
+uint64_t GpuSolver::required_device_bytes(uint64_t n, uint64_t pairs) {
+  const uint64_t buckets = hash_buckets(n);
   // Scan levels and reduction levels hold about 1/256 of their input each; allocation
   // granularity is covered by a page per buffer (about 40 buffers).
   const uint64_t small = 2 * (n + buckets) * sizeof(uint32_t) / (kScanBlock - 1) + 2 * 16 * n / 255;
-  return n * (kPersistentBytesPerPhyxel + kSearchBytesPerPhyxel) +
-         lattice_pair_bound(set) * kBytesPerPair + buckets * kSearchBytesPerBucket + small +
-         64 * 4096;
+  return n * (kPersistentBytesPerPhyxel + kSearchBytesPerPhyxel) + pairs * kBytesPerPair +
+         buckets * kSearchBytesPerBucket + small + 64 * 4096;
+}
+
+void GpuSolver::check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pairs) {
+  if (phyxels >= (uint64_t{1} << 31))
+    throw std::invalid_argument("the GPU solver indexes phyxels with 31 bits");
+  ctx.check_fits(required_device_bytes(phyxels, pairs));
+  check_binding_size(ctx, phyxels * 48, "stress (48 bytes per phyxel)");
+  check_binding_size(ctx, pairs * 4, "neighbour index (4 bytes per pair)");
 }
 
 GpuSolver::GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
@@ -68,9 +78,7 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
     throw std::invalid_argument("the GPU solver indexes phyxels with 31 bits");
   count_ = static_cast<uint32_t>(set.size());
   // Everything this set needs, before the first allocation: one clear error with the bytes.
-  ctx_->check_fits(required_device_bytes(set));
-  check_binding_size(*ctx_, uint64_t{count_} * 48, "stress (48 bytes per phyxel)");
-  check_binding_size(*ctx_, lattice_pair_bound(set) * 4, "neighbour index");
+  check_capacity(*ctx_, count_, lattice_pair_bound(set));
 
   const SolverSetup host = prepare_solver_setup(set, gravity);
   kernels_ = std::make_unique<SolverKernels>(*ctx_);

@@ -202,6 +202,15 @@ class GpuSolver final : public Solver {
   // temporaries), for Context::check_fits before anything is allocated. Assumes lattice
   // sampling (as sample_scene) to bound the pair count.
   static uint64_t required_device_bytes(const PhyxelSet& set);
+  // The same for `phyxels` phyxels with `pairs` pairs in all (each counted from both sides),
+  // before a set is sampled (phyxel bench refuses sizes the device cannot hold so). Throws
+  // std::invalid_argument past what the neighbour search indexes.
+  static uint64_t required_device_bytes(uint64_t phyxels, uint64_t pairs);
+  // Whether `ctx` holds a solver of that many phyxels and pairs: its memory (check_fits) and
+  // the largest buffer one binding reaches (maxStorageBufferRange: the neighbour index, 4
+  // bytes per pair, is the first to hit it). Throws VulkanError naming the device, the buffer
+  // and the bytes; std::invalid_argument past 2^31 phyxels.
+  static void check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pairs);
 
  private:
   void build(const PhyxelSet& set, const Vec3& gravity);

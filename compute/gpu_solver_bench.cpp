@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 namespace phyxel::gpu {
 namespace {
@@ -54,6 +55,12 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
   }
 
   // Accuracy: fresh solvers, the same steps on the GPU and on the CPU reference (double).
+  if (options.check_steps < 0) {  // none (sizes whose CPU reference would not fit the host)
+    r.check_steps = 0;
+    r.error_over_extent = r.error_over_max_displacement = r.max_displacement =
+        std::numeric_limits<double>::quiet_NaN();
+    return r;
+  }
   r.check_steps = options.check_steps > 0 ? options.check_steps : (set.size() > 200000 ? 20 : 100);
   GpuSolver gpu(ctx, set, gravity, solver_options);
   gpu.advance(r.check_steps, dt);

@@ -15,7 +15,8 @@ namespace phyxel::gpu {
 struct GpuBenchOptions {
   int64_t steps = 0;        // steps per timed repeat; 0: about 0.5 s of work
   int64_t repeats = 5;      // the median is reported
-  int64_t check_steps = 0;  // steps of the CPU comparison; 0: 100, or 20 above 200k phyxels
+  int64_t check_steps = 0;  // steps of the CPU comparison; 0: 100, or 20 above 200k phyxels;
+                            // negative: no comparison (the error fields stay NaN)
   int cpu_threads = 0;      // of the CPU reference; 0: all cores
   GpuSolverOptions::PairWeights pair_weights = GpuSolverOptions::PairWeights::Auto;
 };

@@ -78,5 +78,48 @@ TEST_F(GpuSolverTest, BenchStabilityOnTheGpuStaysWithTheDoubleReference) {
   }
 }
 
+// Scale: a size the device cannot hold is refused with the device's message before the box
+// is sampled (a billion phyxels would take the host minutes and tens of GB), the sizes before
+// it still run, and --no-check leaves the CPU reference out (its error fields null).
+TEST_F(GpuSolverTest, BenchRefusesASizeTheDeviceCannotHoldBeforeSamplingIt) {
+  const auto json = phyxel::test::test_output_dir("gpu_bench_scale") / "scale.json";
+  const std::string device = "gpu:" + std::to_string(ctx().info().index);
+  testing::internal::CaptureStdout();
+  const int rc = app::bench_command({"--device", device, "--sizes", "1000,1000000000", "--steps",
+                                     "4", "--repeats", "1", "--no-check", "--json", json});
+  const std::string out = testing::internal::GetCapturedStdout();
+  ASSERT_EQ(rc, 0) << out;
+  const nlohmann::json rows = read_json(json);
+  ASSERT_EQ(rows.size(), 2u) << rows.dump();
+  EXPECT_FALSE(rows[0].contains("refused"));
+  EXPECT_TRUE(rows[0]["error_over_extent"].is_null()) << "--no-check";
+  EXPECT_GT(rows[0]["gpu_bytes"].get<double>(), 0.0);
+  EXPECT_GT(rows[0]["host_peak_bytes"].get<double>(), 0.0);
+  EXPECT_EQ(rows[1]["phyxels"].get<int64_t>(), 1000000000);
+  const std::string refused = rows[1]["refused"].get<std::string>();
+  EXPECT_NE(refused.find("not enough GPU memory"), std::string::npos) << refused;
+  EXPECT_NE(refused.find(ctx().info().name), std::string::npos) << refused;
+  EXPECT_NE(out.find("memory: "), std::string::npos) << out;
+}
+
+// The largest binding, not the memory, is what a device may run out of first: the neighbour
+// index (4 bytes per pair) past maxStorageBufferRange is refused naming the buffer.
+TEST_F(GpuSolverTest, CapacityNamesTheBufferPastTheLargestBinding) {
+  const uint64_t range = ctx().info().max_storage_buffer_range;
+  const uint64_t pairs = range / 4 + 1;
+  const uint64_t phyxels = pairs / 64 + 1;
+  if (GpuSolver::required_device_bytes(phyxels, pairs) > ctx().available_device_memory())
+    GTEST_SKIP() << "this device's memory runs out before its binding range";
+  try {
+    GpuSolver::check_capacity(ctx(), phyxels, pairs);
+    ADD_FAILURE() << "a neighbour index of " << pairs * 4 << " bytes was accepted";
+  } catch (const VulkanError& e) {
+    EXPECT_NE(std::string(e.what()).find("neighbour index"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(GpuSolver::check_capacity(ctx(), 1000, 26000));
+  EXPECT_THROW(GpuSolver::check_capacity(ctx(), uint64_t{1} << 31, 0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace phyxel::gpu::test
