@@ -215,7 +215,9 @@ class GpuSolver final : public Solver {
  private:
   void build(const PhyxelSet& set, const Vec3& gravity);
   void build_neighbours(const std::vector<layout::vec4>& rest_lo);
-  void count_flags();
+  void count_flags();                       // downloads the flags
+  void count_flags(const uint32_t* flags);  // of count_ flags read back already
+  void read_flags_and_weights(std::vector<uint32_t>& flags, std::vector<float>& weights);
   void build_pass_lists();  // host lists from flags, awake objects and CSR; uploads them
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
@@ -285,6 +287,8 @@ class GpuSolver final : public Solver {
   Buffer von_mises_;
   Buffer check_;
   Buffer list_;  // the precompute pass's phyxel list (remove_phyxels)
+  // Persistent host-visible buffers of topology edits (gpu_solver_edit.cpp), on first use.
+  Buffer edit_upload_, edit_readback_;
 
   // Pass selection (gpu_solver_passes.cpp). Invariant between calls: every phyxel outside the
   // force list has the same u in both displacement buffers (compute_forces copies [0] to [1]),
@@ -327,6 +331,7 @@ class GpuSolver final : public Solver {
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
+  Buffer state_readback_;     // Readback for read_state (gpu_solver_queries.cpp), on first use
   Buffer motion_upload_;
 
   // Graspers (gpu_solver_grasp.cpp); allocated by set_tools only when a tool grasps.

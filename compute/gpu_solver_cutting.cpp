@@ -160,8 +160,9 @@ std::vector<uint8_t> GpuSolver::pair_alive() {
 void GpuSolver::sever_pairs(const std::vector<SeveredPair>& pairs) {
   if (pairs.empty()) return;
   if (alive_.empty()) alive_.assign(pairs_, 1);
-  std::vector<uint32_t> flags = download<uint32_t>(*ctx_, flags_, count_);
-  std::vector<float> weights = download<float>(*ctx_, weight_, pairs_);
+  std::vector<uint32_t> flags;
+  std::vector<float> weights;
+  read_flags_and_weights(flags, weights);
   const NeighbourLists& nbr = neighbours_;
   std::vector<uint32_t> touched;
   std::vector<SeveredPair> fresh;

@@ -96,11 +96,15 @@ void GpuSolver::build_neighbours(const std::vector<vec4>& rest_lo_host) {
 
 void GpuSolver::count_flags() {
   const std::vector<uint32_t> flags = download<uint32_t>(*ctx_, flags_, count_);
+  count_flags(flags.data());
+}
+
+void GpuSolver::count_flags(const uint32_t* flags) {
   regularised_ = 0;
   edited_ = 0;
-  for (uint32_t f : flags) {
-    if (f & kFlagRegularised) ++regularised_;
-    if (f & kFlagPairsEdited) ++edited_;
+  for (uint32_t i = 0; i < count_; ++i) {
+    if (flags[i] & kFlagRegularised) ++regularised_;
+    if (flags[i] & kFlagPairsEdited) ++edited_;
   }
 }
 
