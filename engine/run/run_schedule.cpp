@@ -1,0 +1,36 @@
+#include "engine/run/run_schedule.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace phyxel {
+
+std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, int64_t total) {
+  std::vector<int64_t> steps;
+  for (const LoadSpread& load : set.loads)
+    for (const double t : {load.from, load.until}) {
+      if (!(t > 0) || !std::isfinite(t)) continue;
+      const auto k = static_cast<int64_t>(std::ceil(t / step_time - 1e-9));
+      if (k > 0 && k < total) steps.push_back(k);
+    }
+  std::sort(steps.begin(), steps.end());
+  steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+  return steps;
+}
+
+bool has_grasper(const Scene& scene) {
+  return std::any_of(scene.tools.begin(), scene.tools.end(),
+                     [](const ToolDesc& t) { return t.grasp.grasps(); });
+}
+
+int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping) {
+  if (options.check_every > 0) return options.check_every;
+  int64_t check = 100;
+  const UntilRest& rest = scene.simulation.until_rest;
+  if (rest.enabled) check = std::min(check, std::clamp<int64_t>(rest.for_steps / 10, 1, 100));
+  if (sleeping)
+    check = std::min(check, std::clamp<int64_t>(scene.simulation.sleep.for_steps / 10, 1, 100));
+  return check;
+}
+
+}  // namespace phyxel
