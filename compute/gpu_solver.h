@@ -187,6 +187,12 @@ class GpuSolver final : public Solver {
   // removed pairs stay in it with weight 0.
   bool supports_removal() const override { return true; }
   void remove_phyxels(const std::vector<uint32_t>& ids) override;
+  // The last chunk of each advance also copies u and the principal stress into the state's
+  // read-back buffer, so read_advanced_state needs no submission of its own until something
+  // changes the state between advances (an edit, set_state: then it reads).
+  void set_advance_readback(bool on) override;
+  void read_advanced_state(std::vector<Vec3>& displacement,
+                           std::vector<double>& principal) override;
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
   // median time per pass name ("kick_drift" once, then "stress", "principal" while on, and
@@ -289,6 +295,7 @@ class GpuSolver final : public Solver {
   Buffer list_;  // the precompute pass's phyxel list (remove_phyxels)
   // Persistent host-visible buffers of topology edits (gpu_solver_edit.cpp), on first use.
   Buffer edit_upload_, edit_readback_;
+  Buffer list_upload_;  // the pass lists' upload (build_pass_lists), on first use
 
   // Pass selection (gpu_solver_passes.cpp). Invariant between calls: every phyxel outside the
   // force list has the same u in both displacement buffers (compute_forces copies [0] to [1]),
@@ -323,15 +330,22 @@ class GpuSolver final : public Solver {
   bool contact_active_ = false;             // contact passes recorded in this advance
   uint32_t candidate_capacity_ = 0;         // elements of the candidate buffers
   Buffer tool_shapes_;                      // ContactToolShape per tool
-  Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
-  Buffer candidate_list_;     // uint[capacity]: the broad phase's phyxels, ascending
-  Buffer contact_count_;      // Readback, indirect: ContactCount of the broad phase
-  Buffer broad_groups_;       // uint per broad-phase workgroup: hits, then offsets
-  Buffer candidate_force_;    // vec4[tools][capacity]: m dv / dt and 1 per contact
-  Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
-  Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
-  Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
-  Buffer state_readback_;     // Readback for read_state (gpu_solver_queries.cpp), on first use
+  Buffer motion_table_;            // ContactMotion [substep][tool]; motion_upload_ stages it
+  Buffer candidate_list_;          // uint[capacity]: the broad phase's phyxels, ascending
+  Buffer contact_count_;           // Readback, indirect: ContactCount of the broad phase
+  Buffer broad_groups_;            // uint per broad-phase workgroup: hits, then offsets
+  Buffer candidate_force_;         // vec4[tools][capacity]: m dv / dt and 1 per contact
+  Buffer contact_flag_;            // uint per phyxel: 1 where a tool touched it in the last substep
+  Buffer samples_buffer_;          // Readback: vec4 [substep][tool] (force on the tool, count)
+  Buffer max_norm_readback_;       // Readback: (max |u|, max |v|, 0, 0)
+  Buffer state_readback_;          // Readback for read_state (gpu_solver_queries.cpp), on first use
+  bool advance_readback_ = false;  // set_advance_readback
+  bool advanced_state_ = false;    // state_readback_ holds u and the principal stress of now
+  uint64_t state_version_ = 0;     // counts the host's changes of the state (compute_forces)
+  struct StateLayout;
+  void ensure_state_readback();
+  // Records the copies of u (from disp_[0]) and the principal stress into state_readback_.
+  void record_state_copies(Recorder& rec, bool velocity, bool von_mises, bool contact);
   Buffer motion_upload_;
 
   // Graspers (gpu_solver_grasp.cpp); allocated by set_tools only when a tool grasps.

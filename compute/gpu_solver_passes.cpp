@@ -8,6 +8,7 @@
 // over the list's length. The queries (energies, check, von Mises) still visit every phyxel.
 // The principal stress pass (tearing) is optional too: recorded only while it is on.
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -38,8 +39,21 @@ void GpuSolver::build_pass_lists() {
   }
   for (size_t i = 0; i < n; ++i)
     if (stress[i]) stress_list.push_back(static_cast<uint32_t>(i));
-  if (!stress_list.empty()) upload(*ctx_, stress_list_, stress_list);
-  if (!force_list.empty()) upload(*ctx_, force_list_, force_list);
+  // Both lists in one submission through a persistent upload buffer (removals rebuild them
+  // dozens of times a run).
+  const VkDeviceSize stress_bytes = stress_list.size() * 4, force_bytes = force_list.size() * 4;
+  if (stress_bytes + force_bytes > 0) {
+    if (list_upload_.size() < stress_bytes + force_bytes)
+      list_upload_ =
+          Buffer(*ctx_, VkDeviceSize{count_} * 8, MemoryIntent::Upload, "pass list upload");
+    auto* up = static_cast<char*>(list_upload_.mapped());
+    std::memcpy(up, stress_list.data(), stress_bytes);
+    std::memcpy(up + stress_bytes, force_list.data(), force_bytes);
+    Recorder rec(*ctx_, "pass lists");
+    if (stress_bytes > 0) rec.copy(list_upload_, stress_list_, stress_bytes, 0, 0);
+    if (force_bytes > 0) rec.copy(list_upload_, force_list_, force_bytes, stress_bytes, 0);
+    rec.submit_and_wait();
+  }
   stress_count_ = stress_list.size();
   force_count_ = force_list.size();
 }

@@ -69,19 +69,70 @@ long GpuSolver::first_non_finite() {
   return first == 0xffffffffu ? -1 : static_cast<long>(first);
 }
 
+// Where read_state's fields lie in state_readback_: u and v (vec4), then von Mises, the
+// principal stress and the contact flags (4 bytes each).
+struct GpuSolver::StateLayout {
+  VkDeviceSize vec_bytes, word_bytes, von_mises, principal, contact, total;
+  explicit StateLayout(uint32_t n)
+      : vec_bytes(VkDeviceSize{n} * sizeof(vec4)),
+        word_bytes(VkDeviceSize{n} * sizeof(uint32_t)),
+        von_mises(2 * vec_bytes),
+        principal(von_mises + word_bytes),
+        contact(principal + word_bytes),
+        total(contact + word_bytes) {}
+};
+
+void GpuSolver::ensure_state_readback() {
+  if (!state_readback_)
+    state_readback_ =
+        Buffer(*ctx_, StateLayout(count_).total, MemoryIntent::Readback, "state read-back");
+}
+
+void GpuSolver::record_state_copies(Recorder& rec, bool velocity, bool von_mises, bool contact) {
+  const StateLayout at(count_);
+  rec.copy(disp_[0], state_readback_, at.vec_bytes, 0, 0);
+  if (velocity) rec.copy(vel_, state_readback_, at.vec_bytes, 0, at.vec_bytes);
+  if (von_mises) rec.copy(von_mises_, state_readback_, at.word_bytes, 0, at.von_mises);
+  // Computed by the last substep's principal pass, while on.
+  if (principal_) rec.copy(principal_stress_, state_readback_, at.word_bytes, 0, at.principal);
+  if (contact && contact_flag_)
+    rec.copy(contact_flag_, state_readback_, at.word_bytes, 0, at.contact);
+}
+
+void GpuSolver::set_advance_readback(bool on) {
+  advance_readback_ = on;
+  if (!on) advanced_state_ = false;
+}
+
+void GpuSolver::read_advanced_state(std::vector<Vec3>& displacement,
+                                    std::vector<double>& principal) {
+  if (!advanced_state_) {  // something changed the state since the last advance: read it
+    PointState s = read_state(true);
+    displacement = std::move(s.displacement);
+    principal = std::move(s.max_principal_stress);
+    return;
+  }
+  const StateLayout at(count_);
+  state_readback_.invalidate();
+  const char* base = static_cast<const char*>(state_readback_.mapped());
+  const auto* u = reinterpret_cast<const vec4*>(base);
+  displacement.resize(count_);
+  for (size_t i = 0; i < count_; ++i) displacement[i] = Vec3(u[i].x, u[i].y, u[i].z);
+  principal.clear();
+  if (principal_) {
+    const auto* sigma = reinterpret_cast<const float*>(base + at.principal);
+    principal.assign(sigma, sigma + count_);
+  }
+}
+
 PointState GpuSolver::read_state(bool with_stress) {
   // One submission: the von Mises pass (with stress), then copies of every field into one
   // persistent read-back buffer: u and v (vec4), von Mises, principal stress, contact flags
   // (4 bytes each). (Aspiration reads the state after every advance: five downloads, each
   // with its own staging buffer and submission, took 18 ms per read on the H100 at 20k
   // phyxels.)
-  const VkDeviceSize vec_bytes = VkDeviceSize{count_} * sizeof(vec4);
-  const VkDeviceSize word_bytes = VkDeviceSize{count_} * sizeof(uint32_t);
-  const VkDeviceSize at_vm = 2 * vec_bytes, at_principal = at_vm + word_bytes,
-                     at_contact = at_principal + word_bytes;
-  if (!state_readback_)
-    state_readback_ =
-        Buffer(*ctx_, at_contact + word_bytes, MemoryIntent::Readback, "state read-back");
+  const StateLayout at(count_);
+  ensure_state_readback();
   Recorder& rec = *rec_[0];
   if (with_stress) {
     dispatch(rec, kernels_->von_mises, push(count_, 0.0f),
@@ -90,15 +141,11 @@ PointState GpuSolver::read_state(bool with_stress) {
              count_);
   }
   rec.barrier();
-  rec.copy(disp_[0], state_readback_, vec_bytes, 0, 0);
-  rec.copy(vel_, state_readback_, vec_bytes, 0, vec_bytes);
-  if (with_stress) {
-    rec.copy(von_mises_, state_readback_, word_bytes, 0, at_vm);
-    // Computed by the last substep's principal pass, while on.
-    if (principal_) rec.copy(principal_stress_, state_readback_, word_bytes, 0, at_principal);
-  }
-  if (contact_flag_) rec.copy(contact_flag_, state_readback_, word_bytes, 0, at_contact);
+  record_state_copies(rec, true, with_stress, true);
   rec.submit_and_wait();
+  advanced_state_ = with_stress;  // u and the principal stress of now, as an advance leaves them
+  const VkDeviceSize vec_bytes = at.vec_bytes, at_vm = at.von_mises, at_principal = at.principal,
+                     at_contact = at.contact;
   state_readback_.invalidate();
   const char* base = static_cast<const char*>(state_readback_.mapped());
   const auto* u = reinterpret_cast<const vec4*>(base);

@@ -96,6 +96,18 @@ class Solver {
   virtual void remove_phyxels(const std::vector<uint32_t>& ids) {
     if (!ids.empty()) throw std::logic_error(device() + " cannot remove phyxels");
   }
+  // What aspiration reads after every advance: u and the largest principal stress (empty
+  // while off), as read_state(true) gives them. With set_advance_readback(true) a solver may
+  // copy them at the end of each advance, in the advance's own submission (the GPU solver),
+  // and hand that copy out here as long as nothing changed the state since; otherwise, and by
+  // default, this reads the state.
+  virtual void set_advance_readback(bool on) { (void)on; }
+  virtual void read_advanced_state(std::vector<Vec3>& displacement,
+                                   std::vector<double>& principal) {
+    PointState s = read_state(true);
+    displacement = std::move(s.displacement);
+    principal = std::move(s.max_principal_stress);
+  }
   // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
   // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
   // pairs ascending by (i, j), appended in order): severed_pairs() is its length and

@@ -116,11 +116,12 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     const Suction& s = scene_->tools[k].suction;
     const bool haptic = scene_->tools[k].control == ToolDesc::Control::Haptic;
     if (!s.sucks() || !(haptic || s.on_at(t))) continue;
-    if (x.empty()) {  // one read of the state for every tool
-      const PointState state = solver.read_state(true);
+    if (x.empty()) {                      // one read of the state for every tool
+      solver.set_advance_readback(true);  // from the next advance on, if the solver can
+      std::vector<Vec3> u;
+      solver.read_advanced_state(u, principal);
       x.resize(set_->size());
-      for (size_t i = 0; i < x.size(); ++i) x[i] = set_->rest[i] + state.displacement[i];
-      principal = state.max_principal_stress;
+      for (size_t i = 0; i < x.size(); ++i) x[i] = set_->rest[i] + u[i];
       if (principal.size() != x.size())
         throw std::logic_error(solver.device() + " gave no principal stresses for aspiration");
     }
