@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "app/bench_extras.h"
@@ -82,7 +83,7 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
     render::Orbit orbit(writer.camera());
     times.clear();
     for (int64_t f = 0; f < frames; ++f) {
-      orbit.yaw += 0.5 * 3.14159265358979 / 180;
+      orbit.yaw += 0.5 * std::numbers::pi / 180;
       writer.set_setup(render::make_frame_setup(
           orbit.camera(writer.camera()), scene.render,
           mono ? RenderSettings::Mode::Mono : RenderSettings::Mode::Stereo));

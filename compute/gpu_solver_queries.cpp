@@ -20,10 +20,13 @@ using namespace layout;
 
 namespace {
 
-std::vector<Vec3> to_vec3(const std::vector<vec4>& x) {
-  std::vector<Vec3> out(x.size());
-  for (size_t i = 0; i < x.size(); ++i) out[i] = Vec3(x[i].x, x[i].y, x[i].z);
+std::vector<Vec3> to_vec3(const vec4* x, size_t n) {
+  std::vector<Vec3> out(n);
+  for (size_t i = 0; i < n; ++i) out[i] = Vec3(x[i].x, x[i].y, x[i].z);
   return out;
+}
+std::vector<Vec3> to_vec3(const std::vector<vec4>& x) {
+  return to_vec3(x.data(), x.size());
 }
 
 }  // namespace
@@ -115,9 +118,7 @@ void GpuSolver::read_advanced_state(std::vector<Vec3>& displacement,
   const StateLayout at(count_);
   state_readback_.invalidate();
   const char* base = static_cast<const char*>(state_readback_.mapped());
-  const auto* u = reinterpret_cast<const vec4*>(base);
-  displacement.resize(count_);
-  for (size_t i = 0; i < count_; ++i) displacement[i] = Vec3(u[i].x, u[i].y, u[i].z);
+  displacement = to_vec3(reinterpret_cast<const vec4*>(base), count_);
   principal.clear();
   if (principal_) {
     const auto* sigma = reinterpret_cast<const float*>(base + at.principal);
@@ -143,31 +144,23 @@ PointState GpuSolver::read_state(bool with_stress) {
   rec.barrier();
   record_state_copies(rec, true, with_stress, true);
   rec.submit_and_wait();
-  advanced_state_ = with_stress;  // u and the principal stress of now, as an advance leaves them
-  const VkDeviceSize vec_bytes = at.vec_bytes, at_vm = at.von_mises, at_principal = at.principal,
-                     at_contact = at.contact;
+  advanced_state_ = true;  // the buffer holds u and the principal stress of now
   state_readback_.invalidate();
   const char* base = static_cast<const char*>(state_readback_.mapped());
-  const auto* u = reinterpret_cast<const vec4*>(base);
-  const auto* v = reinterpret_cast<const vec4*>(base + vec_bytes);
   PointState s;
-  s.displacement.resize(count_);
-  s.velocity.resize(count_);
-  for (size_t i = 0; i < count_; ++i) {
-    s.displacement[i] = Vec3(u[i].x, u[i].y, u[i].z);
-    s.velocity[i] = Vec3(v[i].x, v[i].y, v[i].z);
-  }
+  s.displacement = to_vec3(reinterpret_cast<const vec4*>(base), count_);
+  s.velocity = to_vec3(reinterpret_cast<const vec4*>(base + at.vec_bytes), count_);
   if (with_stress) {
-    const auto* vm = reinterpret_cast<const float*>(base + at_vm);
+    const auto* vm = reinterpret_cast<const float*>(base + at.von_mises);
     s.von_mises.assign(vm, vm + count_);
     if (principal_) {
-      const auto* sigma = reinterpret_cast<const float*>(base + at_principal);
+      const auto* sigma = reinterpret_cast<const float*>(base + at.principal);
       s.max_principal_stress.assign(sigma, sigma + count_);
     }
   }
   s.contact.assign(count_, 0);  // as the CPU's: 1 where a tool touched the phyxel
   if (contact_flag_) {
-    const auto* flags = reinterpret_cast<const uint32_t*>(base + at_contact);
+    const auto* flags = reinterpret_cast<const uint32_t*>(base + at.contact);
     for (size_t i = 0; i < count_; ++i) s.contact[i] = flags[i] != 0 ? 1 : 0;
   }
   return s;
