@@ -42,6 +42,9 @@ constexpr const char* kBenchHelp =
     "                        phyxels)\n"
     "  --pair-weights W      GPU pair weights: auto (default: recomputed from x0 unless a pair\n"
     "                        was cut), stored (always read), or both\n"
+    "  --lanes LIST          GPU invocations per phyxel in the gathering passes: auto (default:\n"
+    "                        per pass and size, 1 on a CPU device), 1, 2, 4, 8 or 16; a list\n"
+    "                        times each; the lanes column reads stress/force\n"
     "  --steps N             steps per timed repeat (default: about 0.5 s of work)\n"
     "  --repeats N           timed repeats, the median is reported (default 5)\n"
     "  --json FILE           also write the rows as JSON\n"
@@ -128,11 +131,31 @@ uint64_t host_peak_bytes() {
   return uint64_t(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
+// --lanes: a comma-separated list of auto (0), 1, 2, 4, 8 and 16.
+std::vector<uint32_t> parse_lanes(const std::string& text) {
+  std::vector<uint32_t> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    if (item == "auto") {
+      out.push_back(0);
+    } else if (item == "1" || item == "2" || item == "4" || item == "8" || item == "16") {
+      out.push_back(static_cast<uint32_t>(std::stoul(item)));
+    } else {
+      throw UsageError("phyxel bench: --lanes " + text + ": '" + item +
+                       "' is not auto, 1, 2, 4, 8 or 16");
+    }
+    start = comma + 1;
+  }
+  return out;
+}
+
 // The GPU rows: one Vulkan context for every size, its streaming bandwidth measured once.
 void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
-                    const std::string& pair_weights, int64_t steps, int64_t repeats,
-                    int64_t check_steps, const std::map<int64_t, double>& cpu_rate,
-                    nlohmann::json& rows) {
+                    const std::string& pair_weights, const std::vector<uint32_t>& lanes_list,
+                    int64_t steps, int64_t repeats, int64_t check_steps,
+                    const std::map<int64_t, double>& cpu_rate, nlohmann::json& rows) {
   gpu::ContextOptions context;
   context.device = spec;
   context.validation = false;
@@ -143,9 +166,15 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
       "vkCmdCopyBuffer %.1f GB/s)\n",
       ctx.info().name.c_str(), bandwidth.gb_per_s, gpu::format_bytes(bandwidth.bytes).c_str(),
       bandwidth.dma_gb_per_s);
-  std::printf("%9s %10s %8s %11s %14s %9s %10s %9s %9s %10s %s\n", "phyxels", "weights", "nbr/phx",
-              "s/step", "phyxel-steps/s", "B/phyxel", "B/phx-step", "roofline", "vs cpu",
-              "err/extent", "passes (us)");
+  const gpu::LaunchFloor floor = gpu::measure_launch_floor(ctx);
+  std::printf(
+      "launch floor: %.2f us per dependent dispatch of %u invocations (%.2f us with a "
+      "compute-only barrier, %.2f us with none; %d dispatches in one command buffer)\n",
+      floor.barrier_us, floor.invocations, floor.compute_barrier_us, floor.no_barrier_us,
+      floor.dispatches);
+  std::printf("%9s %10s %5s %8s %11s %14s %9s %10s %9s %9s %10s %s\n", "phyxels", "weights",
+              "lanes", "nbr/phx", "s/step", "phyxel-steps/s", "B/phyxel", "B/phx-step", "roofline",
+              "vs cpu", "err/extent", "passes (us)");
   for (const int64_t size : sizes) {
     // A size the device cannot hold is refused before the box is sampled on the host (the
     // bench box's lattice has 26 neighbours within its support of two spacings).
@@ -164,58 +193,68 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
     const double dt = plan_time_step(scene, set).dt_stable;
     for (const bool stored : {false, true}) {
       if (pair_weights != "both" && stored != (pair_weights == "stored")) continue;
-      gpu::GpuBenchOptions options;
-      options.steps = steps;
-      options.repeats = repeats;
-      options.check_steps = check_steps;
-      options.pair_weights = stored ? gpu::GpuSolverOptions::PairWeights::Stored
-                                    : gpu::GpuSolverOptions::PairWeights::Auto;
-      const gpu::GpuBenchResult r = gpu::bench_gpu_solver(ctx, set, scene.simulation.gravity, dt,
-                                                          bandwidth.gb_per_s, options);
-      const auto cpu = cpu_rate.find(size);
-      const double speedup = cpu != cpu_rate.end() ? r.phyxel_steps_per_second / cpu->second : 0;
-      std::string passes;
-      nlohmann::json pass_json = nlohmann::json::object();
-      for (const gpu::PassTime& p : r.passes) {
-        char text[64];
-        std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ", p.name.c_str(),
-                      p.ns / 1000);
-        passes += text;
-        pass_json[p.name] = p.ns;
+      for (const uint32_t lanes : lanes_list) {
+        gpu::GpuBenchOptions options;
+        options.lanes = lanes;
+        options.steps = steps;
+        options.repeats = repeats;
+        options.check_steps = check_steps;
+        options.pair_weights = stored ? gpu::GpuSolverOptions::PairWeights::Stored
+                                      : gpu::GpuSolverOptions::PairWeights::Auto;
+        const gpu::GpuBenchResult r = gpu::bench_gpu_solver(ctx, set, scene.simulation.gravity, dt,
+                                                            bandwidth.gb_per_s, options);
+        const auto cpu = cpu_rate.find(size);
+        const double speedup = cpu != cpu_rate.end() ? r.phyxel_steps_per_second / cpu->second : 0;
+        std::string passes;
+        nlohmann::json pass_json = nlohmann::json::object();
+        for (const gpu::PassTime& p : r.passes) {
+          char text[64];
+          std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ", p.name.c_str(),
+                        p.ns / 1000);
+          passes += text;
+          pass_json[p.name] = p.ns;
+        }
+        std::printf("%9zu %10s %5s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
+                    r.phyxels, r.pair_weights.c_str(), r.lanes.c_str(), r.neighbours_per_phyxel,
+                    r.median_seconds_per_step, r.phyxel_steps_per_second, r.gpu_bytes_per_phyxel,
+                    r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup,
+                    r.error_over_extent, passes.c_str());
+        rows.push_back({{"device", r.device},
+                        {"backend", "gpu"},
+                        {"pair_weights", r.pair_weights},
+                        {"lanes", r.lanes},
+                        {"lanes_option", lanes == 0 ? std::string("auto") : std::to_string(lanes)},
+                        {"phyxels", r.phyxels},
+                        {"neighbours_per_phyxel", r.neighbours_per_phyxel},
+                        {"median_seconds_per_step", r.median_seconds_per_step},
+                        {"phyxel_steps_per_second", r.phyxel_steps_per_second},
+                        {"steps_per_repeat", r.steps_per_repeat},
+                        {"seconds_per_step_of_each_repeat", r.seconds_per_step},
+                        {"repeats", r.repeats},
+                        {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
+                        {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
+                        {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
+                        {"dma_copy_bandwidth_gb_per_s", bandwidth.dma_gb_per_s},
+                        {"launch_floor_us",
+                         {{"barrier", floor.barrier_us},
+                          {"compute_barrier", floor.compute_barrier_us},
+                          {"no_barrier", floor.no_barrier_us}}},
+                        {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
+                        {"roofline_fraction", r.roofline_fraction},
+                        {"pass_ns", pass_json},
+                        {"speedup_vs_cpu", speedup},
+                        {"check_steps", r.check_steps},
+                        {"error_over_extent", r.error_over_extent},
+                        {"error_over_max_displacement", r.error_over_max_displacement},
+                        {"max_displacement", r.max_displacement},
+                        {"finite", r.finite},
+                        {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
+                        {"host_peak_bytes", host_peak_bytes()}});
+        std::printf("%9s memory: %s on the device, host peak %s\n", "",
+                    gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
+                    gpu::format_bytes(host_peak_bytes()).c_str());
+        std::fflush(stdout);
       }
-      std::printf("%9zu %10s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
-                  r.phyxels, r.pair_weights.c_str(), r.neighbours_per_phyxel,
-                  r.median_seconds_per_step, r.phyxel_steps_per_second, r.gpu_bytes_per_phyxel,
-                  r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup, r.error_over_extent,
-                  passes.c_str());
-      rows.push_back({{"device", r.device},
-                      {"backend", "gpu"},
-                      {"pair_weights", r.pair_weights},
-                      {"phyxels", r.phyxels},
-                      {"neighbours_per_phyxel", r.neighbours_per_phyxel},
-                      {"median_seconds_per_step", r.median_seconds_per_step},
-                      {"phyxel_steps_per_second", r.phyxel_steps_per_second},
-                      {"steps_per_repeat", r.steps_per_repeat},
-                      {"repeats", r.repeats},
-                      {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
-                      {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
-                      {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
-                      {"dma_copy_bandwidth_gb_per_s", bandwidth.dma_gb_per_s},
-                      {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
-                      {"roofline_fraction", r.roofline_fraction},
-                      {"pass_ns", pass_json},
-                      {"speedup_vs_cpu", speedup},
-                      {"check_steps", r.check_steps},
-                      {"error_over_extent", r.error_over_extent},
-                      {"error_over_max_displacement", r.error_over_max_displacement},
-                      {"max_displacement", r.max_displacement},
-                      {"finite", r.finite},
-                      {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
-                      {"host_peak_bytes", host_peak_bytes()}});
-      std::printf("%9s memory: %s on the device, host peak %s\n", "",
-                  gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
-                  gpu::format_bytes(host_peak_bytes()).c_str());
-      std::fflush(stdout);
     }
   }
   std::printf(
@@ -266,6 +305,7 @@ int bench_command(const Args& args) {
   int64_t check_steps = opts.integer("--check-steps", 0, 0, 1 << 30);
   if (opts.flag("--no-check")) check_steps = -1;
   const std::string pair_weights = opts.value("--pair-weights", "auto");
+  const std::vector<uint32_t> lanes = parse_lanes(opts.value("--lanes", "auto"));
   opts.finish();
   if (pair_weights != "auto" && pair_weights != "stored" && pair_weights != "both")
     throw UsageError("phyxel bench: --pair-weights " + pair_weights +
@@ -317,8 +357,8 @@ int bench_command(const Args& args) {
     }
   }
   if (want_gpu)
-    bench_gpu_rows(device == "all" ? "gpu" : device, sizes, pair_weights, fixed_steps, repeats,
-                   check_steps, cpu_rate, rows);
+    bench_gpu_rows(device == "all" ? "gpu" : device, sizes, pair_weights, lanes, fixed_steps,
+                   repeats, check_steps, cpu_rate, rows);
   if (!json_file.empty()) {
     std::ofstream out(json_file);
     out << rows.dump(2) << "\n";

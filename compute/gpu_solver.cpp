@@ -4,6 +4,7 @@
 #include "compute/gpu_solver.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
@@ -77,6 +78,10 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   if (set.size() >= (size_t{1} << 31))
     throw std::invalid_argument("the GPU solver indexes phyxels with 31 bits");
   count_ = static_cast<uint32_t>(set.size());
+  const uint32_t lanes = options_.lanes;
+  if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0)
+    throw std::invalid_argument("GPU solver lanes must be 0 (auto), 1, 2, 4, 8 or 16, not " +
+                                std::to_string(lanes));
   // Everything this set needs, before the first allocation: one clear error with the bytes.
   check_capacity(*ctx_, count_, lattice_pair_bound(set));
 
@@ -164,27 +169,51 @@ SolverBuffers GpuSolver::buffers() const {
   return {&rest_, &disp_[0], &nbr_offset_, &nbr_index_, count_, &weight_};
 }
 
-StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode) const {
+StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode, uint32_t lanes) const {
   return {count, dt, mode,
           options_.pair_weights == GpuSolverOptions::PairWeights::Stored ? kWeightsStored
-                                                                         : kWeightsAuto};
+                                                                         : kWeightsAuto,
+          lanes};
+}
+
+// Auto, from the H100's per-pass timestamps at 5k-1M phyxels (docs/performance.md, "Small
+// scenes"): a pass of a few thousand phyxels is latency-bound (each thread walks ~25
+// neighbours one after another), so it gets lanes up to about 32k (stress) or 64k (force)
+// invocations; at 100k both are fastest with one lane (the set lives in L2); from 256k the
+// force pass, which gathers D_j (48 B) per pair from DRAM, is 1.6x faster with two.
+uint32_t GpuSolver::lanes_for(Gather pass, uint32_t count) const {
+  uint32_t lanes = options_.lanes;
+  if (lanes == 0) {
+    lanes = 1;
+    if (ctx_->info().type != VK_PHYSICAL_DEVICE_TYPE_CPU) {
+      const uint64_t target = pass == Gather::Stress ? 32768 : 65536;
+      const uint32_t most = pass == Gather::Stress ? 8 : kMaxLanes;
+      while (lanes < most && uint64_t{count} * lanes < target) lanes *= 2;
+      if (pass == Gather::Force && count >= 262144) lanes = 2;
+    }
+  }
+  // A dispatch counts its invocations in 32 bits.
+  while (lanes > 1 && uint64_t{count} * lanes > UINT32_MAX) lanes /= 2;
+  return lanes;
 }
 
 void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
-  dispatch(rec, kernels_->stress, push(n, 0.0f),
+  const StepPush pc = push(n, 0.0f, 0, lanes_for(Gather::Stress, n));
+  dispatch(rec, kernels_->stress, pc,
            {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, resid_, flags_, classes_,
             stress_, stress_list_},
-           n);
+           n * pc.lanes);
 }
 
 void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
                              const Buffer& out) {
   const uint32_t n = static_cast<uint32_t>(force_count_);
-  dispatch(rec, kernels_->force, push(n, dt, mode),
+  const StepPush pc = push(n, dt, mode, lanes_for(Gather::Force, n));
+  dispatch(rec, kernels_->force, pc,
            {nbr_offset_, nbr_index_, weight_, local_, in, out, stress_, vel_, force_, ext_, flags_,
             classes_, force_list_},
-           n);
+           n * pc.lanes);
 }
 
 // Steps [from, to) of an advance of `total` steps. u lives in disp_[cur]. The first step opens

@@ -66,6 +66,14 @@ struct GpuSolverOptions {
   // h^2 (1 - 1e-5) (see compute/shaders/solver_nbr.glsl). Float64 throws without the feature.
   enum class SupportTest { Auto, Float64, Float32 };
   SupportTest support_test = SupportTest::Auto;
+  // Invocations per phyxel in the gathering passes (stress, principal, force): 1, 2, 4, 8 or
+  // 16 for all of them, or 0 (auto, GpuSolver::lanes_for): 1 on a CPU device (lavapipe);
+  // on a GPU, for a small pass enough lanes that it has tens of thousands of invocations (a
+  // small scene's pass is otherwise one thread walking ~25 neighbours one after another on a
+  // mostly idle machine), and 2 for the force pass of a large one (more of its gathers in
+  // flight). The sums are added in a fixed order, so a rerun is bit-identical; lanes > 1
+  // changes the order of the neighbour sum, hence the last bits, against lanes = 1.
+  uint32_t lanes = 0;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -114,6 +122,9 @@ class GpuSolver final : public Solver {
   bool object_awake(uint32_t object) const { return awake_.at(object) != 0; }
   size_t stress_pass_size() const override { return stress_count_; }
   size_t force_pass_size() const override { return force_count_; }
+  // Invocations per phyxel of a gathering pass over `count` phyxels (GpuSolverOptions::lanes).
+  enum class Gather { Stress, Force };  // Stress: the stress and principal-stress passes
+  uint32_t lanes_for(Gather pass, uint32_t count) const;
   // Replaces the loads (per phyxel, N; gravity stays): ext = m g + load, uploaded, and the
   // forces recomputed for the current u.
   bool supports_load_changes() const override { return true; }
@@ -236,7 +247,7 @@ class GpuSolver final : public Solver {
   void record_dirty_precompute(Recorder& rec);
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
   // count: the phyxels the pass visits (its list's length, or all of them).
-  layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0) const;
+  layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0, uint32_t lanes = 1) const;
   // Contact (gpu_solver_contact.cpp). begin_contact: at the start of an advance of `substeps`,
   // the broad phase when new motions are pending; records the uploads into rec_[0] (not
   // submitted). record_contact: the contact and reduction passes after the drift of `step`.

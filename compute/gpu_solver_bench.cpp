@@ -23,9 +23,13 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
   r.pair_weights = stored ? "stored" : "auto";
   GpuSolverOptions solver_options;
   solver_options.pair_weights = options.pair_weights;
+  solver_options.lanes = options.lanes;
   {
     GpuSolver solver(ctx, set, gravity, solver_options);
     r.device = solver.device();
+    const auto n = static_cast<uint32_t>(set.size());
+    r.lanes = std::to_string(solver.lanes_for(GpuSolver::Gather::Stress, n)) + "/" +
+              std::to_string(solver.lanes_for(GpuSolver::Gather::Force, n));
     r.neighbours_per_phyxel = double(solver.pair_count()) / double(set.size());
     r.gpu_bytes_per_phyxel = double(ctx.allocated_bytes()) / double(set.size());
     r.bytes_per_phyxel_step = solver.bytes_per_phyxel_step();
@@ -44,6 +48,7 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
       solver.advance(r.steps_per_repeat, dt);
       per_step.push_back(seconds_since(t0) / double(r.steps_per_repeat));
     }
+    r.seconds_per_step = per_step;
     std::sort(per_step.begin(), per_step.end());
     r.median_seconds_per_step = per_step[per_step.size() / 2];
     r.phyxel_steps_per_second = double(set.size()) / r.median_seconds_per_step;

@@ -19,12 +19,15 @@ struct GpuBenchOptions {
                             // negative: no comparison (the error fields stay NaN)
   int cpu_threads = 0;      // of the CPU reference; 0: all cores
   GpuSolverOptions::PairWeights pair_weights = GpuSolverOptions::PairWeights::Auto;
+  uint32_t lanes = 0;  // GpuSolverOptions::lanes (0: auto)
 };
 
 struct GpuBenchResult {
   std::string device;
   std::string pair_weights;  // "auto" or "stored" (GpuSolverOptions::PairWeights)
   size_t phyxels = 0;
+  std::string lanes;  // invocations per phyxel of the stress and force passes, as run ("1/2")
+  std::vector<double> seconds_per_step;  // of each timed repeat, in order
   double neighbours_per_phyxel = 0;
   int64_t steps_per_repeat = 0;
   int64_t repeats = 0;

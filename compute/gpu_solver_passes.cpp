@@ -115,10 +115,12 @@ void GpuSolver::set_principal_stress(bool on) {
 void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   // Without tearing the tensor is not written: the principal buffer stands in for its binding.
-  dispatch(rec, kernels_->principal, push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u),
+  const StepPush pc =
+      push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u, lanes_for(Gather::Stress, n));
+  dispatch(rec, kernels_->principal, pc,
            {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, flags_, classes_,
             principal_stress_, stress_list_, tearing_ ? cauchy_ : principal_stress_},
-           n);
+           n * pc.lanes);
 }
 
 }  // namespace phyxel::gpu

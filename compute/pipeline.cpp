@@ -1,5 +1,6 @@
 #include "compute/pipeline.h"
 
+#include <array>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -192,29 +193,36 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
   const DeviceInfo& info = ctx.info();
   const std::array<uint32_t, 3> groups = group_counts(elements, wg[0], info.max_workgroup_count);
 
-  std::vector<VkDescriptorBufferInfo> infos;
-  infos.reserve(bindings.size());
+  // Up to 16 bindings on the stack: a step records two dispatches, and the host work of
+  // recording is what limits small scenes (no allocation per dispatch).
+  std::array<VkDescriptorBufferInfo, 16> infos{};
+  if (bindings.size() > infos.size())
+    throw std::logic_error("dispatch of '" + name + "': more than 16 bindings");
+  uint32_t count = 0;
   for (const BufferRef& b : bindings) {
-    const std::string which = "dispatch of '" + name + "': binding " +
-                              std::to_string(infos.size()) + " ('" + b.buffer->name() + "')";
-    if (!*b.buffer) throw std::logic_error(which + " is an empty buffer");
+    // The error's text is only built for an error.
+    const auto which = [&] {
+      return "dispatch of '" + name + "': binding " + std::to_string(count) + " ('" +
+             b.buffer->name() + "')";
+    };
+    if (!*b.buffer) throw std::logic_error(which() + " is an empty buffer");
     const VkDeviceSize size = b.buffer->size();
     const VkDeviceSize range =
         b.range == VK_WHOLE_SIZE ? (size > b.offset ? size - b.offset : 0) : b.range;
     if (b.offset > size || range > size - b.offset) {
-      throw std::logic_error(which + " runs past the end of the buffer");
+      throw std::logic_error(which() + " runs past the end of the buffer");
     }
     if (b.offset % info.min_storage_buffer_offset_alignment != 0) {
-      throw std::logic_error(which + ": offset " + std::to_string(b.offset) +
+      throw std::logic_error(which() + ": offset " + std::to_string(b.offset) +
                              " is not a multiple of minStorageBufferOffsetAlignment (" +
                              std::to_string(info.min_storage_buffer_offset_alignment) + ")");
     }
     if (range > info.max_storage_buffer_range) {
       throw std::logic_error(
-          which + ": " + std::to_string(range) + " bytes exceed maxStorageBufferRange (" +
+          which() + ": " + std::to_string(range) + " bytes exceed maxStorageBufferRange (" +
           std::to_string(info.max_storage_buffer_range) + "); bind it in pieces");
     }
-    infos.push_back({b.buffer->handle(), b.offset, b.range});
+    infos[count++] = {b.buffer->handle(), b.offset, b.range};
   }
   if (indirect != nullptr && (!*indirect || indirect_offset % 4 != 0 ||
                               indirect_offset + 3 * sizeof(uint32_t) > indirect->size()))
@@ -225,12 +233,12 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
   const DeviceFunctions& fn = ctx.fn();
   const VkCommandBuffer cmd = rec.cmd();
   fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
-  if (!infos.empty()) {
-    std::vector<VkWriteDescriptorSet> writes(infos.size());
+  if (count > 0) {
+    std::array<VkWriteDescriptorSet, 16> writes{};
     const VkDescriptorSet set = ctx.push_descriptors()
                                     ? VK_NULL_HANDLE
                                     : rec.allocate_descriptor_set(pipeline.set_layout());
-    for (uint32_t i = 0; i < writes.size(); ++i) {
+    for (uint32_t i = 0; i < count; ++i) {
       writes[i] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
       writes[i].dstSet = set;
       writes[i].dstBinding = i;
@@ -238,7 +246,7 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
       writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       writes[i].pBufferInfo = &infos[i];
     }
-    const uint32_t n = static_cast<uint32_t>(writes.size());
+    const uint32_t n = count;
     if (ctx.push_descriptors()) {
       fn.vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, n,
                                    writes.data());

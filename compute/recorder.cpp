@@ -67,6 +67,12 @@ void Recorder::barrier() {
               VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
+void Recorder::compute_barrier() {
+  barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 void Recorder::indirect_barrier() {
   barrier(kGpuStages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
           kGpuStages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,

@@ -36,6 +36,9 @@ class Recorder {
   void barrier();
   // barrier() that also makes compute-shader writes visible to indirect dispatch arguments.
   void indirect_barrier();
+  // Compute shader writes before compute shader reads and writes only: between two
+  // dispatches with no transfer command on either side.
+  void compute_barrier();
   void barrier(VkPipelineStageFlags src_stages, VkAccessFlags src_access,
                VkPipelineStageFlags dst_stages, VkAccessFlags dst_access);
 

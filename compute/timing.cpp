@@ -187,4 +187,51 @@ CopyBandwidth measure_copy_bandwidth(Context& ctx, uint64_t bytes, int repeats) 
   return result;
 }
 
+LaunchFloor measure_launch_floor(Context& ctx, uint32_t invocations, int dispatches, int repeats) {
+  if (invocations == 0 || dispatches < 1 || repeats < 1)
+    throw std::invalid_argument("measure_launch_floor: invocations, dispatches, repeats >= 1");
+  const uint64_t bytes = uint64_t{invocations} * 16;
+  Buffer src(ctx, bytes, MemoryIntent::Device, "launch probe source");
+  Buffer dst(ctx, bytes, MemoryIntent::Device, "launch probe destination");
+  const Pipeline kernel(ctx, PHYXEL_SHADER(stream_copy), 2, sizeof(layout::StreamCopyPush));
+  layout::StreamCopyPush push{};
+  push.count = invocations;
+  push.per_thread = 1;
+  push.threads = invocations;
+  {
+    Recorder rec(ctx, "launch probe warm-up");
+    rec.fill(src, 0u);
+    rec.barrier();
+    for (int i = 0; i < dispatches; ++i) {
+      dispatch(rec, kernel, push, {src, dst}, push.threads);
+      rec.barrier();
+    }
+    rec.submit_and_wait();
+  }
+  LaunchFloor result;
+  result.invocations = invocations;
+  result.dispatches = dispatches;
+  const auto per_dispatch_us = [&](int kind) {
+    const double seconds = median_seconds(
+        ctx, repeats,
+        [&](Recorder& rec) {
+          for (int i = 0; i < dispatches; ++i) {
+            // Alternate the direction, so that each dispatch reads what the last one wrote.
+            if (i % 2 == 0)
+              dispatch(rec, kernel, push, {src, dst}, push.threads);
+            else
+              dispatch(rec, kernel, push, {dst, src}, push.threads);
+            if (kind == 0) rec.barrier();
+            if (kind == 1) rec.compute_barrier();
+          }
+        },
+        result.timestamps);
+    return seconds / dispatches * 1e6;
+  };
+  result.barrier_us = per_dispatch_us(0);
+  result.compute_barrier_us = per_dispatch_us(1);
+  result.no_barrier_us = per_dispatch_us(2);
+  return result;
+}
+
 }  // namespace phyxel::gpu

@@ -71,4 +71,18 @@ uint64_t default_bandwidth_bytes(const Context& ctx);
 // std::invalid_argument for a size that is not a positive multiple of 16 within one binding.
 CopyBandwidth measure_copy_bandwidth(Context& ctx, uint64_t bytes = 0, int repeats = 9);
 
+// What a dependent dispatch costs when its work is negligible: the floor of a small scene's
+// step (two dispatches per step). The stream_copy kernel over `invocations` vec4s, recorded
+// `dispatches` times in one command buffer, median of `repeats`, per dispatch.
+struct LaunchFloor {
+  uint32_t invocations = 0;
+  int dispatches = 0;
+  double barrier_us = 0;          // Recorder::barrier() between dispatches (compute + transfer)
+  double compute_barrier_us = 0;  // Recorder::compute_barrier() (compute to compute only)
+  double no_barrier_us = 0;       // no barrier: the dispatches may overlap
+  bool timestamps = false;
+};
+LaunchFloor measure_launch_floor(Context& ctx, uint32_t invocations = 8192, int dispatches = 1000,
+                                 int repeats = 5);
+
 }  // namespace phyxel::gpu

@@ -187,8 +187,13 @@ struct StepPush {
   float dt;
   uint mode;     // solver_force: kForceOnly, kForceKick or kForceKickDrift
   uint weights;  // kWeightsStored or kWeightsAuto
+  // Invocations per phyxel of the gathering passes (stress, force, principal): a power of two
+  // up to kMaxLanes; each walks every lanes-th neighbour and lane 0 adds the partial sums in
+  // lane order. The dispatch has count * lanes invocations. Other passes ignore it.
+  uint lanes;
 };
-PHYXEL_ASSERT_SIZE(StepPush, 16);
+PHYXEL_ASSERT_SIZE(StepPush, 20);
+PHYXEL_CONST uint kMaxLanes = 16u;
 PHYXEL_CONST uint kForceOnly = 0u;       // f = ext + internal
 PHYXEL_CONST uint kForceKick = 1u;       // ... then the closing half kick of this step
 PHYXEL_CONST uint kForceKickDrift = 2u;  // ... then the next step's half kick and drift

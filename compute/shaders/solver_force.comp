@@ -1,4 +1,5 @@
-// Step pass 2, per phyxel k of the force pass list (a gather, no atomics):
+// Step pass 2, per phyxel k of the force pass list (a gather by p.lanes invocations, no
+// atomics):
 //   f_k = ext_k + sum_j w_kj [ (D_k + D_j) x_kj + (kappa_k + kappa_j) (u_j - u_k) ]
 // then, by mode: nothing more (kForceOnly); the closing half kick of this step (kForceKick);
 // or that kick, the next step's opening half kick and its drift into disp_out
@@ -29,26 +30,47 @@ mat3 stress_of(uint i) {
   return mat3(stress[3u * i].xyz, stress[3u * i + 1u].xyz, stress[3u * i + 2u].xyz);
 }
 
+// Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 (which starts from the
+// external force) then adds the lanes' sums in lane order, so reruns are bit-identical.
+shared vec3 partial_f[PHYXEL_WORKGROUP_SIZE];
+
 void main() {
-  const uint slot = PHYXEL_GLOBAL_INDEX;
-  if (slot >= p.count) return;
-  const uint k = pass_list[slot];
-  const uint fl = flags[k];
-  const SolverClass cls = classes[fl >> kFlagClassShift];
-  const vec4 lk = local_pos[k];
-  const vec3 uk = disp_in[k].xyz;
-  const mat3 dk = stress_of(k);
-  const vec4 e = ext[k];
-  const bool stored = stored_weights(p.weights, fl);
-  vec3 f = e.xyz;
-  const uint end = offset[k + 1u];
-  for (uint s = offset[k]; s < end; ++s) {
-    const uint j = nbr_index[s];
-    const vec4 lj = local_pos[j];
-    const vec3 x = lj.xyz - lk.xyz;
-    const float w = stored ? weight[s] : poly6_weight(dot(x, x), cls.kernel);
-    f += w * ((dk + stress_of(j)) * x + (lk.w + lj.w) * (disp_in[j].xyz - uk));
+  const uint lanes = p.lanes;
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  const uint slot = invocation / lanes;
+  const uint lane = invocation % lanes;
+  const bool in_pass = slot < p.count;
+  uint k = 0u, fl = 0u;
+  SolverClass cls;
+  vec3 uk = vec3(0.0);
+  vec4 e = vec4(0.0);
+  vec3 f = vec3(0.0);
+  if (in_pass) {
+    k = pass_list[slot];
+    fl = flags[k];
+    cls = classes[fl >> kFlagClassShift];
+    const vec4 lk = local_pos[k];
+    uk = disp_in[k].xyz;
+    const mat3 dk = stress_of(k);
+    e = ext[k];
+    const bool stored = stored_weights(p.weights, fl);
+    if (lane == 0u) f = e.xyz;
+    const uint end = offset[k + 1u];
+    for (uint s = offset[k] + lane; s < end; s += lanes) {
+      const uint j = nbr_index[s];
+      const vec4 lj = local_pos[j];
+      const vec3 x = lj.xyz - lk.xyz;
+      const float w = stored ? weight[s] : poly6_weight(dot(x, x), cls.kernel);
+      f += w * ((dk + stress_of(j)) * x + (lk.w + lj.w) * (disp_in[j].xyz - uk));
+    }
   }
+  if (lanes > 1u) {  // uniform: every invocation of the workgroup reaches the barrier
+    partial_f[gl_LocalInvocationIndex] = f;
+    barrier();
+    if (lane != 0u || !in_pass) return;
+    for (uint q = 1u; q < lanes; ++q) f += partial_f[gl_LocalInvocationIndex + q];
+  }
+  if (!in_pass) return;
   force[k] = vec4(f, 0.0);
   if (p.mode == kForceOnly) return;
   if (!moves(fl)) {

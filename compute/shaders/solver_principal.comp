@@ -25,23 +25,40 @@ layout(std430, binding = kPrincipalBindingOut) writeonly buffer Out { float max_
 layout(std430, binding = kPrincipalBindingList) readonly buffer List { uint pass_list[]; };
 layout(std430, binding = kPrincipalBindingCauchy) writeonly buffer Cauchy { vec4 cauchy[]; };
 
+// Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 adds them in lane order.
+shared mat3 partial_m[PHYXEL_WORKGROUP_SIZE];
+
 void main() {
-  const uint slot = PHYXEL_GLOBAL_INDEX;
-  if (slot >= p.count) return;
-  const uint i = pass_list[slot];
-  const uint fl = flags[i];
-  const SolverClass cls = classes[fl >> kFlagClassShift];
-  const bool stored = stored_weights(p.weights, fl);
-  const vec4 li = local_pos[i];
-  const vec3 ui = disp[i].xyz;
+  const uint lanes = p.lanes;
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  const uint slot = invocation / lanes;
+  const uint lane = invocation % lanes;
+  const bool in_pass = slot < p.count;
+  uint i = 0u;
+  SolverClass cls;
   mat3 m = mat3(0.0);
-  const uint end = offset[i + 1u];
-  for (uint k = offset[i]; k < end; ++k) {
-    const uint j = nbr_index[k];
-    const vec3 x = local_pos[j].xyz - li.xyz;
-    const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
-    m += outerProduct(w * (disp[j].xyz - ui), x);
+  if (in_pass) {
+    i = pass_list[slot];
+    const uint fl = flags[i];
+    cls = classes[fl >> kFlagClassShift];
+    const bool stored = stored_weights(p.weights, fl);
+    const vec4 li = local_pos[i];
+    const vec3 ui = disp[i].xyz;
+    const uint end = offset[i + 1u];
+    for (uint k = offset[i] + lane; k < end; k += lanes) {
+      const uint j = nbr_index[k];
+      const vec3 x = local_pos[j].xyz - li.xyz;
+      const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
+      m += outerProduct(w * (disp[j].xyz - ui), x);
+    }
   }
+  if (lanes > 1u) {  // uniform: every invocation of the workgroup reaches the barrier
+    partial_m[gl_LocalInvocationIndex] = m;
+    barrier();
+    if (lane != 0u || !in_pass) return;
+    for (uint q = 1u; q < lanes; ++q) m += partial_m[gl_LocalInvocationIndex + q];
+  }
+  if (!in_pass) return;
   const mat3 g = m * unpack_sym(ainv[2u * i], ainv[2u * i + 1u]);
   const Strain s = strain_of(g);
   const mat3 sigma = cauchy_stress(s, first_piola(s, cls.elastic.xyz));

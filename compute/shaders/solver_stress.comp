@@ -1,4 +1,5 @@
-// Step pass 1, per phyxel i of the stress pass list (a gather over its neighbours):
+// Step pass 1, per phyxel i of the stress pass list (a gather over its neighbours, by p.lanes
+// invocations):
 //   M = sum_j w_ij (u_j - u_i) x_ij^T, G = M A^-1, F = I + G,
 //   D_i = v_i P(F) A^-1 - kappa_i G (+ kappa_i M R_i where A_i was regularised),
 // stored as three vec4 columns. See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
@@ -22,23 +23,42 @@ layout(std430, binding = kStressBindingClasses) readonly buffer Classes { Solver
 layout(std430, binding = kStressBindingStress) writeonly buffer Stress { vec4 stress[]; };
 layout(std430, binding = kStressBindingList) readonly buffer List { uint pass_list[]; };
 
+// Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 then adds the
+// lanes' sums in lane order (a fixed order: reruns are bit-identical).
+shared mat3 partial_m[PHYXEL_WORKGROUP_SIZE];
+
 void main() {
-  const uint slot = PHYXEL_GLOBAL_INDEX;
-  if (slot >= p.count) return;
-  const uint i = pass_list[slot];
-  const uint fl = flags[i];
-  const SolverClass cls = classes[fl >> kFlagClassShift];
-  const vec4 li = local_pos[i];
-  const vec3 ui = disp[i].xyz;
-  const bool stored = stored_weights(p.weights, fl);
+  const uint lanes = p.lanes;
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  const uint slot = invocation / lanes;
+  const uint lane = invocation % lanes;
+  const bool in_pass = slot < p.count;
+  uint i = 0u, fl = 0u;
+  SolverClass cls;
+  vec4 li = vec4(0.0);
   mat3 m = mat3(0.0);
-  const uint end = offset[i + 1u];
-  for (uint k = offset[i]; k < end; ++k) {
-    const uint j = nbr_index[k];
-    const vec3 x = local_pos[j].xyz - li.xyz;
-    const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
-    m += outerProduct(w * (disp[j].xyz - ui), x);
+  if (in_pass) {
+    i = pass_list[slot];
+    fl = flags[i];
+    cls = classes[fl >> kFlagClassShift];
+    li = local_pos[i];
+    const vec3 ui = disp[i].xyz;
+    const bool stored = stored_weights(p.weights, fl);
+    const uint end = offset[i + 1u];
+    for (uint k = offset[i] + lane; k < end; k += lanes) {
+      const uint j = nbr_index[k];
+      const vec3 x = local_pos[j].xyz - li.xyz;
+      const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
+      m += outerProduct(w * (disp[j].xyz - ui), x);
+    }
   }
+  if (lanes > 1u) {  // uniform: every invocation of the workgroup reaches the barrier
+    partial_m[gl_LocalInvocationIndex] = m;
+    barrier();
+    if (lane != 0u || !in_pass) return;
+    for (uint q = 1u; q < lanes; ++q) m += partial_m[gl_LocalInvocationIndex + q];
+  }
+  if (!in_pass) return;
   const vec4 a0 = ainv[2u * i];
   const vec4 a1 = ainv[2u * i + 1u];
   const mat3 a_inv = unpack_sym(a0, a1);

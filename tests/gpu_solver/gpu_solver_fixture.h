@@ -38,6 +38,20 @@ inline PhyxelSet lattice(int nx, int ny, int nz, const Material& m = tissue(),
   return sample_scene(lattice_scene(nx, ny, nz, m, h_factor), SamplingOptions{false});
 }
 
+// A box with a stiffer spherical inclusion (two materials), no fixed phyxels, under gravity.
+inline Scene two_material_scene() {
+  Scene scene = lattice_scene(9, 7, 6, tissue(2e5, 0.35, 5.0));
+  Inclusion inc;
+  inc.name = "stiff";
+  inc.shape.type = Shape::Type::Sphere;
+  inc.shape.center = scene.objects[0].shape.min + Vec3(0.01, 0.0075, 0.006);
+  inc.shape.radius = 0.005;
+  inc.material = tissue(1e6, 0.45, 0.0);
+  scene.objects[0].inclusions.push_back(inc);
+  scene.simulation.gravity = Vec3(0, 0, -9.81);
+  return scene;
+}
+
 inline double max_norm(const std::vector<Vec3>& x) {
   double m = 0;
   for (const Vec3& v : x) m = std::max(m, v.norm());

@@ -5,20 +5,6 @@
 namespace phyxel::gpu::test {
 namespace {
 
-// A box with a stiffer spherical inclusion (two materials), no fixed phyxels.
-Scene two_material_scene() {
-  Scene scene = lattice_scene(9, 7, 6, tissue(2e5, 0.35, 5.0));
-  Inclusion inc;
-  inc.name = "stiff";
-  inc.shape.type = Shape::Type::Sphere;
-  inc.shape.center = scene.objects[0].shape.min + Vec3(0.01, 0.0075, 0.006);
-  inc.shape.radius = 0.005;
-  inc.material = tissue(1e6, 0.45, 0.0);
-  scene.objects[0].inclusions.push_back(inc);
-  scene.simulation.gravity = Vec3(0, 0, -9.81);
-  return scene;
-}
-
 // A cantilever clamped at x = min under gravity, damped: it sags a few percent of its length.
 Scene cantilever_scene() {
   Scene scene = lattice_scene(16, 5, 5, tissue(1e5, 0.3, 20.0));
