@@ -202,6 +202,7 @@ void upload(Context& ctx, const Buffer& dst, const void* data, VkDeviceSize byte
   Buffer staging(ctx, bytes, MemoryIntent::Upload, "upload staging for " + dst.name());
   std::memcpy(staging.mapped(), data, bytes);
   Recorder rec(ctx, "upload");
+  rec.barrier();  // after the work submitted before on the queue (a frame still reading dst)
   rec.copy(staging, dst, bytes, 0, dst_offset);
   rec.submit_and_wait();
 }
@@ -217,6 +218,7 @@ void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes,
   }
   Buffer staging(ctx, bytes, MemoryIntent::Readback, "download staging for " + src.name());
   Recorder rec(ctx, "download");
+  rec.barrier();  // after the work submitted before on the queue (its writes of src)
   rec.copy(src, staging, bytes, src_offset, 0);
   rec.submit_and_wait();
   staging.invalidate();

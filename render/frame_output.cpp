@@ -88,31 +88,53 @@ FrameWriter::FrameWriter(const Scene& scene, const PhyxelSet& set,
                        "; allowed a file in an existing, writable folder");
     }
   }
-  if (options.write_files || video)
-    sink_ = std::make_unique<FrameSink>(options.out_dir, options.write_files, std::move(video));
+  // Always a sink: with --draw-only its thread still copies each frame out (and drops it), so
+  // that drawing costs the run what it costs with files.
+  sink_ = std::make_unique<FrameSink>(options.out_dir, options.write_files, std::move(video));
+  queue_ = std::make_unique<FrameQueue>(*ctx_, *renderer_, *sink_);
 }
 
-FrameWriter::~FrameWriter() = default;
+FrameWriter::~FrameWriter() {
+  // The frame in flight, then the sink's copies out of the renderer, before the renderer goes.
+  queue_.reset();
+  sink_.reset();
+}
 
 void FrameWriter::flush() {
-  if (sink_) sink_->flush();
+  queue_->drain();
+  sink_->flush();
 }
 
 void FrameWriter::finish() {
-  if (sink_) sink_->finish();
+  queue_->drain();
+  sink_->finish();
+}
+
+void FrameWriter::set_setup(const FrameSetup& setup) {
+  queue_->drain();
+  sink_->flush();  // the read-back slots are made again for another size
+  setup_ = setup;
+}
+
+SplatRenderer& FrameWriter::renderer() {
+  queue_->drain();
+  return *renderer_;
 }
 
 RgbaImage FrameWriter::render(const RenderInputs& inputs) {
+  queue_->drain();
   return renderer_->render(inputs, setup_);
 }
 
 void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
+  queue_->drain();
   tools.insert(tools.end(), instruments_.begin(), instruments_.end());
   renderer_->set_tools(std::move(tools));
 }
 
 bool FrameWriter::advance_video(double t, bool exact) {
   if (!video_) return false;
+  queue_->drain();
   const std::vector<RgbaImage>* levels = exact ? video_->frame_at(t) : video_->newest(t);
   if (levels == nullptr) return false;
   renderer_->set_texture(*levels);
@@ -121,23 +143,23 @@ bool FrameWriter::advance_video(double t, bool exact) {
 
 std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
   advance_video(double(step) * dt_, true);
-  RgbaImage image = render(inputs);
   const std::string name = frame_name(step);
-  if (!sink_) return name;
   const int64_t every = std::max<int64_t>(options_.video_every, 1);
-  sink_->push(name, std::move(image), (step + every / 2) / every);
+  queue_->submit(inputs, setup_, name, (step + every / 2) / every);
   if (options_.write_files) written_.push_back(name);
   return name;
 }
 
 std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displacement,
                                const NeighbourLists& neighbours) {
+  queue_->drain();  // the frame in flight reads the host inputs' displacement
   if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, neighbours);
   host_->set_displacement(displacement);
   return write(step, host_->inputs());
 }
 
 void FrameWriter::apply_aspiration(const AspirationEvent& event) {
+  queue_->drain();
   renderer_->hide_phyxels(event.removed);
   const FractureRegion region{event.centre, event.radius, event.axis};
   std::vector<layout::SurfelStatic> faces;
@@ -152,6 +174,7 @@ void FrameWriter::apply_aspiration(const AspirationEvent& event) {
 }
 
 bool FrameWriter::follow_cuts(Solver& solver, bool host_state) {
+  queue_->drain();
   const size_t severed = solver.severed_pairs();
   const bool changed = severed != cut_cursor_;
   if (changed) {

@@ -23,6 +23,7 @@
 #include "engine/solver/solver.h"
 #include "engine/surgery/aspiration.h"
 #include "engine/surgery/cut_faces.h"
+#include "render/frame_queue.h"
 #include "render/splat_renderer.h"
 #include "render/video_texture.h"
 #include "render/video_writer.h"
@@ -57,7 +58,9 @@ class FrameWriter {
 
   // Renders the state in `inputs` (a GPU solver's buffers) and hands it to the writer thread
   // (frame_NNNNNN.png, the video). Returns the file name (relative to out_dir). Rethrows a
-  // failure to write an earlier frame.
+  // failure to write an earlier frame. Submits without waiting (render/frame_queue.h): the
+  // frame is completed, and its pixels copied out on the writer thread, at the next call of
+  // any method here that changes what the renderer reads, or at flush() and finish().
   std::string write(int64_t step, const RenderInputs& inputs);
   // The same for a state on the host: uploads u into buffers of its own (made on first use
   // from `neighbours`, the solver's rest neighbour lists).
@@ -82,7 +85,7 @@ class FrameWriter {
   // carry its pair weights themselves. Returns whether anything was severed since last time.
   bool follow_cuts(Solver& solver, bool host_state);
   const CutFaces& cut_faces() const { return cuts_; }
-  SplatRenderer& renderer() { return *renderer_; }
+  SplatRenderer& renderer();  // completes the frame in flight first
   // An aspiration (engine/surgery/aspiration.h): the removed phyxels' surfels hidden, the
   // exposed ones drawn as torn fracture surface facing the mouth (rough, with the eq 27
   // falloff around the tool's axis; docs/suction.md).
@@ -90,7 +93,7 @@ class FrameWriter {
 
   gpu::Context& context() { return *ctx_; }
   const FrameSetup& setup() const { return setup_; }
-  void set_setup(const FrameSetup& setup) { setup_ = setup; }
+  void set_setup(const FrameSetup& setup);  // completes and copies out the frames in flight
   const Camera& camera() const { return camera_; }
   const std::vector<std::string>& written() const { return written_; }
   static std::string frame_name(int64_t step);
@@ -108,12 +111,13 @@ class FrameWriter {
   FrameWriterOptions options_;
   Camera camera_;
   FrameSetup setup_;
-  std::unique_ptr<VideoTexture> video_;  // render.video_texture, decoded on its own thread
-  double dt_ = 0;                        // simulation.dt: a frame's step to simulated time
+  std::unique_ptr<VideoTexture> video_;    // render.video_texture, decoded on its own thread
+  double dt_ = 0;                          // simulation.dt: a frame's step to simulated time
   std::vector<ToolDrawable> instruments_;  // render.instruments: drawn, never simulated
   std::unique_ptr<SplatRenderer> renderer_;
   std::unique_ptr<HostInputs> host_;
-  std::unique_ptr<FrameSink> sink_;  // PNG files and the video, on a thread of its own
+  std::unique_ptr<FrameSink> sink_;    // PNG files and the video, on a thread of its own
+  std::unique_ptr<FrameQueue> queue_;  // frames submitted without waiting (after sink_)
   std::vector<std::string> written_;
   CutFaces cuts_;
   size_t cut_cursor_ = 0;  // entries of the solver's severed log already in cuts_

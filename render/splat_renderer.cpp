@@ -1,6 +1,7 @@
 #include "render/splat_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -158,7 +159,8 @@ struct SplatRenderer::Impl {
   // Size-dependent targets: per pixel of each eye (eye e from e x eye_stride) the visible
   // depth and the accumulated attributes; the frame in its layout; its host copy.
   uint32_t eye_width = 0, eye_height = 0, eyes = 0, eye_stride = 0;
-  gpu::Buffer depth, accum, frame, readback;
+  gpu::Buffer depth, accum, frame;
+  std::array<gpu::Buffer, SplatRenderer::kReadbackSlots> readback;  // made on first use
   uint32_t out_width = 0, out_height = 0;
   std::unique_ptr<gpu::Recorder> recorder;
 };
@@ -243,7 +245,7 @@ void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
   out_height = height;
   const uint64_t out_bytes = uint64_t(out_width) * out_height * 4;
   frame = gpu::Buffer(ctx, out_bytes, gpu::MemoryIntent::Device, "render frame");
-  readback = gpu::Buffer(ctx, out_bytes, gpu::MemoryIntent::Readback, "render frame readback");
+  for (gpu::Buffer& r : readback) r = gpu::Buffer{};  // of the old size: made again on use
   eye_width = width;
   eye_height = height;
   eyes = n;
@@ -548,7 +550,7 @@ uint32_t SplatRenderer::max_frame_side() const {
 }
 
 void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const FrameSetup& setup,
-                           gpu::PassTimer* timer) {
+                           gpu::PassTimer* timer, uint32_t slot) {
   Impl& m = *impl_;
   if (!in.rest || !in.displacement || !in.nbr_offset || !in.nbr_index) {
     throw std::invalid_argument("SplatRenderer: a RenderInputs buffer is missing");
@@ -666,16 +668,26 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
                 m.out_width * m.out_height);
   end();
   rec.barrier();
+  if (slot >= kReadbackSlots)
+    throw std::invalid_argument("SplatRenderer: no read-back slot " + std::to_string(slot));
+  gpu::Buffer& readback = m.readback[slot];
+  if (!readback) {
+    readback = gpu::Buffer(m.ctx, uint64_t(m.out_width) * m.out_height * 4,
+                           gpu::MemoryIntent::Readback, "render frame readback");
+  }
   begin("render readback");
-  rec.copy(m.frame, m.readback);
+  rec.copy(m.frame, readback);
   end();
 }
 
-RgbaImage SplatRenderer::read_frame() const {
+RgbaImage SplatRenderer::read_frame(uint32_t slot) const {
   const Impl& m = *impl_;
+  if (slot >= kReadbackSlots || !m.readback[slot])
+    throw std::logic_error("SplatRenderer::read_frame: nothing rendered into slot " +
+                           std::to_string(slot));
   RgbaImage image(m.out_width, m.out_height);
-  m.readback.invalidate();
-  std::memcpy(image.pixels.data(), m.readback.mapped(), image.pixels.size());
+  m.readback[slot].invalidate();
+  std::memcpy(image.pixels.data(), m.readback[slot].mapped(), image.pixels.size());
   return image;
 }
 

@@ -121,11 +121,14 @@ class SplatRenderer {
   RgbaImage render(const RenderInputs& inputs, const FrameSetup& setup);
 
   // The same in steps, for callers that submit themselves: record() records the frame into
-  // `rec` (with a timestamp per pass when `timer` is given), and read_frame() returns the
-  // pixels after rec.submit_and_wait().
+  // `rec` (with a timestamp per pass when `timer` is given) ending with its copy into
+  // read-back slot `slot`, and read_frame(slot) returns the pixels after rec's submission
+  // has completed. Two slots let one frame be read on another thread while the next is drawn
+  // (render/frame_queue.h); a slot is made on its first use and again after a size change.
+  static constexpr uint32_t kReadbackSlots = 2;
   void record(gpu::Recorder& rec, const RenderInputs& inputs, const FrameSetup& setup,
-              gpu::PassTimer* timer = nullptr);
-  RgbaImage read_frame() const;
+              gpu::PassTimer* timer = nullptr, uint32_t slot = 0);
+  RgbaImage read_frame(uint32_t slot = 0) const;
   // The deformed splats of the last frame (surface surfels first, then the cut faces in the
   // order they were added): a blocking download, for tests.
   std::vector<layout::Splat> read_splats() const;

@@ -196,11 +196,19 @@ void FrameSink::rethrow() {
 }
 
 void FrameSink::push(std::string name, RgbaImage image, int64_t video_index) {
+  enqueue({std::move(name), std::move(image), video_index, {}});
+}
+
+void FrameSink::push(std::string name, std::function<RgbaImage()> produce, int64_t video_index) {
+  enqueue({std::move(name), RgbaImage{}, video_index, std::move(produce)});
+}
+
+void FrameSink::enqueue(Job job) {
   std::unique_lock lock(mutex_);
   changed_.wait(lock, [this] { return queue_.size() < max_queued_ || error_; });
   rethrow();
   if (finished_) throw std::logic_error("FrameSink::push after finish");
-  queue_.push_back({std::move(name), std::move(image), video_index});
+  queue_.push_back(std::move(job));
   changed_.notify_all();
 }
 
@@ -241,6 +249,10 @@ void FrameSink::run() {
       busy_ = true;
     }
     try {
+      if (job.produce) {
+        job.image = job.produce();
+        job.produce = nullptr;  // releases what it held (a read-back slot)
+      }
       if (png_) write_png(out_dir_ / job.name, job.image);
       if (video_) {
         last_index = std::max(job.video_index, last_index + 1);  // strictly increasing

@@ -15,6 +15,7 @@
 #include <deque>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -75,6 +76,10 @@ class FrameSink {
   // Queues a frame (waits while max_queued are queued). `video_index`: its frame number in
   // the video. Rethrows a failure of an earlier frame.
   void push(std::string name, RgbaImage image, int64_t video_index);
+  // The same for a frame whose pixels `produce` gives on the sink's thread (a read-back
+  // buffer's copy, render/frame_queue.h). `produce` is destroyed once it ran, or unrun when the
+  // frame is dropped after a failure: what it holds is released either way.
+  void push(std::string name, std::function<RgbaImage()> produce, int64_t video_index);
   // Waits until every frame queued so far is written; rethrows a failure.
   void flush();
   // flush(), then finishes the video; no push() after it.
@@ -85,7 +90,9 @@ class FrameSink {
     std::string name;
     RgbaImage image;
     int64_t video_index;
+    std::function<RgbaImage()> produce;  // when set, gives `image` on the sink's thread
   };
+  void enqueue(Job job);
   void run();
   void rethrow();
 

@@ -1,0 +1,65 @@
+// Frames drawn while the simulation goes on: FrameQueue records a frame and submits it without
+// waiting; the next call (or drain()) waits for it, and the copy of its pixels out of the
+// read-back buffer happens on the FrameSink's thread, which also writes the PNG and the video.
+// The simulation thread pays for recording and submitting, not for the GPU's drawing or the
+// copy of a 7–17 MB frame (docs/performance.md, "Frames off the simulation thread").
+//
+// One frame is in flight at a time, so that whatever the renderer reads (its surfels, tools,
+// texture staging) may change once drain() has returned; two read-back slots let the sink
+// copy one frame while the next is drawn. The solver's work that follows a frame on the same
+// queue starts with a barrier, so it never writes what the frame still reads.
+#pragma once
+
+#include <array>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "compute/recorder.h"
+#include "render/splat_renderer.h"
+#include "render/video_writer.h"
+
+namespace phyxel::render {
+
+class FrameQueue {
+ public:
+  // `renderer` and `sink` must outlive the queue and every frame it handed to the sink (the
+  // sink copies out of the renderer's read-back buffers): destroy or finish the sink first.
+  FrameQueue(gpu::Context& ctx, SplatRenderer& renderer, FrameSink& sink);
+  ~FrameQueue();  // drain(), errors ignored
+  FrameQueue(const FrameQueue&) = delete;
+  FrameQueue& operator=(const FrameQueue&) = delete;
+
+  // drain(), then records the frame of `inputs` into a free read-back slot and submits it.
+  // Its pixels reach the sink as `name` (frame `video_index` of the video) at the next drain().
+  void submit(const RenderInputs& inputs, const FrameSetup& setup, std::string name,
+              int64_t video_index);
+  // Completes the frame in flight, if any: waits for the GPU and hands its read-back slot to
+  // the sink. Call before changing anything the renderer reads.
+  void drain();
+  bool in_flight() const { return pending_.has_value(); }
+
+ private:
+  // Which slots the sink has not copied out yet (shared with the sink's jobs).
+  struct Slots {
+    std::mutex mutex;
+    std::condition_variable freed;
+    std::array<bool, SplatRenderer::kReadbackSlots> busy{};
+  };
+  struct Pending {
+    uint32_t slot;
+    std::string name;
+    int64_t video_index;
+  };
+  SplatRenderer* renderer_;
+  FrameSink* sink_;
+  std::array<std::unique_ptr<gpu::Recorder>, SplatRenderer::kReadbackSlots> recorders_;
+  std::shared_ptr<Slots> slots_ = std::make_shared<Slots>();
+  std::optional<Pending> pending_;
+  uint32_t next_ = 0;
+};
+
+}  // namespace phyxel::render
