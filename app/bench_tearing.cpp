@@ -91,6 +91,19 @@ nlohmann::json tearing_row(const std::string& device, int threads, int64_t size,
     row["gpu_principal_us"] = pass_ns(passes, "principal") * 1e-3;
     row["gpu_tear_us"] = pass_ns(passes, "tear") * 1e-3;
     row["gpu_tear_update_us"] = (pass_ns(passes, "principal") + pass_ns(passes, "tear")) * 1e-3;
+    // Every pass of a step (medians per pass), with and without tearing: the GPU's share of
+    // the wall time per step; the rest is the host's and waiting.
+    const auto step_us = [](const std::vector<gpu::PassTime>& p) {
+      double ns = 0;
+      for (const gpu::PassTime& t : p)
+        if (t.name != "kick_drift") ns += t.ns;
+      return ns * 1e-3;
+    };
+    row["gpu_step_us_tearing"] = step_us(passes);
+    row["gpu_step_us_intact"] = step_us(intact.profile(32));
+    nlohmann::json all = nlohmann::json::object();
+    for (const gpu::PassTime& t : passes) all[t.name] = t.ns * 1e-3;
+    row["gpu_pass_us_tearing"] = all;
   }
   return row;
 }
@@ -102,8 +115,9 @@ void print_row(const nlohmann::json& r) {
               r["tear_ms_per_step"].get<double>(), r["tear_share_percent"].get<double>(),
               r["steps_per_s_tearing"].get<double>(), r["torn_per_step"].get<double>());
   if (r.contains("gpu_tear_update_us"))
-    std::printf(" %9.1f %9.1f", r["gpu_principal_us"].get<double>(),
-                r["gpu_tear_us"].get<double>());
+    std::printf(" %9.1f %9.1f %9.1f %9.1f", r["gpu_principal_us"].get<double>(),
+                r["gpu_tear_us"].get<double>(), r["gpu_step_us_intact"].get<double>(),
+                r["gpu_step_us_tearing"].get<double>());
   if (!r["finite"].get<bool>()) std::printf("  (non-finite: the figures mean nothing)");
   std::printf("\n");
   std::fflush(stdout);
@@ -134,7 +148,7 @@ int bench_tearing(const Args& args) {
       kCrossingSpeed, tear_stress);
   std::printf("%-40s %9s %10s %10s %10s %9s %10s %9s", "device", "phyxels", "intact ms",
               "tearing ms", "tear ms", "share", "steps/s", "torn");
-  if (device != "cpu") std::printf(" %9s %9s", "princ us", "tear us");
+  if (device != "cpu") std::printf(" %9s %9s %9s %9s", "princ us", "tear us", "step us", "tearing");
   std::printf("\n");
   nlohmann::json rows = nlohmann::json::array();
   for (const int64_t size : sizes) {
@@ -144,7 +158,8 @@ int bench_tearing(const Args& args) {
   std::printf(
       "(ms per step: wall time, median of %lld repeats of %lld steps, the box without and with "
       "tear_stress; tear ms: the difference; torn: pairs per step; princ us, tear us: the GPU's "
-      "principal-stress and tear passes per step, timestamps)\n",
+      "principal-stress and tear passes per step, timestamps; step us, tearing: all the GPU's "
+      "passes of a step without and with tear_stress)\n",
       static_cast<long long>(repeats), static_cast<long long>(steps));
   if (!out_dir.empty()) {
     std::error_code ec;

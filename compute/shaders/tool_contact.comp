@@ -1,10 +1,10 @@
 // Tool contact after a drift, per candidate phyxel of the chunk's list (tool_broad_phase;
 // dispatched indirectly by tool_broad_scan's count): every tool in turn, in the CPU's order
 // (CpuSolver::apply_contacts), corrects u and v of the phyxel in place on the displacement
-// buffer that holds the new u (u += dx, v += dv), writes the contact force m dv / dt of each
-// (candidate, tool) and, for a phyxel in contact or within a blade's band, where it lies along
-// the tool's axis from its tip (the rows of tools p.tools onwards) for tool_contact_reduce, and
-// sets the phyxel's contact flag. Fixed and
+// buffer that holds the new u (u += dx, v += dv), sums per workgroup and tool the contact
+// forces m dv / dt and, for phyxels in contact or within a blade's band, the range they span
+// along the tool's axis from its tip (the rows of tools p.tools onwards) for
+// tool_contact_reduce, and sets the phyxel's contact flag. Fixed and
 // removed phyxels take no contact (sleeping objects are not in the list). Each invocation reads
 // and writes only its own phyxel: no atomics.
 #version 450
@@ -27,15 +27,24 @@ layout(std430, binding = kContactBindingForce) writeonly buffer Force { vec4 con
 layout(std430, binding = kContactBindingContact) writeonly buffer Contact { uint contact[]; };
 layout(std430, binding = kContactBindingCount) readonly buffer Count { ContactCount count; };
 
+// Each workgroup adds its candidates' forces and axial ranges per tool (a fixed tree in shared
+// memory) and writes one partial per tool: tool_contact_reduce adds a workgroup's partials, so
+// its serial loop is 64 times shorter than over the candidates (all of a box at 1M phyxels
+// when torn pieces fly and the broad phase's margin grows with their speed).
+shared vec4 wg_felt[PHYXEL_WORKGROUP_SIZE];
+shared vec2 wg_along[PHYXEL_WORKGROUP_SIZE];
+
 void main() {
   const uint slot = PHYXEL_GLOBAL_INDEX;
-  if (slot >= count.total) return;
-  const uint i = list[slot];
-  const bool takes = (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u;
-  vec3 u = disp[i].xyz;
-  vec3 v = vel[i].xyz;
-  const float mass = ext[i].w;
-  const vec3 x0 = rest[i].xyz - p.origin.xyz;
+  const uint group = slot / PHYXEL_WORKGROUP_SIZE;
+  const uint lane = gl_LocalInvocationIndex;
+  const bool candidate = slot < count.total;  // no early return: barriers below
+  const uint i = candidate ? list[slot] : 0u;
+  const bool takes = candidate && (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u;
+  vec3 u = candidate ? disp[i].xyz : vec3(0.0);
+  vec3 v = candidate ? vel[i].xyz : vec3(0.0);
+  const float mass = candidate ? ext[i].w : 1.0;
+  const vec3 x0 = candidate ? rest[i].xyz - p.origin.xyz : vec3(0.0);
   uint touched = 0u;
   bool moved = false;
   for (uint t = 0u; t < p.tools; ++t) {
@@ -69,9 +78,24 @@ void main() {
         moved = true;
       }
     }
-    contact_force[t * p.capacity + slot] = felt;
-    contact_force[(p.tools + t) * p.capacity + slot] = along;
+    wg_felt[lane] = felt;
+    wg_along[lane] = along.xy;
+    barrier();
+    for (uint half_size = PHYXEL_WORKGROUP_SIZE / 2u; half_size > 0u; half_size >>= 1u) {
+      if (lane < half_size) {
+        wg_felt[lane] += wg_felt[lane + half_size];
+        wg_along[lane] = vec2(min(wg_along[lane].x, wg_along[lane + half_size].x),
+                              max(wg_along[lane].y, wg_along[lane + half_size].y));
+      }
+      barrier();
+    }
+    if (lane == 0u) {
+      contact_force[t * p.capacity + group] = wg_felt[0];
+      contact_force[(p.tools + t) * p.capacity + group] = vec4(wg_along[0], 0.0, 0.0);
+    }
+    barrier();  // the next tool's sums reuse the shared arrays
   }
+  if (!candidate) return;
   if (moved) {
     disp[i] = vec4(u, 0.0);
     vel[i] = vec4(v, 0.0);

@@ -1,6 +1,6 @@
 // The contact forces of one substep per tool, in a fixed order (no float atomics: the samples
-// are the same bits on every run): one workgroup per tool; thread t sums the candidates
-// t, t + workgroup, ... in order, then a fixed tree over the workgroup. The sample is the force
+// are the same bits on every run): one workgroup per tool; thread t sums the partials of
+// tool_contact's workgroups t, t + workgroup, ... in order, then a fixed tree over the workgroup. The sample is the force
 // on the tool (minus the sum of the forces on the phyxels) and the number of contacts (exact in
 // float below 2^24), then in a second row the range the contacts span along the tool's axis
 // (min, max; engine ToolContactSample::axial_min/max).
@@ -28,7 +28,9 @@ void main() {
   const uint t = gl_LocalInvocationID.x;
   vec4 sum = vec4(0.0);
   vec2 along = vec2(kNoContactAxial, -kNoContactAxial);
-  for (uint k = t; k < count.total; k += PHYXEL_WORKGROUP_SIZE) {
+  // One partial per workgroup of tool_contact (its candidates' sums).
+  const uint partials = (count.total + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
+  for (uint k = t; k < partials; k += PHYXEL_WORKGROUP_SIZE) {
     sum += contact_force[tool * p.capacity + k];
     const vec2 s = contact_force[(p.tools + tool) * p.capacity + k].xy;
     along = vec2(min(along.x, s.x), max(along.y, s.y));
