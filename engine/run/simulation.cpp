@@ -312,7 +312,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     if (every > 0) next = std::min(next, next_multiple(step, every));
     if (options.frame_every > 0) next = std::min(next, next_multiple(step, options.frame_every));
     if (next_event < events.size()) next = std::min(next, events[next_event]);
-    if (tool_chunk > 0) next = std::min(next, step + tool_chunk);
+    // Tool chunks on a fixed grid from step 0, whatever else splits an advance (frames,
+    // outputs, checks, real-time pacing): the aspirator acts only at its lines, so what is
+    // aspirated does not depend on how often frames are drawn.
+    if (tool_chunk > 0) next = std::min(next, next_multiple(step, tool_chunk));
     if (checkpoint_every > 0) next = std::min(next, next_multiple(step, checkpoint_every));
     // Real time: advance what the wall clock owes (at least a step, at most a tool chunk), so
     // a live tool's pose reaches the physics every few milliseconds of wall time.
@@ -339,7 +342,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
           s + 1, double(s + 1) * step_time,
           std::vector<ToolStepRecord>(records.begin() + (s - step) * tools.size(),
                                       records.begin() + (s - step + 1) * tools.size()));
-    if (aspirator.active())  // the paper's hybrid tearing at the aspirators' mouths
+    // The paper's hybrid tearing at the aspirators' mouths, at the end of each tool chunk.
+    if (aspirator.active() && tool_chunk > 0 && (next % tool_chunk == 0 || next == total))
       for (const AspirationEvent& e :
            aspirator.after_advance(solver, tools.poses(), double(next) * step_time))
         if (options.on_aspiration) options.on_aspiration(e);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "engine/run/simulation.h"
@@ -127,6 +128,41 @@ TEST(Suction, AboveTheTearStressAspiratesAndAccountsMassAndVolumeExactly) {
     EXPECT_LT((set.rest[i] - Vec3(0.01, 0.01, 0.0117)).norm(), 0.012) << i;
   }
   RecordProperty("aspirated_mass_g", std::to_string(1e3 * mass));
+}
+
+// The aspirator acts at the end of each tool chunk, on a grid from step 0: frames, point
+// outputs and their splits of the advances change nothing of what is aspirated or where the
+// tissue ends up.
+TEST(Suction, FramesAndOutputsChangeNothingThatIsAspirated) {
+  const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
+  const PhyxelSet set = sample_scene(scene);
+  auto run = [&](int64_t frame_every) {
+    const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
+    RunOptions options;
+    options.steps = 300;
+    int frames = 0;
+    if (frame_every > 0) {
+      options.frame_every = frame_every;
+      options.on_frame = [&](int64_t, Solver&) { ++frames; };
+    }
+    std::vector<uint32_t> removed;
+    options.on_aspiration = [&](const AspirationEvent& e) {
+      removed.insert(removed.end(), e.removed.begin(), e.removed.end());
+    };
+    const RunResult r = run_simulation(scene, set, *solver, options);
+    EXPECT_EQ(frames > 0, frame_every > 0);
+    return std::make_tuple(r.aspiration.events, removed, solver->read_state(false).displacement);
+  };
+  const auto [events, removed, u] = run(0);
+  ASSERT_GE(events, 2);
+  for (const int64_t every : {7, 45}) {  // neither divides the tool chunk nor is a multiple
+    SCOPED_TRACE(every);
+    const auto [e, r, v] = run(every);
+    EXPECT_EQ(e, events);
+    EXPECT_EQ(r, removed);
+    ASSERT_EQ(v.size(), u.size());
+    for (size_t i = 0; i < u.size(); ++i) ASSERT_EQ(v[i], u[i]) << "phyxel " << i;
+  }
 }
 
 TEST(Suction, RunsThatAspirateRefuseCheckpointsWithAClearMessage) {
