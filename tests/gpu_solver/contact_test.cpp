@@ -27,17 +27,17 @@ struct Probe {
 };
 
 // A sphere (r 5 mm) over the middle of the top face, 0.5 mm above it at t = 0: it presses 2 mm
-// deep by t1 and slides 4 mm along x by t2, friction 0.3.
-Probe sphere_probe(const Scene& scene, double t1, double t2) {
+// deep by t1 and slides 4 mm along x by t2, friction 0.3 (other sizes and moves as given).
+Probe sphere_probe(const Scene& scene, double t1, double t2, double r = 0.005,
+                   double above = 0.0005, double press = 0.002, double slide = 0.004) {
   const Vec3 lo = scene.objects[0].shape.min, hi = scene.objects[0].shape.max;
-  const double r = 0.005;
   const Vec3 top(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), hi.z() + r);
   Probe p;
   p.tool.shape = {ToolShape::Type::Sphere, r, 0.0};
   p.tool.friction = 0.3;
-  p.path = {{0.0, top + Vec3(0, 0, 0.0005), Vec3::UnitZ()},
-            {t1, top - Vec3(0, 0, 0.002), Vec3::UnitZ()},
-            {t2, top + Vec3(0.004, 0, -0.002), Vec3::UnitZ()}};
+  p.path = {{0.0, top + Vec3(0, 0, above), Vec3::UnitZ()},
+            {t1, top - Vec3(0, 0, press), Vec3::UnitZ()},
+            {t2, top + Vec3(slide, 0, -press), Vec3::UnitZ()}};
   return p;
 }
 
@@ -290,15 +290,7 @@ TEST_F(GpuSolverTest, ContactForcesOverMoreThan4096CandidatesMatchTheCpu) {
   const double bottom = scene.objects[0].shape.min.z();
   scene.objects[0].fixed.push_back(box_shape(Vec3::Constant(-1), Vec3(1, 1, bottom + 1e-4)));
   scene.simulation.gravity = Vec3(0, 0, -9.81);
-  const Vec3 lo = scene.objects[0].shape.min, hi = scene.objects[0].shape.max;
-  const double r = 0.1;
-  const Vec3 top(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), hi.z() + r);
-  Probe p;
-  p.tool.shape = {ToolShape::Type::Sphere, r, 0.0};
-  p.tool.friction = 0.3;
-  p.path = {{0.0, top + Vec3(0, 0, 0.0002), Vec3::UnitZ()},
-            {0.008, top - Vec3(0, 0, 0.001), Vec3::UnitZ()},
-            {0.012, top + Vec3(0.001, 0, -0.001), Vec3::UnitZ()}};
+  const Probe p = sphere_probe(scene, 0.008, 0.012, 0.1, 0.0002, 0.001, 0.001);
   expect_parity(ctx(), {p}, 0.012, scene, 64 * 64 + 1, 5.0);
 }
 
