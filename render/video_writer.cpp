@@ -174,12 +174,19 @@ void VideoWriter::finish() {
 }
 
 FrameSink::FrameSink(std::filesystem::path out_dir, bool png, std::unique_ptr<VideoWriter> video,
-                     size_t max_queued)
+                     size_t max_queued, unsigned encoders)
     : out_dir_(std::move(out_dir)),
       png_(png),
       video_(std::move(video)),
       max_queued_(std::max<size_t>(max_queued, 1)),
-      thread_([this] { run(); }) {}
+      thread_([this] { run(); }) {
+  if (!png_) return;
+  if (encoders == 0) {
+    const unsigned cores = std::max(std::thread::hardware_concurrency(), 1u);
+    encoders = std::clamp(cores - 1, 1u, 4u);
+  }
+  for (unsigned k = 0; k < encoders; ++k) png_threads_.emplace_back([this] { run_png(); });
+}
 
 FrameSink::~FrameSink() {
   try {
@@ -212,9 +219,20 @@ void FrameSink::enqueue(Job job) {
   changed_.notify_all();
 }
 
+bool FrameSink::idle() const {
+  return queue_.empty() && !busy_ && png_queue_.empty() && png_busy_ == 0;
+}
+
+void FrameSink::fail(std::exception_ptr error) {
+  if (!error_) error_ = std::move(error);
+  queue_.clear();  // their read-back slots (FrameQueue) are released as the jobs go
+  png_queue_.clear();
+  changed_.notify_all();
+}
+
 void FrameSink::flush() {
   std::unique_lock lock(mutex_);
-  changed_.wait(lock, [this] { return (queue_.empty() && !busy_) || error_; });
+  changed_.wait(lock, [this] { return idle() || error_; });
   rethrow();
 }
 
@@ -222,12 +240,14 @@ void FrameSink::finish() {
   {
     std::unique_lock lock(mutex_);
     if (!finished_) {
-      changed_.wait(lock, [this] { return (queue_.empty() && !busy_) || error_; });
+      changed_.wait(lock, [this] { return idle() || error_; });
       finished_ = stop_ = true;
       changed_.notify_all();
     }
   }
   if (thread_.joinable()) thread_.join();
+  for (std::thread& t : png_threads_)
+    if (t.joinable()) t.join();
   std::lock_guard lock(mutex_);
   rethrow();
   if (video_) {
@@ -253,18 +273,48 @@ void FrameSink::run() {
         job.image = job.produce();
         job.produce = nullptr;  // releases what it held (a read-back slot)
       }
-      if (png_) write_png(out_dir_ / job.name, job.image);
-      if (video_) {
+      auto image = std::make_shared<const RgbaImage>(std::move(job.image));
+      if (png_) {  // to the encoders (they write the files in any order)
+        std::unique_lock lock(mutex_);
+        changed_.wait(lock, [this] { return png_queue_.size() < max_queued_ || error_; });
+        if (!error_) {
+          png_queue_.push_back({out_dir_ / job.name, image});
+          changed_.notify_all();
+        }
+      }
+      if (video_) {                                              // in order, on this thread
         last_index = std::max(job.video_index, last_index + 1);  // strictly increasing
-        video_->add(job.image, last_index);
+        video_->add(*image, last_index);
       }
     } catch (...) {
       std::lock_guard lock(mutex_);
-      error_ = std::current_exception();
-      queue_.clear();
+      fail(std::current_exception());
     }
     std::lock_guard lock(mutex_);
     busy_ = false;
+    changed_.notify_all();
+  }
+}
+
+void FrameSink::run_png() {
+  for (;;) {
+    PngJob job;
+    {
+      std::unique_lock lock(mutex_);
+      changed_.wait(lock, [this] { return !png_queue_.empty() || stop_; });
+      if (png_queue_.empty()) return;
+      job = std::move(png_queue_.front());
+      png_queue_.pop_front();
+      ++png_busy_;
+    }
+    try {
+      write_png(job.file, *job.image);
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      fail(std::current_exception());
+    }
+    std::lock_guard lock(mutex_);
+    --png_busy_;
     changed_.notify_all();
   }
 }

@@ -20,6 +20,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "render/image.h"
 
@@ -66,9 +67,11 @@ class VideoWriter {
 class FrameSink {
  public:
   // Writes into `out_dir` the frames pushed with a name (PNG when `png`), and adds each to
-  // `video` when given, on a thread of its own.
+  // `video` when given, on a thread of its own; the PNG files are encoded by `encoders` more
+  // threads (0: one fewer than the cores, at most four), since one stereo 1080p PNG takes stb
+  // about half a second.
   FrameSink(std::filesystem::path out_dir, bool png, std::unique_ptr<VideoWriter> video,
-            size_t max_queued = 4);
+            size_t max_queued = 4, unsigned encoders = 0);
   ~FrameSink();  // finish(), errors ignored
   FrameSink(const FrameSink&) = delete;
   FrameSink& operator=(const FrameSink&) = delete;
@@ -92,8 +95,15 @@ class FrameSink {
     int64_t video_index;
     std::function<RgbaImage()> produce;  // when set, gives `image` on the sink's thread
   };
+  struct PngJob {
+    std::filesystem::path file;
+    std::shared_ptr<const RgbaImage> image;
+  };
   void enqueue(Job job);
   void run();
+  void run_png();
+  void fail(std::exception_ptr error);  // with mutex_ held: keeps the first, drops the queues
+  bool idle() const;                    // with mutex_ held: nothing queued or in hand
   void rethrow();
 
   std::filesystem::path out_dir_;
@@ -103,8 +113,11 @@ class FrameSink {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<Job> queue_;
+  std::deque<PngJob> png_queue_;
+  size_t png_busy_ = 0;  // PNG files being encoded
   bool busy_ = false, stop_ = false, finished_ = false;
   std::exception_ptr error_;
+  std::vector<std::thread> png_threads_;
   std::thread thread_;
 };
 

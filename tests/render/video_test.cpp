@@ -135,6 +135,30 @@ TEST(FrameSinkThread, WritesPngsAndReportsAFailureLater) {
   EXPECT_THROW(sink.finish(), std::runtime_error);
 }
 
+// PNG files are encoded by several threads while the video takes the frames in order: every
+// file holds its own frame, and the video has them all.
+TEST(FrameSinkThread, EncodersWriteEveryFrameItsOwnFileAndTheVideoInOrder) {
+  const std::filesystem::path dir = test::test_out_dir() / "frame_sink_encoders";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  constexpr int kFrames = 24;
+  {
+    auto video = std::make_unique<VideoWriter>(dir / "v.mp4", 32, 16, 24.0);
+    FrameSink sink(dir, true, std::move(video), 2, 3);  // three encoders
+    for (int k = 0; k < kFrames; ++k)
+      sink.push(png_name(k), grey(32, 16, static_cast<uint8_t>(10 * k)), k);
+    sink.flush();
+    for (int k = 0; k < kFrames; ++k) EXPECT_TRUE(std::filesystem::exists(dir / png_name(k)));
+    sink.finish();
+  }
+  for (int k = 0; k < kFrames; ++k) {
+    const RgbaImage image = load_image(dir / png_name(k), png_name(k));
+    ASSERT_EQ(image.pixels.size(), size_t(32 * 16 * 4));
+    EXPECT_EQ(image.pixels[0], 10 * k) << png_name(k);
+  }
+  EXPECT_EQ(decode(dir / "v.mp4").frames, kFrames);
+}
+
 // The command line: a short CPU run with --video, and an unwritable --video path.
 int run(const std::string& args) {
   const std::string cmd = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel run " + args;
