@@ -340,16 +340,21 @@ class GpuSolver final : public Solver {
   std::vector<ToolContactSample> samples_;  // of the last advance
   bool contact_active_ = false;             // contact passes recorded in this advance
   uint32_t candidate_capacity_ = 0;         // elements of the candidate buffers
-  Buffer tool_shapes_;                      // ContactToolShape per tool
-  Buffer motion_table_;            // ContactMotion [substep][tool]; motion_upload_ stages it
-  Buffer candidate_list_;          // uint[capacity]: the broad phase's phyxels, ascending
-  Buffer contact_count_;           // Readback, indirect: ContactCount of the broad phase
-  Buffer broad_groups_;            // uint per broad-phase workgroup: hits, then offsets
-  Buffer candidate_force_;         // vec4[tools][capacity]: m dv / dt and 1 per contact
-  Buffer contact_flag_;            // uint per phyxel: 1 where a tool touched it in the last substep
-  Buffer samples_buffer_;          // Readback: vec4 [substep][tool] (force on the tool, count)
-  Buffer max_norm_readback_;       // Readback: (max |u|, max |v|, 0, 0)
-  Buffer state_readback_;          // Readback for read_state (gpu_solver_queries.cpp), on first use
+  // Workgroups of tool_contact over candidate_capacity_ candidates (one partial sum each).
+  uint32_t partial_capacity() const {
+    return (std::max<uint32_t>(candidate_capacity_, 1) + PHYXEL_WORKGROUP_SIZE - 1) /
+           PHYXEL_WORKGROUP_SIZE;
+  }
+  Buffer tool_shapes_;        // ContactToolShape per tool
+  Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
+  Buffer candidate_list_;     // uint[capacity]: the broad phase's phyxels, ascending
+  Buffer contact_count_;      // Readback, indirect: ContactCount of the broad phase
+  Buffer broad_groups_;       // uint per broad-phase workgroup: hits, then offsets
+  Buffer candidate_force_;    // vec4[2 tools][partial_capacity()]: per workgroup, force and range
+  Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
+  Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
+  Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
+  Buffer state_readback_;     // Readback for read_state (gpu_solver_queries.cpp), on first use
   bool advance_readback_ = false;  // set_advance_readback
   bool advanced_state_ = false;    // state_readback_ holds u and the principal stress of now
   uint64_t state_version_ = 0;     // counts the host's changes of the state (compute_forces)

@@ -127,9 +127,10 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
     candidate_capacity_ = std::max(std::max<uint32_t>(n, 1), 2 * candidate_capacity_);
   const uint64_t cap = candidate_capacity_;
   reserve(ctx, candidate_list_, cap * sizeof(uint32_t), MemoryIntent::Device, "contact candidates");
-  // Per (tool, candidate): the force, then (tools further on) the axial position of a contact.
-  reserve(ctx, candidate_force_, 2 * cap * nt * sizeof(vec4), MemoryIntent::Device,
-          "contact force per candidate");
+  // Per (tool, workgroup of tool_contact): the sum of its candidates' forces, then (tools
+  // further on) the axial range of their contacts.
+  reserve(ctx, candidate_force_, 2 * uint64_t{partial_capacity()} * nt * sizeof(vec4),
+          MemoryIntent::Device, "contact force per workgroup of candidates");
   const uint32_t wg = kernels_->broad_phase.workgroup_size()[0];
   const uint32_t groups = (n + wg - 1) / wg;
   reserve(ctx, broad_groups_, std::max<uint64_t>(groups, 1) * sizeof(uint32_t),
@@ -212,7 +213,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          nt,
                          static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_ - 1)),
                          k >= motion_steps_ ? 1u : 0u,
-                         candidate_capacity_,
+                         partial_capacity(),
                          0u,
                          0u};
   dispatch_indirect(rec, kernels_->contact, push,
@@ -221,7 +222,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                     contact_count_, offsetof(ContactCount, groups_x));
   rec.barrier();
   dispatch(rec, kernels_->contact_reduce,
-           ContactReducePush{0u, nt, candidate_capacity_, static_cast<uint32_t>(step)},
+           ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
            {candidate_force_, samples_buffer_, contact_count_},
            nt * kernels_->contact_reduce.workgroup_size()[0]);
   if (grasping_) {

@@ -350,9 +350,10 @@ struct ContactMotion {
 PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 
 // tool_contact: over the candidate list, after a drift: the correction of every tool in turn
-// (u += dx, v += dv on the displacement buffer that holds the new u), the contact force
-// m dv / dt per candidate and tool into force[tool * capacity + slot] (xyz; w = 1 where the
-// tool touched, else 0), and the per-phyxel contact flag (1 touched, 0 not).
+// (u += dx, v += dv on the displacement buffer that holds the new u), the contact forces
+// m dv / dt of each workgroup's candidates summed per tool into force[tool * capacity + group]
+// (xyz; w: the contacts) and their axial range into force[(tools + tool) * capacity + group],
+// and the per-phyxel contact flag (1 touched, 0 not).
 struct ContactPush {
   vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
   uint unused;    // (the candidates are counted on the GPU: ContactCount.total)
@@ -360,7 +361,7 @@ struct ContactPush {
   uint tools;     // tools
   uint motion;    // row of the motion table (substep of the chunk, clamped to its last)
   uint hold;      // 1 past the chunk's motions: the tools stay at the row's end pose
-  uint capacity;  // stride of the per-candidate force buffer (>= count)
+  uint capacity;  // stride of the per-workgroup force buffer (>= its workgroups)
   uint pad0;
   uint pad1;
 };
@@ -378,8 +379,8 @@ PHYXEL_CONST uint kContactBindingForce = 8;
 PHYXEL_CONST uint kContactBindingContact = 9;
 PHYXEL_CONST uint kContactBindingCount = 10;  // ContactCount (tool_broad_scan)
 
-// tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k], k < count, in a
-// fixed order (thread t takes k = t, t + workgroup, ...; then a fixed tree) and writes
+// tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
+// tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a fixed tree) and writes
 // samples[sample * tools + tool] = (minus the summed force: the force on the tool, contacts).
 struct ContactReducePush {
   uint unused;  // (ContactCount.total)

@@ -89,7 +89,9 @@ void main() {
       }
       barrier();
     }
-    if (lane == 0u) {
+    // p.capacity: the partials' stride; a workgroup past the candidates (a dispatch spread
+    // over y) writes none.
+    if (lane == 0u && group * PHYXEL_WORKGROUP_SIZE < count.total) {
       contact_force[t * p.capacity + group] = wg_felt[0];
       contact_force[(p.tools + t) * p.capacity + group] = vec4(wg_along[0], 0.0, 0.0);
     }
