@@ -104,6 +104,7 @@ class GpuSolver final : public Solver {
   Energies energies() override;
   long first_non_finite() override;
   std::pair<double, double> max_norms() override;  // a GPU reduction; 16 bytes back
+  std::vector<ObjectMotion> object_motion(const PhyxelSet& set) override;  // 16 bytes per object
   PointState read_state(bool with_stress) override;
   size_t regularised_count() const override { return regularised_; }
   const NeighbourLists& neighbours() const override { return neighbours_; }
@@ -354,6 +355,7 @@ class GpuSolver final : public Solver {
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
+  Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use
   Buffer state_readback_;     // Readback for read_state (gpu_solver_queries.cpp), on first use
   bool advance_readback_ = false;  // set_advance_readback
   bool advanced_state_ = false;    // state_readback_ holds u and the principal stress of now

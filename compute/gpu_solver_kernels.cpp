@@ -13,6 +13,7 @@
 #include "phyxel_spv/solver_force.spv.h"
 #include "phyxel_spv/solver_kick_drift.spv.h"
 #include "phyxel_spv/solver_max_norm.spv.h"
+#include "phyxel_spv/solver_motion.spv.h"
 #include "phyxel_spv/solver_precompute.spv.h"
 #include "phyxel_spv/solver_principal.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
@@ -47,6 +48,7 @@ SolverKernels::SolverKernels(Context& ctx)
       principal(ctx, PHYXEL_SHADER(solver_principal), 11, sizeof(StepPush)),
       tear(ctx, PHYXEL_SHADER(solver_tear), 12, sizeof(TearPush)),
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
+      motion(ctx, PHYXEL_SHADER(solver_motion), 4, sizeof(MotionPush)),
       contact(ctx, PHYXEL_SHADER(tool_contact), 11, sizeof(ContactPush)),
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),

@@ -31,6 +31,7 @@ class SolverKernels {
   Pipeline principal;       // layout::StepPush; kPrincipal* bindings (over the stress list)
   Pipeline tear;            // layout::TearPush; kTear* bindings (over the stress list)
   Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
+  Pipeline motion;          // layout::MotionPush; kMotion* bindings
   Pipeline contact;         // layout::ContactPush; kContact* bindings (over the candidates)
   Pipeline contact_reduce;  // layout::ContactReducePush; kContactReduce* bindings
   Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings

@@ -1,12 +1,15 @@
 // GpuSolver: what goes back to the CPU. Each query is one submit and a download:
 //   energies()          per-phyxel energy pass + fixed-order GPU reduction to at most
 //                       kScanBlock partial sums (16 bytes each), summed in double on the host
+//   object_motion()     per object a fixed-order reduction of m |v|^2 / 2 and max |v| (the run
+//                       loop's rest, sleep and runaway checks); 16 bytes per object back
 //   first_non_finite()  a check pass; 4 bytes back
 //   read_state()        u and v (32 bytes per phyxel); von Mises from a GPU pass (4 more);
 //                       the principal stress buffer (4 more, while on); one submission into
 //                       a persistent read-back buffer (44 bytes per phyxel, made on first use)
 // and the test/bench helpers (forces, moment inverses, pair weights, per-pass timing).
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -60,6 +63,50 @@ Energies GpuSolver::energies() {
     e.potential += p.z;
   }
   return e;
+}
+
+std::vector<ObjectMotion> GpuSolver::object_motion(const PhyxelSet& set) {
+  if (set.size() != count_)
+    throw std::invalid_argument("GpuSolver::object_motion: the set has " +
+                                std::to_string(set.size()) + " phyxels, the solver " +
+                                std::to_string(count_));
+  const size_t objects = set.objects.size();
+  std::vector<ObjectMotion> out(objects);
+  if (objects == 0) return out;
+  if (motion_readback_.size() < objects * sizeof(vec4))
+    motion_readback_ = Buffer(*ctx_, objects * sizeof(vec4), MemoryIntent::Readback,
+                              "kinetic energy and largest speed per object");
+  Recorder& rec = *rec_[0];
+  const uint32_t threads = kernels_->motion.workgroup_size()[0];
+  bool recorded = false;
+  for (size_t o = 0; o < objects; ++o) {
+    const ObjectRange& obj = set.objects[o];
+    if (obj.count == 0) continue;
+    const Buffer* src = &reduce_[1];  // not read at level 0
+    uint32_t count = obj.count;
+    for (uint32_t level = 0;; ++level) {
+      const uint32_t groups = (count + kScanBlock - 1) / kScanBlock;
+      const bool last = groups == 1;
+      const Buffer& dst = last ? motion_readback_ : reduce_[level % 2];
+      if (recorded) rec.barrier();  // the partials of the level (or object) before
+      dispatch(rec, kernels_->motion,
+               MotionPush{level == 0 ? obj.first : 0u, count, level,
+                          last ? static_cast<uint32_t>(o) : 0u},
+               {vel_, ext_, *src, dst}, groups * threads);
+      recorded = true;
+      if (last) break;
+      src = &dst;
+      count = groups;
+    }
+  }
+  if (!recorded) return out;
+  rec.submit_and_wait();
+  motion_readback_.invalidate();
+  std::vector<vec4> m(objects);
+  std::memcpy(m.data(), motion_readback_.mapped(), objects * sizeof(vec4));
+  for (size_t o = 0; o < objects; ++o)
+    if (set.objects[o].count > 0) out[o] = {double(m[o].x), double(m[o].y)};
+  return out;
 }
 
 long GpuSolver::first_non_finite() {

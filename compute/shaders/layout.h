@@ -537,6 +537,22 @@ PHYXEL_CONST uint kMaxNormBindingVel = 1;
 PHYXEL_CONST uint kMaxNormBindingSrc = 2;
 PHYXEL_CONST uint kMaxNormBindingOut = 3;
 
+// solver_motion: one object's motion, the phyxels [first, first + count): out[slot + g] =
+// (sum of m |v|^2 / 2, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock) of level 0
+// (v, and the mass in ext.w) or of the previous level's partials (src.xy); the sums in a fixed
+// order. slot: 0 but at the last level (one group), where it is the object's index.
+struct MotionPush {
+  uint first;  // level 0: the object's first phyxel; later levels 0
+  uint count;  // input elements
+  uint level;  // 0: read vel and ext; else src
+  uint slot;
+};
+PHYXEL_ASSERT_SIZE(MotionPush, 16);
+PHYXEL_CONST uint kMotionBindingVel = 0;
+PHYXEL_CONST uint kMotionBindingExt = 1;
+PHYXEL_CONST uint kMotionBindingSrc = 2;
+PHYXEL_CONST uint kMotionBindingOut = 3;
+
 #ifdef __cplusplus
 }  // namespace phyxel::gpu::layout
 #else

@@ -52,7 +52,9 @@ struct Checkpoint {
   // displacement as of the last check (with tools: where sleeping objects are tested).
   int64_t rest_below_since = -1;
   int64_t sleeps = 0, wakes = 0, load_changes = 0;
-  std::vector<Vec3> last_check_u;  // empty without tools
+  // Each sleeping object's u when it went to sleep (the others' entries are not read); empty
+  // without tools.
+  std::vector<Vec3> last_check_u;
   // Tools: the pose each ended the last chunk at and its statistics so far.
   std::vector<ToolPose> tool_poses;
   std::vector<ToolRunStats> tool_stats;

@@ -186,7 +186,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   // Steps per advance while tools move: the broad phase is built once per advance.
   const int64_t tool_chunk =
       tools.empty() ? 0 : std::max<int64_t>(1, options.tool_chunk_substeps / result.plan.substeps);
-  std::vector<Vec3> last_u(set.size(), Vec3::Zero());             // as of the last check
+  // Each sleeping object's displacement when it went to sleep (its u does not change asleep).
+  std::vector<Vec3> last_u(set.size(), Vec3::Zero());
   double slowest_wave = std::numeric_limits<double>::infinity();  // find_runaway's bound
   for (const Material& m : set.materials) slowest_wave = std::min(slowest_wave, p_wave_speed(m));
   int64_t below_since = -1;
@@ -375,26 +376,31 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         break;
       }
     }
-    // Without rest or sleep to decide, no phyxel faster than the slowest wave speed leaves
-    // nothing to look at: a reduction instead of reading the whole state back.
-    if (checking && (rest.enabled || sleeping || !(solver.max_norms().second <= slowest_wave))) {
-      const PointState state = solver.read_state(false);
-      if (!tools.empty()) last_u = state.displacement;
-      if (const Runaway r = find_runaway(set, state.velocity); r.phyxel >= 0) {
-        result.unstable = true;
-        result.unstable_step = step;
-        result.unstable_phyxel = r.phyxel;
-        result.unstable_speed = r.speed;
-        result.unstable_wave_speed = r.wave_speed;
-        break;
+    // The checks read reductions: per object its kinetic energy and largest speed where rest or
+    // sleep is decided, else the largest speed alone. Only a phyxel faster than the slowest
+    // wave speed (a runaway to name) or an object going to sleep near tools reads u or v back.
+    if (checking) {
+      std::vector<ObjectMotion> motion;
+      double fastest = 0;
+      if (rest.enabled || sleeping) {
+        motion = solver.object_motion(set);
+        for (const ObjectMotion& m : motion)
+          if (!(m.max_speed <= fastest)) fastest = m.max_speed;
+      } else {
+        fastest = solver.max_norms().second;
+      }
+      if (!(fastest <= slowest_wave)) {
+        if (const Runaway r = find_runaway(set, solver.read_state(false).velocity); r.phyxel >= 0) {
+          result.unstable = true;
+          result.unstable_step = step;
+          result.unstable_phyxel = r.phyxel;
+          result.unstable_speed = r.speed;
+          result.unstable_wave_speed = r.wave_speed;
+          break;
+        }
       }
       double kinetic = 0;
-      std::vector<double> object_kinetic(set.objects.size(), 0.0);
-      for (size_t i = 0; i < set.size(); ++i) {
-        const double v2 = state.velocity[i].squaredNorm();
-        object_kinetic[set.object[i]] += 0.5 * set.mass[i] * v2;
-        kinetic += 0.5 * set.mass[i] * v2;
-      }
+      for (const ObjectMotion& m : motion) kinetic += m.kinetic;
       if (rest.enabled) {
         if (kinetic >= rest.kinetic_energy_below) {
           below_since = -1;
@@ -403,9 +409,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         }
         if (below_since >= 0 && step - below_since >= rest.for_steps) result.stopped_at_rest = true;
       }
+      std::vector<Vec3> u_now;  // read back once, for the objects that go to sleep now
       for (size_t o = 0; sleeping && o < set.objects.size(); ++o) {
         if (!awake[o]) continue;
-        if (object_kinetic[o] >= sleep.kinetic_energy_below) {
+        if (motion[o].kinetic >= sleep.kinetic_energy_below) {
           object_below_since[o] = -1;
         } else if (object_below_since[o] < 0) {
           object_below_since[o] = step;
@@ -414,6 +421,12 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
           awake[o] = 0;
           solver.set_object_awake(static_cast<uint32_t>(o), false);
           ++result.sleeps;
+          if (!tools.empty()) {  // where it sleeps, for wake_touched_objects
+            if (u_now.empty()) u_now = solver.read_state(false).displacement;
+            const ObjectRange& obj = set.objects[o];
+            std::copy(u_now.begin() + obj.first, u_now.begin() + obj.first + obj.count,
+                      last_u.begin() + obj.first);
+          }
         }
       }
     }

@@ -64,6 +64,9 @@ class CpuBackend final : public Solver {
     }
     solver_->compute_forces();
   }
+  std::vector<ObjectMotion> object_motion(const PhyxelSet& set) override {
+    return sum_object_motion(set, solver_->velocity());  // no copy of the state
+  }
   size_t regularised_count() const override { return solver_->regularised_count(); }
   const NeighbourLists& neighbours() const override { return solver_->neighbours(); }
   bool supports_pass_selection() const override { return true; }

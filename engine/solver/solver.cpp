@@ -1,6 +1,7 @@
 #include "engine/solver/solver.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace phyxel {
 
@@ -10,6 +11,10 @@ std::pair<double, double> Solver::max_norms() {
   for (const Vec3& x : s.displacement) u = std::max(u, x.norm());
   for (const Vec3& x : s.velocity) v = std::max(v, x.norm());
   return {u, v};
+}
+
+std::vector<ObjectMotion> Solver::object_motion(const PhyxelSet& set) {
+  return sum_object_motion(set, read_state(false).velocity);
 }
 
 }  // namespace phyxel

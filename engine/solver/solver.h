@@ -1,6 +1,7 @@
 // What the run loop needs from a solver, CPU reference or GPU.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -25,6 +26,30 @@ struct PointState {
   std::vector<double> max_principal_stress;
 };
 
+// One object's motion (its phyxels' range in the PhyxelSet): what the run loop's rest, sleep
+// and runaway checks need.
+struct ObjectMotion {
+  double kinetic = 0;    // J
+  double max_speed = 0;  // m/s
+};
+
+// The host's sums behind Solver::object_motion, in double, in phyxel order.
+template <class V3>
+std::vector<ObjectMotion> sum_object_motion(const PhyxelSet& set, const std::vector<V3>& velocity) {
+  std::vector<ObjectMotion> out(set.objects.size());
+  for (size_t o = 0; o < set.objects.size(); ++o) {
+    const ObjectRange& obj = set.objects[o];
+    double max_v2 = 0;
+    for (uint32_t i = obj.first; i < obj.first + obj.count; ++i) {
+      const double v2 = velocity[i].template cast<double>().squaredNorm();
+      out[o].kinetic += 0.5 * set.mass[i] * v2;
+      if (!(v2 <= max_v2) && !std::isnan(max_v2)) max_v2 = v2;  // a NaN speed is kept
+    }
+    out[o].max_speed = std::sqrt(max_v2);
+  }
+  return out;
+}
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -38,6 +63,10 @@ class Solver {
   // The largest |u| and |v| over all phyxels (m, m/s): what the run loop's checks and the
   // contact broad phase need without reading the whole state back.
   virtual std::pair<double, double> max_norms();
+  // Per object of `set` (the set the solver was made from): its kinetic energy, the sum of
+  // m |v|^2 / 2 over its phyxels in their order, and its largest speed. The GPU solver reduces
+  // them on the device (16 bytes per object back) instead of reading u and v back.
+  virtual std::vector<ObjectMotion> object_motion(const PhyxelSet& set);
   // Replaces u and v (converted to the solver's precision: values read_state gave convert back
   // exactly) and recomputes the forces for the new u, so the next advance continues exactly
   // as the solver that read them would (checkpoint resume). Throws where unsupported.

@@ -115,5 +115,77 @@ TEST(Sleeping, ChangesResultsOnlyBelowItsRestBound) {
   EXPECT_LT(max_difference(slept, awake), 1e-3 * max_norm(awake));
 }
 
+// Forwards to a solver and counts what the run loop reads back.
+class CountingSolver final : public Solver {
+ public:
+  explicit CountingSolver(std::unique_ptr<Solver> inner) : inner_(std::move(inner)) {}
+  std::string device() const override { return inner_->device(); }
+  void advance(int64_t substeps, double dt) override { inner_->advance(substeps, dt); }
+  Energies energies() override { return inner_->energies(); }
+  long first_non_finite() override { return inner_->first_non_finite(); }
+  PointState read_state(bool with_stress) override {
+    ++reads;
+    return inner_->read_state(with_stress);
+  }
+  size_t regularised_count() const override { return inner_->regularised_count(); }
+  const NeighbourLists& neighbours() const override { return inner_->neighbours(); }
+  std::pair<double, double> max_norms() override { return inner_->max_norms(); }
+  std::vector<ObjectMotion> object_motion(const PhyxelSet& set) override {
+    ++motions;
+    return inner_->object_motion(set);
+  }
+  bool supports_pass_selection() const override { return true; }
+  void set_pass_selection(bool on) override { inner_->set_pass_selection(on); }
+  void set_object_awake(uint32_t object, bool awake) override {
+    inner_->set_object_awake(object, awake);
+  }
+  bool supports_load_changes() const override { return true; }
+  void set_external_forces(const std::vector<Vec3>& f) override { inner_->set_external_forces(f); }
+  bool supports_tools() const override { return true; }
+  void set_tools(const std::vector<ContactTool>& tools) override { inner_->set_tools(tools); }
+  void set_tool_motion(const std::vector<ToolMotion>& m) override { inner_->set_tool_motion(m); }
+  std::vector<ToolContactSample> tool_samples() override { return inner_->tool_samples(); }
+
+  int reads = 0, motions = 0;
+
+ private:
+  std::unique_ptr<Solver> inner_;
+};
+
+// The sleep and rest checks read per-object reductions, not the state: without tools nothing
+// is read back before the end, with a tool the state once per object that falls asleep (where it
+// sleeps, for waking it when the tool comes near). The decisions are those of the uncounted run.
+TEST(Sleeping, ChecksReadTheStateBackOnlyWhereAnObjectFallsAsleepNearTools) {
+  for (const bool with_tool : {false, true}) {
+    Scene scene = sleepy_block();
+    scene.simulation.until_rest = {true, 1e-30, 100000};  // decided at every check, never met
+    if (with_tool) {
+      ToolDesc probe;  // far above the block, still
+      probe.name = "probe";
+      probe.shape.radius = 0.002;
+      probe.path = {{0.0, Vec3(0, 0, 0.5), Vec3::UnitZ()}};
+      scene.tools.push_back(probe);
+    }
+    const PhyxelSet set = sample_scene(scene);
+    scene.simulation.dt = plan_time_step(scene, set).dt_stable;
+    RunOptions options;
+    options.steps = static_cast<int64_t>(std::ceil(0.15 / scene.simulation.dt)) + 3000;
+    options.pass_selection = true;
+    CountingSolver counted(make_cpu_solver(set, scene.simulation.gravity, 1));
+    const RunResult a = run_simulation(scene, set, counted, options);
+    const std::unique_ptr<Solver> plain = make_cpu_solver(set, scene.simulation.gravity, 1);
+    const RunResult b = run_simulation(scene, set, *plain, options);
+    EXPECT_GE(a.sleeps, 1);
+    EXPECT_EQ(a.sleeps, b.sleeps);
+    EXPECT_EQ(a.wakes, b.wakes);
+    EXPECT_EQ(a.steps_done, b.steps_done);
+    EXPECT_GE(counted.motions, options.steps / 100);
+    // And once at the end, for the summary's largest displacement.
+    EXPECT_EQ(counted.reads, (with_tool ? a.sleeps : 0) + 1) << (with_tool ? "with" : "without");
+    const PointState sa = counted.read_state(false), sb = plain->read_state(false);
+    EXPECT_EQ(max_difference(sa.displacement, sb.displacement), 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace phyxel
