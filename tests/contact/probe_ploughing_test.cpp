@@ -41,7 +41,9 @@ Scene ploughed_box() {
 // tangent stiffness grows as the stretch squared, past what the stable step (chosen for small
 // strain) allows; phyxel 7398 then oscillates with an alternating sign, the leapfrog's
 // instability, and the state is infinite at step 589. A smaller step (0.4 of it) survives the
-// same crossing; an energy barrier against inversion alone does not.
+// same crossing; an energy barrier against inversion alone does not. Nor does a law whose
+// stiffness stays bounded at large stretch: corotated and stable neo-Hookean laws run away too
+// (docs/performance.md, "Tearing", note a).
 TEST(ProbePloughing, DISABLED_ThickProbeThroughTissueStaysFiniteAndSubsonic) {
   const Scene scene = ploughed_box();
   const PhyxelSet set = sample_scene(scene);
