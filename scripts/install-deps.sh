@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev                   # scene files, summaries
   libtinyobjloader-dev                 # mesh shapes
   libstb-dev                           # PNG/JPEG textures and frames
+  zlib1g-dev                           # deflate of the PNG frames (docs/decisions.md)
   libavcodec-dev libavformat-dev       # H.264/MP4 video of the frames (libavcodec59 brings libx264)
   libswscale-dev libavutil-dev         # RGBA -> YUV 4:2:0 for the encoder (docs/decisions.md)
   libvulkan-dev                        # Vulkan headers and loader
