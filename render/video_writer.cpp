@@ -183,7 +183,7 @@ FrameSink::FrameSink(std::filesystem::path out_dir, bool png, std::unique_ptr<Vi
   if (!png_) return;
   if (encoders == 0) {
     const unsigned cores = std::max(std::thread::hardware_concurrency(), 1u);
-    encoders = std::clamp(cores - 1, 1u, 4u);
+    encoders = std::clamp(cores - 1, 1u, kMaxPngEncoders);
   }
   for (unsigned k = 0; k < encoders; ++k) png_threads_.emplace_back([this] { run_png(); });
 }
