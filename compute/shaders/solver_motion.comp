@@ -46,7 +46,8 @@ void main() {
     if (p.level == 0u) {
       const vec3 v = vel[p.first + e].xyz;
       const float v2 = dot(v, v);
-      x = vec2(0.5 * ext[p.first + e].w * v2, non_finite(v) ? uintBitsToFloat(0x7fc00000u) : sqrt(v2));
+      const float speed = non_finite(v) ? uintBitsToFloat(0x7fc00000u) : sqrt(v2);  // NaN
+      x = vec2(0.5 * ext[p.first + e].w * v2, speed);
     } else {
       x = src[e].xy;
     }

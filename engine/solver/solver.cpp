@@ -1,7 +1,6 @@
 #include "engine/solver/solver.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace phyxel {
 
