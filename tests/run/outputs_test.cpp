@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -59,6 +60,35 @@ TEST(VtpWriter, AsciiFileHasPointsAndEveryArray) {
   EXPECT_DOUBLE_EQ(y, 0);
   EXPECT_DOUBLE_EQ(z, -0.5);
   EXPECT_FALSE(std::filesystem::exists(file.string() + ".tmp"));
+}
+
+// The ASCII values are written by std::to_chars (engine/run/vtp_writer.cpp) exactly as a stream
+// at precision 17 writes them, and read back to the same doubles: awkward values included.
+TEST(VtpWriter, AsciiValuesAreTheStreamsDigitsAndReadBackExactly) {
+  Written w = sample_state();
+  const std::array<double, 9> awkward = {0.1,  1.0 / 3.0,     -2.5e10,       1e-300, 4.9e-324,
+                                         -0.0, 123456789.125, 6.02214076e23, -1e-7};
+  for (size_t i = 0; i < w.set.size(); ++i)
+    w.state.displacement[i] =
+        Vec3(awkward[(3 * i) % 9], awkward[(3 * i + 1) % 9], awkward[(3 * i + 2) % 9]);
+  const auto file = test::test_output_dir("vtp_ascii_exact") / "points.vtp";
+  write_points_vtp(file, w.set, w.state, false);
+  const std::string text = read_file(file);
+  const size_t array = text.find("Name=\"displacement\"");
+  ASSERT_NE(array, std::string::npos);
+  const size_t values = text.find('>', array) + 1;
+  std::istringstream in(text.substr(values, text.find("</DataArray>", values) - values));
+  for (size_t i = 0; i < w.set.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      std::string token;
+      ASSERT_TRUE(in >> token) << i;
+      std::ostringstream expected;
+      expected.precision(17);
+      expected << w.state.displacement[i][c];
+      EXPECT_EQ(token, expected.str()) << i << " " << c;
+      EXPECT_EQ(std::strtod(token.c_str(), nullptr), w.state.displacement[i][c]) << token;
+    }
+  }
 }
 
 TEST(VtpWriter, BinaryFileHasAppendedBlocksOfTheRightSize) {
