@@ -4,29 +4,23 @@
 #include <utility>
 
 namespace phyxel::render {
-namespace {
 
-// Frees a read-back slot when the last copy of the sink's job that holds it is destroyed: after
-// the copy ran, or unrun when the sink dropped the frame after a failure.
-struct SlotLease {
-  SlotLease(std::shared_ptr<void> s, std::mutex* m, std::condition_variable* f, bool* b)
-      : slots(std::move(s)), mutex(m), freed(f), busy(b) {}
-  std::shared_ptr<void> slots;
-  std::mutex* mutex;
-  std::condition_variable* freed;
-  bool* busy;
+void FrameQueue::Slots::release(uint32_t slot) {
+  {
+    std::lock_guard lock(mutex);
+    busy[slot] = false;
+  }
+  freed.notify_all();
+}
+
+struct FrameQueue::SlotLease {
+  std::shared_ptr<Slots> slots;
+  uint32_t slot;
+  SlotLease(std::shared_ptr<Slots> s, uint32_t k) : slots(std::move(s)), slot(k) {}
   SlotLease(const SlotLease&) = delete;
   SlotLease& operator=(const SlotLease&) = delete;
-  ~SlotLease() {
-    {
-      std::lock_guard lock(*mutex);
-      *busy = false;
-    }
-    freed->notify_all();
-  }
+  ~SlotLease() { slots->release(slot); }
 };
-
-}  // namespace
 
 FrameQueue::FrameQueue(gpu::Context& ctx, SplatRenderer& renderer, FrameSink& sink)
     : renderer_(&renderer), sink_(&sink) {
@@ -48,13 +42,10 @@ void FrameQueue::drain() {
   try {
     recorders_[frame.slot]->wait();
   } catch (...) {
-    std::lock_guard lock(slots_->mutex);
-    slots_->busy[frame.slot] = false;
+    slots_->release(frame.slot);
     throw;
   }
-  Slots& s = *slots_;
-  auto lease =
-      std::shared_ptr<SlotLease>(new SlotLease{slots_, &s.mutex, &s.freed, &s.busy[frame.slot]});
+  auto lease = std::make_shared<SlotLease>(slots_, frame.slot);
   SplatRenderer* renderer = renderer_;
   const uint32_t slot = frame.slot;
   sink_->push(
@@ -78,8 +69,7 @@ void FrameQueue::submit(const RenderInputs& inputs, const FrameSetup& setup, std
     renderer_->record(rec, inputs, setup, nullptr, slot);
     rec.submit();
   } catch (...) {
-    std::lock_guard lock(slots_->mutex);
-    slots_->busy[slot] = false;
+    slots_->release(slot);
     throw;
   }
   pending_ = Pending{slot, std::move(name), video_index};

@@ -48,7 +48,11 @@ class FrameQueue {
     std::mutex mutex;
     std::condition_variable freed;
     std::array<bool, SplatRenderer::kReadbackSlots> busy{};
+    void release(uint32_t slot);  // busy[slot] = false, and wakes a waiting submit()
   };
+  // Frees its slot when the last copy of the sink's job that holds it is destroyed: after the
+  // copy ran, or unrun when the sink dropped the frame after a failure.
+  struct SlotLease;
   struct Pending {
     uint32_t slot;
     std::string name;

@@ -1,9 +1,9 @@
 // The contact forces of one substep per tool, in a fixed order (no float atomics: the samples
 // are the same bits on every run): one workgroup per tool; thread t sums the partials of
-// tool_contact's workgroups t, t + workgroup, ... in order, then a fixed tree over the workgroup. The sample is the force
-// on the tool (minus the sum of the forces on the phyxels) and the number of contacts (exact in
-// float below 2^24), then in a second row the range the contacts span along the tool's axis
-// (min, max; engine ToolContactSample::axial_min/max).
+// tool_contact's workgroups t, t + workgroup, ... in order, then a fixed tree over the
+// workgroup. The sample is the force on the tool (minus the sum of the forces on the phyxels)
+// and the number of contacts (exact in float below 2^24), then in a second row the range the
+// contacts span along the tool's axis (min, max; engine ToolContactSample::axial_min/max).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
