@@ -72,7 +72,20 @@ GpuSolver::GpuSolver(std::unique_ptr<Context> ctx, const PhyxelSet& set, const V
   build(set, gravity);
 }
 
-GpuSolver::~GpuSolver() = default;
+GpuSolver::~GpuSolver() {
+  try {
+    settle();
+  } catch (...) {
+    // A lost device: nothing is left to wait for.
+  }
+}
+
+void GpuSolver::settle() {
+  if (in_flight_ < 0) return;
+  const int k = in_flight_;
+  in_flight_ = -1;  // waited for once, even where the wait throws
+  rec_[k]->wait();
+}
 
 void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   if (set.size() >= (size_t{1} << 31))
@@ -263,7 +276,11 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 }
 
 void GpuSolver::advance(int64_t substeps, double dt) {
+  settle();
   if (substeps <= 0) return;
+  // Where the host has nothing to finish after it (no tool samples, cut log or read-back to
+  // take), the advance returns while its last submission runs.
+  const bool finish_here = !tools_.empty() || cutting_ || tearing_ || advance_readback_;
   advanced_state_ = false;
   bool copied = false;  // the last chunk copied u and the principal stress (advance read-back)
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
@@ -306,10 +323,15 @@ void GpuSolver::advance(int64_t substeps, double dt) {
       which = other;
       done = next;
     }
+    // The last submission is rec_[1 - which]: left running where the host has nothing to
+    // finish.
     for (int k = 0; k < 2; ++k) {
-      if (pending[k]) {
-        pending[k] = false;
+      if (!pending[k]) continue;
+      pending[k] = false;
+      if (finish_here || k != 1 - which) {
         rec_[k]->wait();
+      } else {
+        in_flight_ = k;
       }
     }
   } catch (...) {
@@ -334,6 +356,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
 }
 
 void GpuSolver::compute_forces() {
+  settle();
   ++state_version_;  // every host change of the state (set_state, edits, pass selection)
   advanced_state_ = false;
   Recorder& rec = *rec_[0];
@@ -349,6 +372,7 @@ void GpuSolver::compute_forces() {
 
 void GpuSolver::set_state(const std::vector<Vec3>& displacement,
                           const std::vector<Vec3>& velocity) {
+  settle();
   if (displacement.size() != count_ || velocity.size() != count_)
     throw std::invalid_argument("GpuSolver::set_state: expected " + std::to_string(count_) +
                                 " displacements and velocities");

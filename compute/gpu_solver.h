@@ -100,7 +100,12 @@ class GpuSolver final : public Solver {
 
   // Solver.
   std::string device() const override;  // "gpu:0 NVIDIA H100 80GB HBM3 (float32)"
+  // Returns once its last command buffer is submitted where the host has nothing left to do
+  // for it (no tools, cutting, tearing or advance read-back); every other non-const member
+  // waits for that submission first (settle()), and so does finish().
   void advance(int64_t substeps, double dt) override;
+  void finish() override { settle(); }
+  bool advance_in_flight() const { return in_flight_ >= 0; }
   Energies energies() override;
   long first_non_finite() override;
   std::pair<double, double> max_norms() override;  // a GPU reduction; 16 bytes back
@@ -232,6 +237,7 @@ class GpuSolver final : public Solver {
 
  private:
   void build(const PhyxelSet& set, const Vec3& gravity);
+  void settle();  // waits for the submission advance() left in flight, if any
   void build_neighbours(const std::vector<layout::vec4>& rest_lo);
   void count_flags();                       // downloads the flags
   void count_flags(const uint32_t* flags);  // of count_ flags read back already
@@ -384,6 +390,7 @@ class GpuSolver final : public Solver {
   std::vector<uint8_t> alive_;        // per pair, as the log says (overflow and pair_alive)
 
   std::unique_ptr<Recorder> rec_[2];
+  int in_flight_ = -1;  // the rec_ whose submission advance() left running, or -1
 };
 
 }  // namespace phyxel::gpu

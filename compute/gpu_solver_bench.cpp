@@ -38,6 +38,7 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
     solver.advance(20, dt);
     auto t0 = std::chrono::steady_clock::now();
     solver.advance(50, dt);
+    solver.finish();
     const double probe = seconds_since(t0) / 50;
     r.steps_per_repeat =
         options.steps > 0 ? options.steps : std::clamp<int64_t>(int64_t(0.5 / probe), 50, 200000);
@@ -46,6 +47,7 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
     for (int64_t k = 0; k < options.repeats; ++k) {
       t0 = std::chrono::steady_clock::now();
       solver.advance(r.steps_per_repeat, dt);
+      solver.finish();
       per_step.push_back(seconds_since(t0) / double(r.steps_per_repeat));
     }
     r.seconds_per_step = per_step;

@@ -41,6 +41,7 @@ void reserve(Context& ctx, Buffer& b, uint64_t bytes, MemoryIntent intent, const
 }  // namespace
 
 void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
+  settle();
   std::vector<ContactToolShape> shapes;
   for (const ContactTool& t : tools) {
     const bool capsule = t.shape.type == ToolShape::Type::Capsule;
@@ -85,6 +86,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
 }
 
 void GpuSolver::set_tool_motion(const std::vector<ToolMotion>& motion) {
+  settle();
   if (!tools_.empty() && motion.size() % tools_.size() != 0)
     throw std::invalid_argument("GpuSolver::set_tool_motion: " + std::to_string(motion.size()) +
                                 " motions for " + std::to_string(tools_.size()) +
@@ -109,6 +111,7 @@ void GpuSolver::record_max_norms(Recorder& rec) {
 }
 
 std::pair<double, double> GpuSolver::max_norms() {
+  settle();
   if (count_ == 0) return {0.0, 0.0};
   record_max_norms(*rec_[0]);
   rec_[0]->submit_and_wait();

@@ -145,10 +145,12 @@ void GpuSolver::mark_severed(const SeveredPair& p) {
 }
 
 std::vector<SeveredPair> GpuSolver::severed_since(size_t first) {
+  settle();
   return {severed_.begin() + std::min(first, severed_.size()), severed_.end()};
 }
 
 std::vector<uint8_t> GpuSolver::pair_alive() {
+  settle();
   if (!alive_.empty()) return alive_;
   // Without cuts: every pair with a weight (removed phyxels' pairs have none).
   const std::vector<float> w = download<float>(*ctx_, weight_, pairs_);
@@ -158,6 +160,7 @@ std::vector<uint8_t> GpuSolver::pair_alive() {
 }
 
 void GpuSolver::sever_pairs(const std::vector<SeveredPair>& pairs) {
+  settle();
   if (pairs.empty()) return;
   if (alive_.empty()) alive_.assign(pairs_, 1);
   std::vector<uint32_t> flags;

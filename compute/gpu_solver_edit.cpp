@@ -37,6 +37,7 @@ void GpuSolver::read_flags_and_weights(std::vector<uint32_t>& flags, std::vector
 }
 
 void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
+  settle();
   if (ids.empty()) return;
   std::vector<uint32_t> flags;
   std::vector<float> weights;

@@ -82,6 +82,7 @@ void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer
 }
 
 std::vector<uint32_t> GpuSolver::held_phyxels(size_t tool) {
+  settle();
   if (tool >= grip_closed_.size() || !grip_closed_[tool]) return {};
   const auto count = download<ContactCount>(*ctx_, grip_count_, 1, tool * sizeof(ContactCount));
   if (count.front().total == 0) return {};

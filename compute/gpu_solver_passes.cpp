@@ -59,12 +59,14 @@ void GpuSolver::build_pass_lists() {
 }
 
 void GpuSolver::set_pass_selection(bool enabled) {
+  settle();
   select_ = enabled;
   build_pass_lists();
   compute_forces();
 }
 
 void GpuSolver::set_object_awake(uint32_t object, bool awake) {
+  settle();
   if (object >= awake_.size())
     throw std::out_of_range("GpuSolver::set_object_awake: no object " + std::to_string(object));
   if (bool(awake_[object]) == awake) return;
@@ -83,6 +85,7 @@ void GpuSolver::set_object_awake(uint32_t object, bool awake) {
 }
 
 void GpuSolver::set_external_forces(const std::vector<Vec3>& loads) {
+  settle();
   if (loads.size() != count_)
     throw std::invalid_argument("GpuSolver::set_external_forces: expected " +
                                 std::to_string(count_) + " loads, got " +
@@ -97,6 +100,7 @@ void GpuSolver::set_external_forces(const std::vector<Vec3>& loads) {
 }
 
 void GpuSolver::set_principal_stress(bool on) {
+  settle();
   if (on == principal_) return;
   principal_ = on;
   if (!on) {  // the buffer stays for a later turn on; nothing records the pass

@@ -35,6 +35,7 @@ std::vector<Vec3> to_vec3(const std::vector<vec4>& x) {
 }  // namespace
 
 Energies GpuSolver::energies() {
+  settle();
   Recorder& rec = *rec_[0];
   dispatch(rec, kernels_->energy, push(count_, 0.0f),
            {nbr_offset_, nbr_index_, weight_, local_, disp_[0], vel_, ainv_, ext_, flags_, classes_,
@@ -66,6 +67,7 @@ Energies GpuSolver::energies() {
 }
 
 std::vector<ObjectMotion> GpuSolver::object_motion(const PhyxelSet& set) {
+  settle();
   if (set.size() != count_)
     throw std::invalid_argument("GpuSolver::object_motion: the set has " +
                                 std::to_string(set.size()) + " phyxels, the solver " +
@@ -110,6 +112,7 @@ std::vector<ObjectMotion> GpuSolver::object_motion(const PhyxelSet& set) {
 }
 
 long GpuSolver::first_non_finite() {
+  settle();
   Recorder& rec = *rec_[0];
   rec.fill(check_, 0xffffffffu);
   rec.barrier();
@@ -150,12 +153,14 @@ void GpuSolver::record_state_copies(Recorder& rec, bool velocity, bool von_mises
 }
 
 void GpuSolver::set_advance_readback(bool on) {
+  settle();
   advance_readback_ = on;
   if (!on) advanced_state_ = false;
 }
 
 void GpuSolver::read_advanced_state(std::vector<Vec3>& displacement,
                                     std::vector<double>& principal) {
+  settle();
   if (!advanced_state_) {  // something changed the state since the last advance: read it
     PointState s = read_state(true);
     displacement = std::move(s.displacement);
@@ -174,6 +179,7 @@ void GpuSolver::read_advanced_state(std::vector<Vec3>& displacement,
 }
 
 PointState GpuSolver::read_state(bool with_stress) {
+  settle();
   // One submission: the von Mises pass (with stress), then copies of every field into one
   // persistent read-back buffer: u and v (vec4), von Mises, principal stress, contact flags
   // (4 bytes each). (Aspiration reads the state after every advance: five downloads, each
@@ -214,10 +220,12 @@ PointState GpuSolver::read_state(bool with_stress) {
 }
 
 std::vector<Vec3> GpuSolver::forces() {
+  settle();
   return to_vec3(download<vec4>(*ctx_, force_, count_));
 }
 
 std::vector<MomentInverseRow> GpuSolver::moment_inverses() {
+  settle();
   const std::vector<vec4> a = download<vec4>(*ctx_, ainv_, 2 * size_t{count_});
   const std::vector<uint32_t> flags = download<uint32_t>(*ctx_, flags_, count_);
   std::vector<MomentInverseRow> out(count_);
@@ -230,10 +238,12 @@ std::vector<MomentInverseRow> GpuSolver::moment_inverses() {
 }
 
 std::vector<float> GpuSolver::pair_weights() {
+  settle();
   return download<float>(*ctx_, weight_, pairs_);
 }
 
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {
+  settle();
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
   // kick_drift once; per step stress, principal while on, force, tear while on, and contact
   // and cut where there are tools.

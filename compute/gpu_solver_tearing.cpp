@@ -13,6 +13,7 @@ namespace phyxel::gpu {
 using namespace layout;
 
 void GpuSolver::set_tearing(bool on) {
+  settle();
   if (on == tearing_) return;
   if (!on) {
     tearing_ = false;  // the tensor buffer stays for a later turn on

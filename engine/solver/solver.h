@@ -53,8 +53,13 @@ std::vector<ObjectMotion> sum_object_motion(const PhyxelSet& set, const std::vec
 class Solver {
  public:
   virtual ~Solver() = default;
-  virtual std::string device() const = 0;                 // e.g. "cpu (double, 2 threads)"
-  virtual void advance(int64_t substeps, double dt) = 0;  // substeps of size dt
+  virtual std::string device() const = 0;  // e.g. "cpu (double, 2 threads)"
+  // substeps of size dt. A solver may return before the last of its device work is done (the
+  // GPU solver, where nothing of the advance is left for the host: its next call waits for it,
+  // and work submitted to its queue meanwhile, a frame, runs after it). Code that times an
+  // advance calls finish() before it reads the clock.
+  virtual void advance(int64_t substeps, double dt) = 0;
+  virtual void finish() {}  // waits for what the last advance left running
   virtual Energies energies() = 0;
   virtual long first_non_finite() = 0;  // phyxel index or -1
   virtual PointState read_state(bool with_stress) = 0;

@@ -1,12 +1,15 @@
 // FrameQueue (render/frame_queue.h): frames submitted without waiting and copied out on the
 // sink's thread are the bytes of frames rendered and waited for; more frames than read-back
 // slots, with the displacement changing between them, keep their order and their own state;
-// a sink that fails reports its error to the next call and never leaves a slot taken (no hang).
+// a sink that fails reports its error to the next call and never leaves a slot taken (no hang);
+// frames drawn from the GPU solver's buffers while its advance still runs show where it ended.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 
+#include "compute/gpu_solver.h"
+#include "engine/run/simulation.h"
 #include "render/frame_queue.h"
 #include "render/sample_shapes.h"
 #include "tests/render/render_test_util.h"
@@ -106,6 +109,53 @@ TEST_F(FrameQueueTest, ASinkThatFailsReportsItAndFreesItsSlots) {
     }
   }
   EXPECT_EQ(failures, 4);
+}
+
+// As `phyxel run` and `phyxel bench --render` draw a GPU run's frames: the advance returns with
+// its last submission running, the frame is recorded and submitted behind it on the same queue.
+// Each frame is the one drawn from a solver that finished the same advances.
+TEST_F(FrameQueueTest, FramesQueuedBehindAnAdvanceInFlightShowTheAdvancedState) {
+  PhyxelSet set = lattice_sphere(Vec3::Zero(), 0.012, 0.002, 0.006);
+  for (size_t i = 0; i < set.size(); ++i)
+    set.initial_velocity[i] = Vec3(0, 0, -2 * set.rest[i].z());
+  const double dt = plan_time_step(Scene{}, set).dt_stable;
+  const RgbaImage texture = procedural_tissue_texture(64);
+  test::RenderedSet queued(ctx(), set, texture);
+  test::RenderedSet reference(ctx(), set, texture);
+  const FrameSetup setup =
+      test::setup_for(test::camera_at(Vec3(0, -0.08, 0.02), Vec3::Zero(), Vec3::UnitZ()), 96, 64);
+  const std::filesystem::path dir = test::test_out_dir() / "frame_queue_in_flight";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  constexpr int kFrames = 4;
+  constexpr int64_t kSteps = 30;
+  {
+    gpu::GpuSolver solver(ctx(), set, Vec3::Zero());
+    FrameSink sink(dir, true, nullptr);
+    FrameQueue queue(ctx(), *queued.renderer, sink);
+    for (int k = 0; k < kFrames; ++k) {
+      solver.advance(kSteps, dt);
+      EXPECT_TRUE(solver.advance_in_flight()) << k;
+      queue.submit(solver.buffers(), setup, frame_file(k), k);
+    }
+    queue.drain();
+    sink.flush();
+  }
+  gpu::GpuSolver finished(ctx(), set, Vec3::Zero());
+  RgbaImage previous;
+  for (int k = 0; k < kFrames; ++k) {
+    finished.advance(kSteps, dt);
+    finished.finish();
+    const RgbaImage expected = reference.renderer->render(finished.buffers(), setup);
+    const std::string name = frame_file(k);
+    const RgbaImage got = load_image(dir / name, name);
+    ASSERT_EQ(got.pixels.size(), expected.pixels.size());
+    EXPECT_EQ(got.pixels, expected.pixels) << name;
+    if (k > 0) {
+      EXPECT_NE(got.pixels, previous.pixels) << name << ": the sphere moved";
+    }
+    previous = got;
+  }
 }
 
 }  // namespace
