@@ -50,6 +50,12 @@ void print_device(const gpu::DeviceInfo& d) {
   } else {
     std::printf("  timestamps            no\n");
   }
+  if (d.transfer_queue_family != UINT32_MAX) {
+    std::printf("  transfer queue        family %u (frames copied out beside the solver)\n",
+                d.transfer_queue_family);
+  } else {
+    std::printf("  transfer queue        none (frames copied out on the compute queue)\n");
+  }
   std::printf("  float64               %s\n", yes_no(d.float64));
   std::printf("  push descriptors      %s\n", yes_no(d.push_descriptor));
   std::printf("  memory budget         %s\n", yes_no(d.memory_budget));

@@ -90,7 +90,7 @@ uint32_t choose_memory_type(const VkPhysicalDeviceMemoryProperties& memory, uint
 }
 
 Buffer::Buffer(Context& ctx, VkDeviceSize size, MemoryIntent intent, const std::string& name,
-               VkBufferUsageFlags extra_usage)
+               VkBufferUsageFlags extra_usage, bool with_transfer_queue)
     : ctx_(&ctx), size_(size), intent_(intent), name_(name) {
   const DeviceInfo& info = ctx.info();
   if (info.max_allocation_size != 0 && size > info.max_allocation_size) {
@@ -106,6 +106,12 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, MemoryIntent intent, const std::
   create.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                  VK_BUFFER_USAGE_TRANSFER_DST_BIT | extra_usage;
   create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  const uint32_t families[2] = {ctx.queue_family(), ctx.transfer_queue_family()};
+  if (with_transfer_queue && families[1] != UINT32_MAX) {
+    create.sharingMode = VK_SHARING_MODE_CONCURRENT;
+    create.queueFamilyIndexCount = 2;
+    create.pQueueFamilyIndices = families;
+  }
   VK_CHECK(fn.vkCreateBuffer(ctx.device(), &create, nullptr, &buffer_));
   try {
     VkMemoryRequirements needs{};

@@ -31,8 +31,10 @@ class Buffer {
   Buffer() = default;
   // Device buffers are checked with Context::check_fits before allocating. A size of 0 is
   // allowed (an empty array): the buffer then holds a few bytes so it can still be bound.
+  // `with_transfer_queue`: the buffer is also used on the context's transfer queue, where it
+  // has one (shared by both queue families, no ownership transfers).
   Buffer(Context& ctx, VkDeviceSize size, MemoryIntent intent, const std::string& name,
-         VkBufferUsageFlags extra_usage = 0);
+         VkBufferUsageFlags extra_usage = 0, bool with_transfer_queue = false);
   ~Buffer();
   Buffer(Buffer&& other) noexcept;
   Buffer& operator=(Buffer&& other) noexcept;

@@ -65,15 +65,21 @@ Context::Context(const ContextOptions& options)
   features.features.shaderInt64 = info_.int64 ? VK_TRUE : VK_FALSE;
 
   const float priority = 1.0f;
-  auto queue = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
-  queue.queueFamilyIndex = info_.compute_queue_family;
-  queue.queueCount = 1;
-  queue.pQueuePriorities = &priority;
+  VkDeviceQueueCreateInfo queues[2];
+  uint32_t queue_count = 0;
+  for (const uint32_t family : {info_.compute_queue_family, info_.transfer_queue_family}) {
+    if (family == UINT32_MAX || (queue_count > 0 && !options.transfer_queue)) continue;
+    VkDeviceQueueCreateInfo& queue = queues[queue_count++];
+    queue = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+    queue.queueFamilyIndex = family;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+  }
 
   auto create = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
   create.pNext = &features;
-  create.queueCreateInfoCount = 1;
-  create.pQueueCreateInfos = &queue;
+  create.queueCreateInfoCount = queue_count;
+  create.pQueueCreateInfos = queues;
   create.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   create.ppEnabledExtensionNames = extensions.data();
   VK_CHECK(ifn.vkCreateDevice(physical_, &create, nullptr, &device_));
@@ -81,6 +87,8 @@ Context::Context(const ContextOptions& options)
     fn_ = load_device_functions(ifn, device_);
     if (push_descriptors_ && fn_.vkCmdPushDescriptorSetKHR == nullptr) push_descriptors_ = false;
     fn_.vkGetDeviceQueue(device_, info_.compute_queue_family, 0, &queue_);
+    if (queue_count == 2)
+      fn_.vkGetDeviceQueue(device_, info_.transfer_queue_family, 0, &transfer_queue_);
 
     ifn.vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
     VkDeviceSize largest = 0;
@@ -93,6 +101,9 @@ Context::Context(const ContextOptions& options)
     }
     set_name(VK_OBJECT_TYPE_DEVICE, reinterpret_cast<uint64_t>(device_), "phyxel device");
     set_name(VK_OBJECT_TYPE_QUEUE, reinterpret_cast<uint64_t>(queue_), "phyxel compute queue");
+    if (transfer_queue_ != VK_NULL_HANDLE)
+      set_name(VK_OBJECT_TYPE_QUEUE, reinterpret_cast<uint64_t>(transfer_queue_),
+               "phyxel transfer queue");
     set_test_fail_allocation_after(hook_from_env("PHYXEL_TEST_FAIL_ALLOC_AFTER"));
     if (const int64_t n = hook_from_env("PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP"); n >= 0)
       test_lost_at_substep_ = n;

@@ -26,6 +26,9 @@ struct ContextOptions {
   bool push_descriptors = true;
   // How long Recorder::submit_and_wait waits for the GPU before giving up with an error.
   uint32_t fence_timeout_ms = 120000;
+  // Open a queue of the device's transfer-only family where it has one (DeviceInfo), for
+  // copies that may run beside the compute queue's work (a frame's read-back: FrameQueue).
+  bool transfer_queue = true;
 };
 
 class Context {
@@ -41,6 +44,11 @@ class Context {
   VkPhysicalDevice physical_device() const { return physical_; }
   VkQueue queue() const { return queue_; }
   uint32_t queue_family() const { return info_.compute_queue_family; }
+  // The transfer-only queue (ContextOptions::transfer_queue); VK_NULL_HANDLE where there is none.
+  VkQueue transfer_queue() const { return transfer_queue_; }
+  uint32_t transfer_queue_family() const {
+    return transfer_queue_ != VK_NULL_HANDLE ? info_.transfer_queue_family : UINT32_MAX;
+  }
   const DeviceInfo& info() const { return info_; }
   const Instance& instance() const { return *instance_; }
   const ContextOptions& options() const { return options_; }
@@ -103,6 +111,7 @@ class Context {
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
+  VkQueue transfer_queue_ = VK_NULL_HANDLE;
   DeviceFunctions fn_;
   VkPhysicalDeviceMemoryProperties memory_{};
   uint32_t device_heap_ = 0;

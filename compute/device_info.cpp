@@ -123,6 +123,9 @@ DeviceInfo query_device_info(const InstanceFunctions& fn, VkPhysicalDevice devic
     return (families[family].queueFlags & flag) != 0 && families[family].queueCount > 0;
   };
   for (uint32_t i = 0; i < count; ++i) {
+    if (has_flag(i, VK_QUEUE_TRANSFER_BIT) && !has_flag(i, VK_QUEUE_COMPUTE_BIT) &&
+        !has_flag(i, VK_QUEUE_GRAPHICS_BIT) && info.transfer_queue_family == UINT32_MAX)
+      info.transfer_queue_family = i;
     if (!has_flag(i, VK_QUEUE_COMPUTE_BIT)) continue;
     const uint32_t chosen = info.compute_queue_family;
     if (chosen == UINT32_MAX ||

@@ -27,6 +27,9 @@ struct DeviceInfo {
   uint32_t subgroup_size = 0;                  // reported, never assumed (lavapipe's is 8)
   uint32_t compute_queue_family = UINT32_MAX;  // UINT32_MAX: no compute queue
   uint32_t timestamp_valid_bits = 0;           // of the compute queue family; 0: no timestamps
+  // A family of transfer queues alone (a GPU's copy engines), UINT32_MAX where there is none
+  // (lavapipe has one family for everything).
+  uint32_t transfer_queue_family = UINT32_MAX;
   float timestamp_period_ns = 0;
   uint64_t min_storage_buffer_offset_alignment = 0;
   uint32_t max_push_descriptors = 0;  // 0 when VK_KHR_push_descriptor is absent

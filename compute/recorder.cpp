@@ -1,6 +1,7 @@
 #include "compute/recorder.h"
 
 #include <cstdint>
+#include <stdexcept>
 
 namespace phyxel::gpu {
 namespace {
@@ -13,11 +14,18 @@ constexpr VkPipelineStageFlags kGpuStages =
 
 }  // namespace
 
-Recorder::Recorder(Context& ctx, const std::string& name) : ctx_(&ctx), name_(name) {
+Recorder::Recorder(Context& ctx, const std::string& name, QueueRole role)
+    : ctx_(&ctx), name_(name), role_(role) {
+  const bool transfer = role == QueueRole::Transfer;
+  if (transfer && ctx.transfer_queue() == VK_NULL_HANDLE)
+    throw std::logic_error("Recorder '" + name + "': " + ctx.info().name +
+                           " has no transfer queue open");
+  queue_ = transfer ? ctx.transfer_queue() : ctx.queue();
+  stages_ = transfer ? VkPipelineStageFlags{VK_PIPELINE_STAGE_TRANSFER_BIT} : kGpuStages;
   const DeviceFunctions& fn = ctx.fn();
   auto pool = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-  pool.queueFamilyIndex = ctx.queue_family();
+  pool.queueFamilyIndex = transfer ? ctx.transfer_queue_family() : ctx.queue_family();
   VK_CHECK(fn.vkCreateCommandPool(ctx.device(), &pool, nullptr, &pool_));
   try {
     auto alloc =
@@ -62,6 +70,11 @@ void Recorder::begin() {
 }
 
 void Recorder::barrier() {
+  if (role_ == QueueRole::Transfer) {
+    barrier(stages_, VK_ACCESS_TRANSFER_WRITE_BIT, stages_,
+            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+    return;
+  }
   barrier(kGpuStages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kGpuStages,
           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
               VK_ACCESS_TRANSFER_WRITE_BIT);
@@ -115,20 +128,32 @@ void Recorder::fill(const Buffer& dst, uint32_t value, VkDeviceSize offset, VkDe
   ctx_->fn().vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);
 }
 
-void Recorder::submit() {
+void Recorder::submit(VkSemaphore wait_for, VkSemaphore signal) {
   if (!recording_) throw VulkanError("Recorder '" + name_ + "': submit() while not recording");
   const DeviceFunctions& fn = ctx_->fn();
   // GPU writes → host reads of mapped Readback buffers after the fence wait.
-  barrier(kGpuStages, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  const VkAccessFlags writes = role_ == QueueRole::Transfer
+                                   ? VkAccessFlags{VK_ACCESS_TRANSFER_WRITE_BIT}
+                                   : VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier(stages_, writes, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   recording_ = false;
   VK_CHECK(fn.vkEndCommandBuffer(cmd_));
   auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd_;
+  const VkPipelineStageFlags wait_stages = stages_;
+  if (wait_for != VK_NULL_HANDLE) {
+    submit.waitSemaphoreCount = 1;
+    submit.pWaitSemaphores = &wait_for;
+    submit.pWaitDstStageMask = &wait_stages;
+  }
+  if (signal != VK_NULL_HANDLE) {
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &signal;
+  }
   // The device-loss test hook (context.h) fails the submission as a lost device would.
   VK_CHECK(ctx_->test_device_lost() ? VK_ERROR_DEVICE_LOST
-                                    : fn.vkQueueSubmit(ctx_->queue(), 1, &submit, fence_));
+                                    : fn.vkQueueSubmit(queue_, 1, &submit, fence_));
   pending_ = true;
 }
 

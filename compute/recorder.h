@@ -19,9 +19,15 @@
 
 namespace phyxel::gpu {
 
+// Which of the context's queues a Recorder submits to: the compute queue (everything), or the
+// transfer-only queue (Context::transfer_queue; copies and fills alone, its barriers on the
+// transfer stage).
+enum class QueueRole { Compute, Transfer };
+
 class Recorder {
  public:
-  explicit Recorder(Context& ctx, const std::string& name = "phyxel commands");
+  explicit Recorder(Context& ctx, const std::string& name = "phyxel commands",
+                    QueueRole role = QueueRole::Compute);
   ~Recorder();
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
@@ -50,8 +56,10 @@ class Recorder {
             VkDeviceSize bytes = VK_WHOLE_SIZE);
 
   // Ends the command buffer (with a barrier that makes GPU writes visible to the host) and
-  // submits it. Only one submission is in flight per Recorder.
-  void submit();
+  // submits it. Only one submission is in flight per Recorder. `wait_for`: a semaphore another
+  // submission signals, waited for before this one's commands run; `signal`: signalled when
+  // this one's are done (binary semaphores, for work handed between queues).
+  void submit(VkSemaphore wait_for = VK_NULL_HANDLE, VkSemaphore signal = VK_NULL_HANDLE);
   // Waits for the submission (ContextOptions::fence_timeout_ms); a timeout or a lost device
   // throws VulkanError. Then recording starts again.
   void wait();
@@ -78,6 +86,9 @@ class Recorder {
   uint32_t dispatches_ = 0;
   bool recording_ = false;
   bool pending_ = false;
+  QueueRole role_ = QueueRole::Compute;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkPipelineStageFlags stages_ = 0;  // the stages this queue's barriers name
 };
 
 }  // namespace phyxel::gpu

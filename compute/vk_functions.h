@@ -77,7 +77,9 @@
   X(vkCreateFence)                    \
   X(vkDestroyFence)                   \
   X(vkResetFences)                    \
-  X(vkWaitForFences)
+  X(vkWaitForFences)                  \
+  X(vkCreateSemaphore)                \
+  X(vkDestroySemaphore)
 
 #define PHYXEL_VK_DEVICE_FUNCTIONS_OPTIONAL(X) \
   X(vkCmdPushDescriptorSetKHR)                 \

@@ -3,6 +3,8 @@
 #include <exception>
 #include <utility>
 
+#include "compute/vk_check.h"
+
 namespace phyxel::render {
 
 void FrameQueue::Slots::release(uint32_t slot) {
@@ -23,15 +25,41 @@ struct FrameQueue::SlotLease {
 };
 
 FrameQueue::FrameQueue(gpu::Context& ctx, SplatRenderer& renderer, FrameSink& sink)
-    : renderer_(&renderer), sink_(&sink) {
-  for (uint32_t k = 0; k < recorders_.size(); ++k)
-    recorders_[k] = std::make_unique<gpu::Recorder>(ctx, "frame " + std::to_string(k));
+    : renderer_(&renderer), sink_(&sink), ctx_(&ctx) {
+  const bool transfer = ctx.transfer_queue() != VK_NULL_HANDLE;
+  try {
+    for (uint32_t k = 0; k < recorders_.size(); ++k) {
+      std::string name = "frame ";
+      name += std::to_string(k);
+      recorders_[k] = std::make_unique<gpu::Recorder>(ctx, name);
+      if (!transfer) continue;
+      copies_[k] =
+          std::make_unique<gpu::Recorder>(ctx, name + " read-back copy", gpu::QueueRole::Transfer);
+      auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
+      VK_CHECK(ctx.fn().vkCreateSemaphore(ctx.device(), &info, nullptr, &drawn_[k]));
+    }
+  } catch (...) {
+    destroy_semaphores();
+    throw;
+  }
 }
 
 FrameQueue::~FrameQueue() {
   try {
     drain();
   } catch (const std::exception&) {  // NOLINT(bugprone-empty-catch): a destructor stays quiet
+  }
+  destroy_semaphores();
+}
+
+void FrameQueue::destroy_semaphores() {
+  // Only once nothing waits on or signals them: drain() waited for both submissions, and a
+  // failed one never reached the queue or is waited for by the recorders' destructors first.
+  for (auto& c : copies_) c.reset();
+  for (auto& r : recorders_) r.reset();
+  for (VkSemaphore& s : drawn_) {
+    if (s != VK_NULL_HANDLE) ctx_->fn().vkDestroySemaphore(ctx_->device(), s, nullptr);
+    s = VK_NULL_HANDLE;
   }
 }
 
@@ -41,6 +69,7 @@ void FrameQueue::drain() {
   pending_.reset();
   try {
     recorders_[frame.slot]->wait();
+    if (copies_[frame.slot]) copies_[frame.slot]->wait();
   } catch (...) {
     slots_->release(frame.slot);
     throw;
@@ -66,8 +95,14 @@ void FrameQueue::submit(const RenderInputs& inputs, const FrameSetup& setup, std
   }
   try {
     gpu::Recorder& rec = *recorders_[slot];
-    renderer_->record(rec, inputs, setup, nullptr, slot);
-    rec.submit();
+    gpu::Recorder* copy = copies_[slot].get();
+    renderer_->record(rec, inputs, setup, nullptr, slot, copy);
+    if (copy != nullptr) {
+      rec.submit(VK_NULL_HANDLE, drawn_[slot]);
+      copy->submit(drawn_[slot]);
+    } else {
+      rec.submit();
+    }
   } catch (...) {
     slots_->release(slot);
     throw;

@@ -8,6 +8,11 @@
 // texture staging) may change once drain() has returned; two read-back slots let the sink
 // copy one frame while the next is drawn. The solver's work that follows a frame on the same
 // queue starts with a barrier, so it never writes what the frame still reads.
+//
+// Where the device has a transfer-only queue (a GPU's copy engines: gpu::Context::
+// transfer_queue), the copy of the frame into its read-back slot is submitted there, waiting on
+// a semaphore that the frame's drawing signals: the solver's next passes on the compute queue
+// then run while the frame crosses the bus, instead of after it.
 #pragma once
 
 #include <array>
@@ -41,6 +46,8 @@ class FrameQueue {
   // the sink. Call before changing anything the renderer reads.
   void drain();
   bool in_flight() const { return pending_.has_value(); }
+  // Whether frames are copied out on the device's transfer queue (see above).
+  bool copies_on_transfer_queue() const { return copies_[0] != nullptr; }
 
  private:
   // Which slots the sink has not copied out yet (shared with the sink's jobs).
@@ -58,9 +65,15 @@ class FrameQueue {
     std::string name;
     int64_t video_index;
   };
+  void destroy_semaphores();  // and the recorders, which wait for their submissions first
+
   SplatRenderer* renderer_;
   FrameSink* sink_;
+  gpu::Context* ctx_;
   std::array<std::unique_ptr<gpu::Recorder>, SplatRenderer::kReadbackSlots> recorders_;
+  // With a transfer queue: per slot the copy's recorder and the semaphore the drawing signals.
+  std::array<std::unique_ptr<gpu::Recorder>, SplatRenderer::kReadbackSlots> copies_;
+  std::array<VkSemaphore, SplatRenderer::kReadbackSlots> drawn_{};
   std::shared_ptr<Slots> slots_ = std::make_shared<Slots>();
   std::optional<Pending> pending_;
   uint32_t next_ = 0;

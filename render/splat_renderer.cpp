@@ -232,7 +232,7 @@ uint32_t SplatRenderer::max_frame_side() const {
 }
 
 void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const FrameSetup& setup,
-                           gpu::PassTimer* timer, uint32_t slot) {
+                           gpu::PassTimer* timer, uint32_t slot, gpu::Recorder* copy) {
   Impl& m = *impl_;
   if (!in.rest || !in.displacement || !in.nbr_offset || !in.nbr_index) {
     throw std::invalid_argument("SplatRenderer: a RenderInputs buffer is missing");
@@ -349,14 +349,18 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
                  gpu::BufferRef(layer ? m.layer_colour : m.depth, 0, eyes * depth_range)},
                 m.out_width * m.out_height);
   end();
-  rec.barrier();
   if (slot >= kReadbackSlots)
     throw std::invalid_argument("SplatRenderer: no read-back slot " + std::to_string(slot));
   gpu::Buffer& readback = m.readback[slot];
   if (!readback) {
     readback = gpu::Buffer(m.ctx, uint64_t(m.out_width) * m.out_height * 4,
-                           gpu::MemoryIntent::Readback, "render frame readback");
+                           gpu::MemoryIntent::Readback, "render frame readback", 0, true);
   }
+  if (copy != nullptr) {  // on the transfer queue, after rec's semaphore
+    copy->copy(m.frame, readback);
+    return;
+  }
+  rec.barrier();
   begin("render readback");
   rec.copy(m.frame, readback);
   end();

@@ -125,9 +125,12 @@ class SplatRenderer {
   // read-back slot `slot`, and read_frame(slot) returns the pixels after rec's submission
   // has completed. Two slots let one frame be read on another thread while the next is drawn
   // (render/frame_queue.h); a slot is made on its first use and again after a size change.
+  // `copy`: where the copy into the slot goes instead of `rec` (a Recorder of the transfer
+  // queue, whose submission waits on a semaphore that rec's signals); its pixels are then read
+  // after copy's submission has completed.
   static constexpr uint32_t kReadbackSlots = 2;
   void record(gpu::Recorder& rec, const RenderInputs& inputs, const FrameSetup& setup,
-              gpu::PassTimer* timer = nullptr, uint32_t slot = 0);
+              gpu::PassTimer* timer = nullptr, uint32_t slot = 0, gpu::Recorder* copy = nullptr);
   RgbaImage read_frame(uint32_t slot = 0) const;
   // The deformed splats of the last frame (surface surfels first, then the cut faces in the
   // order they were added): a blocking download, for tests.

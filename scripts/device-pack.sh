@@ -12,12 +12,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bdir="${BUILD:-build}"
 [ -f "$bdir/CMakeCache.txt" ] || cmake -S . -B "$bdir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$bdir" -j"${JOBS:-2}" --target phyxel test_gpu_solver
+cmake --build "$bdir" -j"${JOBS:-2}" --target phyxel test_gpu_solver test_render test_vulkan
 rm -rf .devbin
 mkdir -p .devbin/app .devbin/tests /tmp/devlib
 rm -f /tmp/devlib/*
 strip -o .devbin/app/phyxel "$bdir"/app/phyxel
-strip -o .devbin/tests/test_gpu_solver "$bdir"/tests/test_gpu_solver
+# The test binaries travel compressed (device-setup.sh unpacks them).
+for t in test_gpu_solver test_render test_vulkan; do
+  strip -o .devbin/tests/$t "$bdir"/tests/$t
+  xz -9 .devbin/tests/$t
+done
 ldd "$bdir"/app/phyxel | awk '/=> \//{print $3}' | sort -u |
   grep -Ev '/(libc|libm|libpthread|libdl|librt|libstdc\+\+|libgcc_s|ld-linux[^/]*)\.so' |
   while read -r lib; do cp -L "$lib" /tmp/devlib/; done

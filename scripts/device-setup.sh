@@ -18,6 +18,10 @@ if [ -f "$b/lib.tar.xz" ]; then
   done
   export LD_LIBRARY_PATH="/tmp/phyxel-lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 fi
+# Binaries carried compressed (scripts/device-pack.sh; a baseline's phyxel.xz likewise).
+for f in "$b"/tests/*.xz "$b"/*/phyxel.xz; do
+  [ -f "$f" ] && xz -dkf "$f" && chmod +x "${f%.xz}"
+done
 # Many Vulkan instances in one test binary: room for the driver's static TLS (compute/README.md).
 export GLIBC_TUNABLES=glibc.rtld.optional_static_tls=16777216
 # That static TLS is carved out of every thread's stack: with the default 8 MiB stacks the

@@ -82,6 +82,54 @@ TEST_F(DispatchTest, EveryElementWrittenNoneBeyond) {
   }
 }
 
+// A copy on the transfer-only queue of what a dispatch on the compute queue wrote, ordered by
+// a semaphore (what FrameQueue does with a frame): the copy holds the dispatch's values. Where
+// the device has no such queue (lavapipe), none is opened and a transfer Recorder is refused.
+TEST_F(DispatchTest, TransferQueueCopiesWhatTheComputeQueueWrote) {
+  Context& c = ctx();
+  ContextOptions without = test_context_options();
+  without.transfer_queue = false;
+  EXPECT_EQ(make_context(without).transfer_queue(), VK_NULL_HANDLE);
+  if (c.info().transfer_queue_family == UINT32_MAX) {
+    EXPECT_EQ(c.transfer_queue(), VK_NULL_HANDLE);
+    EXPECT_EQ(c.transfer_queue_family(), UINT32_MAX);
+    try {
+      Recorder copy(c, "copy", QueueRole::Transfer);
+      ADD_FAILURE() << "a transfer Recorder without a transfer queue";
+    } catch (const std::logic_error& e) {
+      EXPECT_NE(std::string(e.what()).find("has no transfer queue open"), std::string::npos)
+          << e.what();
+    }
+    return;
+  }
+  ASSERT_NE(c.transfer_queue(), VK_NULL_HANDLE);
+  const CoreKernels kernels(c);
+  const uint32_t n = 1 << 20;
+  const Buffer dst(c, n * sizeof(uint32_t), MemoryIntent::Device, "iota", 0, true);
+  const Buffer host(c, n * sizeof(uint32_t), MemoryIntent::Readback, "iota read-back", 0, true);
+  VkSemaphore written = VK_NULL_HANDLE;
+  auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
+  VK_CHECK(c.fn().vkCreateSemaphore(c.device(), &info, nullptr, &written));
+  {
+    Recorder rec(c, "iota");
+    Recorder copy(c, "iota copy", QueueRole::Transfer);
+    for (uint32_t base : {5u, 9u}) {  // twice: the semaphore and both recorders are reused
+      dispatch(rec, kernels.iota, layout::IotaPush{n, base}, {dst}, n);
+      copy.copy(dst, host);
+      rec.submit(VK_NULL_HANDLE, written);
+      copy.submit(written);
+      rec.wait();
+      copy.wait();
+      host.invalidate();
+      const auto* got = static_cast<const uint32_t*>(host.mapped());
+      uint32_t wrong = 0;
+      for (uint32_t i = 0; i < n; ++i) wrong += got[i] != base + i ? 1 : 0;
+      EXPECT_EQ(wrong, 0u) << base;
+    }
+  }
+  c.fn().vkDestroySemaphore(c.device(), written, nullptr);
+}
+
 TEST_F(DispatchTest, DescriptorSetPathWithoutPushDescriptors) {
   ContextOptions options = test_context_options();
   options.push_descriptors = false;
