@@ -35,6 +35,10 @@ Vec3 get(const double* w) {
 constexpr int kMaxSubsteps = 64;
 // Periods of a stall that are still integrated (the rest is dropped).
 constexpr double kMaxCatchUpPeriods = 16;
+// The physics' rate (simulated seconds per wall second) is followed over about this many wall
+// seconds of snapshots, and never taken below kMinSimRate (a stalled physics).
+constexpr double kSimRateSeconds = 0.1;
+constexpr double kMinSimRate = 1e-3;
 
 }  // namespace
 
@@ -200,12 +204,13 @@ void HapticLoop::tick(double now) {
     if (have_device_ && dt > 0) {
       const Vec3 raw = (x_d - x_d_prev_) / dt;
       const double alpha = 1 - std::exp(-2 * M_PI * settings_.velocity_cutoff_hz * dt);
-      v_d_ += alpha * (raw - v_d_);
+      v_d_wall_ += alpha * (raw - v_d_wall_);
     } else {
-      v_d_.setZero();
+      v_d_wall_.setZero();
     }
     axis_ = sample.pose.axis.normalized();  // rotation is not force-coupled
   } else {
+    v_d_wall_.setZero();
     v_d_.setZero();
     invalid_.fetch_add(1, std::memory_order_relaxed);
   }
@@ -217,6 +222,7 @@ void HapticLoop::tick(double now) {
   if (snapshots_.published() > 0) {
     std::array<double, 12> pair;
     if (snapshots_.read_newest(pair)) {
+      if (!have_pair_ || pair[7] != pair_[7]) follow_sim_rate(pair);
       pair_ = pair;
       have_pair_ = true;
     }
@@ -234,10 +240,16 @@ void HapticLoop::tick(double now) {
                    : extrapolate_force(pair_[1], get(&pair_[2]), pair_[7], get(&pair_[8]), now);
   }
 
-  // 3. The simulated tool under the virtual coupling, symplectic Euler.
+  // 3. The simulated tool under the virtual coupling, symplectic Euler, over the simulated
+  // time that passed during the tick: the physics' rate times the tick's period.
+  // Between the physics' first snapshot and the second its rate is not known: the tool holds
+  // (it would otherwise advance on the wall clock against a physics that may be far slower).
+  const double h_sim = have_pair_ && !sim_rate_known_ ? 0.0 : sim_rate_ * dt;
+  // The device's velocity in simulated time, as the tool's (filtered on the wall clock).
+  v_d_ = v_d_wall_ / sim_rate_;
   Vec3 f_hand = Vec3::Zero();
   if (valid) {
-    const double h_total = std::min(dt, kMaxCatchUpPeriods * nominal);
+    const double h_total = std::min(h_sim, kMaxCatchUpPeriods * nominal);
     const double omega = std::sqrt(k_ / m_);
     const double h_stable = std::min({nominal, 0.5 / omega, 0.5 * m_ / b_});
     const int n =
@@ -283,6 +295,17 @@ void HapticLoop::tick(double now) {
   s.contacts = contacts;
   s.device_valid = valid;
   write_state(s);
+}
+
+void HapticLoop::follow_sim_rate(const std::array<double, 12>& pair) {
+  const double d_sim = pair[6] - pair[0], d_wall = pair[7] - pair[1];
+  if (!(d_wall > 0) || !(d_sim >= 0)) return;  // a first snapshot, or a clock gone backwards
+  sim_rate_known_ = true;
+  const double keep = std::exp(-d_wall / kSimRateSeconds);
+  sim_seconds_ = keep * sim_seconds_ + d_sim;
+  wall_seconds_ = keep * wall_seconds_ + d_wall;
+  sim_rate_ = std::min(1.0, sim_seconds_ / wall_seconds_);
+  if (!(sim_rate_ > kMinSimRate)) sim_rate_ = kMinSimRate;
 }
 
 void HapticLoop::write_state(const HapticState& s) {

@@ -16,9 +16,13 @@
 //  3. the simulated tool (mass m) under the virtual coupling (Colgate, Stanley and Brown
 //     1995, "Issues in the haptic display of tool use", IROS):
 //       m a = k (x_d - x_t) + b (v_d - v_t) + F_tissue,
-//     semi-implicit (symplectic) Euler at the tick's measured period, split into substeps
-//     where the period is long or k, b make one step unstable; b = 2 sqrt(k m) (critical) when
-//     CouplingSettings::damping is 0;
+//     semi-implicit (symplectic) Euler over the simulated time of the tick (its measured period
+//     times the physics' rate r, simulated seconds per wall second from the snapshots over
+//     about 0.1 s, at most 1), split into substeps where that is long or k, b make one step
+//     unstable; v_d is the device's velocity in simulated time (its wall velocity / r);
+//     b = 2 sqrt(k m) (critical) when CouplingSettings::damping is 0. At r = 1 this is the
+//     wall clock; below, the tool meets the tissue as fast as in real time, not 1/r times
+//     faster (which drove slow solvers' tissue unstable);
 //  4. the force on the hand F_hand = -(k (x_d - x_t) + b (v_d - v_t)), the mean over the
 //     substeps (so the hand gets exactly the opposite of the coupling's impulse on the tool),
 //     clamped to max_force.
@@ -126,6 +130,8 @@ class HapticLoop {
   void run();
   void record_period(double period);
   void write_state(const HapticState& s);
+  // A new pair of snapshots: the physics' rate, sim_rate_.
+  void follow_sim_rate(const std::array<double, 12>& pair);
 
   std::shared_ptr<HapticDevice> device_;
   double k_, b_, m_, max_force_;
@@ -137,6 +143,13 @@ class HapticLoop {
   Vec3 x_t_, v_t_ = Vec3::Zero();
   Vec3 axis_;
   Vec3 x_d_prev_ = Vec3::Zero(), v_d_ = Vec3::Zero();
+  Vec3 v_d_wall_ = Vec3::Zero();  // the device's filtered velocity on the wall clock
+  // Simulated seconds per wall second of the physics, <= 1 (1 until it published twice): the
+  // coupled tool advances by sim_rate_ times each tick's period, so that a physics slower than
+  // real time meets the tool at the speeds it would have in real time.
+  double sim_rate_ = 1;
+  double sim_seconds_ = 0, wall_seconds_ = 0;  // the decaying sums sim_rate_ is the ratio of
+  bool sim_rate_known_ = false;                // two snapshots at different wall times were read
   bool have_device_ = false;
   Vec3 last_force_ = Vec3::Zero();
   // The newest pair of snapshots read: (prev, cur) x (sim_time, wall_time, fx, fy, fz, contacts).

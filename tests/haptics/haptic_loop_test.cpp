@@ -203,12 +203,98 @@ TEST(HapticCoupling, AStiffWallAtAFifthOfTheRateStaysStable) {
   EXPECT_LT(run.state.tool_velocity.norm(), 1e-6);
 }
 
+// A tissue with dynamics of its own, simulated at `rate` simulated seconds per wall second: a
+// surface node (5 g on 400 N/m, critically damped) that the tool touches through a stiff
+// penalty (5e3 N/m), stepped at 2.4e-4 s of simulated time from the tool pose the loop
+// published, each step's force published at the wall time it is done. The device holds 5 mm
+// below the surface.
+struct TissueRun {
+  double max_tool_speed = 0;  // m/s, of simulated time
+  double max_node_depth = 0;  // m
+  HapticState state;
+  double node_depth = 0;
+};
+
+TissueRun press_on_tissue(double rate, double simulated_seconds) {
+  const CouplingSettings c = coupling();
+  const double k_contact = 5e3, k_tissue = 400, m_tissue = 0.005;
+  const double b_tissue = 2 * std::sqrt(k_tissue * m_tissue), dt = 2.4e-4;
+  HapticLoop loop(still_device(Vec3(0, 0, -0.005)), c, ToolPose{Vec3(0, 0, 0.002), Vec3::UnitZ()});
+  double z_node = 0, v_node = 0, sim = 0;
+  TissueRun run;
+  const int ticks = int(std::lround(simulated_seconds / rate / kTick));
+  for (int i = 0; i <= ticks; ++i) {
+    const double t = i * kTick;
+    while ((sim + dt) / rate <= t) {  // the physics' steps done by the tick's time
+      const double pen = std::max(0.0, z_node - loop.tool_pose().position.z());
+      const double f = k_contact * pen;  // up on the tool, down on the tissue
+      v_node += dt * (-k_tissue * z_node - b_tissue * v_node - f) / m_tissue;
+      z_node += dt * v_node;
+      sim += dt;
+      HapticSnapshot s;
+      s.sim_time = sim;
+      s.wall_time = sim / rate;
+      s.force_on_tool = Vec3(0, 0, f);
+      s.contacts = pen > 0 ? 1 : 0;
+      loop.publish(s);
+      run.max_node_depth = std::max(run.max_node_depth, -z_node);
+    }
+    loop.tick(t);
+    run.max_tool_speed = std::max(run.max_tool_speed, loop.state().tool_velocity.norm());
+  }
+  run.state = loop.state();
+  run.node_depth = -z_node;
+  return run;
+}
+
+// A physics slower than real time (a CPU solver at a tenth of it): the coupled tool advances by
+// the simulated time of each tick, so it meets the tissue as in real time. Advanced on the wall
+// clock it met it ten times faster, and the penalty contact, stepped by the physics, went
+// unstable (docs/performance.md, "Haptics and contact": brain runs at 0.03-0.12x real time
+// ended at the runaway check).
+TEST(HapticCoupling, ASlowPhysicsMeetsTheToolAsInRealTime) {
+  {  // Until the physics' rate is known (its second snapshot), the tool holds.
+    HapticLoop loop(still_device(Vec3(0, 0, -0.005)), coupling(),
+                    ToolPose{Vec3(0, 0, 0.002), Vec3::UnitZ()});
+    loop.publish(snapshot(0, Vec3::Zero()));
+    for (int i = 0; i < 20; ++i) loop.tick(i * kTick);
+    EXPECT_EQ(loop.tool_pose().position, Vec3(0, 0, 0.002));
+    HapticSnapshot second = snapshot(0.0205, Vec3::Zero());
+    second.sim_time = 0.0001;  // a twentieth of real time: the tool moves that much slower
+    loop.publish(second);
+    loop.tick(0.021);
+    // One symplectic Euler step of the spring (200 N/m over 7 mm on 20 g) over the tick's 2 ms
+    // times the rate (1e-4 s simulated in 20.5 ms): 9.8 us of simulated time.
+    const double h = 0.002 * 1e-4 / 0.0205;
+    EXPECT_NEAR(loop.state().tool_velocity.z(), -h * 200 * 0.007 / 0.02, 1e-12);
+    EXPECT_NEAR(loop.tool_pose().position.z(), 0.002 - h * h * 200 * 0.007 / 0.02, 1e-15);
+  }
+  const TissueRun real = press_on_tissue(1.0, 2.0);
+  const TissueRun slow = press_on_tissue(0.1, 2.0);
+  const TissueRun slower = press_on_tissue(0.02, 2.0);
+  // In real time the press settles: tool and tissue at rest, the hand feels the tissue.
+  EXPECT_LT(real.state.tool_velocity.norm(), 1e-4);
+  EXPECT_GT(real.node_depth, 1e-3);
+  EXPECT_GT(real.state.force_on_hand.z(), 0.5);
+  for (const TissueRun* run : {&slow, &slower}) {
+    SCOPED_TRACE(run == &slow ? "0.1" : "0.02");
+    ASSERT_TRUE(run->state.tool.position.allFinite());
+    // As fast and as deep as in real time, and at rest where the real-time press rests.
+    EXPECT_LT(run->max_tool_speed, 1.2 * real.max_tool_speed);
+    EXPECT_LT(run->max_node_depth, 1.2 * real.max_node_depth);
+    EXPECT_NEAR(run->node_depth, real.node_depth, 1e-3 * real.node_depth);
+    EXPECT_NEAR(run->state.force_on_hand.z(), real.state.force_on_hand.z(),
+                1e-3 * real.state.force_on_hand.z());
+  }
+}
+
 TEST(HapticCoupling, TheForceOnTheHandIsClamped) {
   CouplingSettings c = coupling();
   c.max_force = 8;
   auto device = still_device(Vec3::Zero());
   HapticLoop loop(device, c, ToolPose{});
   loop.publish(snapshot(0, Vec3(0, 12, 16), 1));  // 20 N
+  loop.publish(snapshot(0.001, Vec3(0, 12, 16), 1));
   for (int i = 0; i < 1000; ++i) loop.tick(i * kTick);
   const Vec3 f = device->last_force();
   EXPECT_NEAR(f.norm(), 8, 1e-12);
@@ -225,6 +311,7 @@ TEST(HapticCoupling, WithoutADevicePoseTheToolHoldsStill) {
   const ToolPose initial{Vec3(0.1, 0.2, 0.3), Vec3::UnitY()};
   HapticLoop loop(device, coupling(), initial);
   loop.publish(snapshot(0, Vec3(5, 0, 0)));
+  loop.publish(snapshot(0.001, Vec3(5, 0, 0)));
   for (int i = 0; i < 50; ++i) loop.tick(i * kTick);
   EXPECT_EQ(loop.tool_pose().position, initial.position);
   EXPECT_EQ(device->last_force(), Vec3::Zero());
