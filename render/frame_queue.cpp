@@ -99,7 +99,17 @@ void FrameQueue::submit(const RenderInputs& inputs, const FrameSetup& setup, std
     renderer_->record(rec, inputs, setup, nullptr, slot, copy);
     if (copy != nullptr) {
       rec.submit(VK_NULL_HANDLE, drawn_[slot]);
-      copy->submit(drawn_[slot]);
+      try {
+        copy->submit(drawn_[slot]);
+      } catch (...) {
+        // The drawing went out without its copy: wait for it, so that the slot's recorder
+        // records again (the error, a lost device, is the one to report).
+        try {
+          rec.wait();
+        } catch (...) {  // NOLINT(bugprone-empty-catch)
+        }
+        throw;
+      }
     } else {
       rec.submit();
     }

@@ -354,7 +354,8 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   gpu::Buffer& readback = m.readback[slot];
   if (!readback) {
     readback = gpu::Buffer(m.ctx, uint64_t(m.out_width) * m.out_height * 4,
-                           gpu::MemoryIntent::Readback, "render frame readback", 0, true);
+                           gpu::MemoryIntent::Readback, "render frame readback", 0,
+                           /*with_transfer_queue=*/true);
   }
   if (copy != nullptr) {  // on the transfer queue, after rec's semaphore
     copy->copy(m.frame, readback);

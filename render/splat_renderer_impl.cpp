@@ -159,7 +159,8 @@ void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
   out_height = height;
   const uint64_t out_bytes = uint64_t(out_width) * out_height * 4;
   // Shared with the transfer queue, where a run's frames are copied out (render/frame_queue.h).
-  frame = gpu::Buffer(ctx, out_bytes, gpu::MemoryIntent::Device, "render frame", 0, true);
+  frame = gpu::Buffer(ctx, out_bytes, gpu::MemoryIntent::Device, "render frame", 0,
+                      /*with_transfer_queue=*/true);
   for (gpu::Buffer& r : readback) r = gpu::Buffer{};  // of the old size: made again on use
   eye_width = width;
   eye_height = height;

@@ -211,7 +211,6 @@ void HapticLoop::tick(double now) {
     axis_ = sample.pose.axis.normalized();  // rotation is not force-coupled
   } else {
     v_d_wall_.setZero();
-    v_d_.setZero();
     invalid_.fetch_add(1, std::memory_order_relaxed);
   }
   const bool had_device = have_device_;

@@ -105,8 +105,10 @@ TEST_F(DispatchTest, TransferQueueCopiesWhatTheComputeQueueWrote) {
   ASSERT_NE(c.transfer_queue(), VK_NULL_HANDLE);
   const CoreKernels kernels(c);
   const uint32_t n = 1 << 20;
-  const Buffer dst(c, n * sizeof(uint32_t), MemoryIntent::Device, "iota", 0, true);
-  const Buffer host(c, n * sizeof(uint32_t), MemoryIntent::Readback, "iota read-back", 0, true);
+  const Buffer dst(c, n * sizeof(uint32_t), MemoryIntent::Device, "iota", 0,
+                   /*with_transfer_queue=*/true);
+  const Buffer host(c, n * sizeof(uint32_t), MemoryIntent::Readback, "iota read-back", 0,
+                    /*with_transfer_queue=*/true);
   VkSemaphore written = VK_NULL_HANDLE;
   auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
   VK_CHECK(c.fn().vkCreateSemaphore(c.device(), &info, nullptr, &written));
