@@ -320,6 +320,21 @@ int run_command(const Args& args) {
                    result.non_finite_phyxel);
       return 3;
     }
+    if (result.unstable && result.unstable_tool >= 0) {
+      std::fprintf(stderr,
+                   "phyxel run: %s: the simulation is unstable: at step %lld phyxel %ld, %.1f mm "
+                   "from tool '%s', moves at %.3g m/s, faster than sound in its material (%.3g "
+                   "m/s); stopped before it turned non-finite. The tool deforms the tissue there "
+                   "past what this time step holds (tissue that cannot tear, stretched around a "
+                   "tool ploughing through it, or a tool too fast): slow the tool, give the "
+                   "material a tear_stress so that it tears (docs/tearing.md), or lower "
+                   "simulation.courant\n",
+                   scene.file.c_str(), static_cast<long long>(result.unstable_step),
+                   result.unstable_phyxel, 1e3 * std::max(result.unstable_tool_distance, 0.0),
+                   scene.tools[result.unstable_tool].name.c_str(), result.unstable_speed,
+                   result.unstable_wave_speed);
+      return 3;
+    }
     if (result.unstable) {
       std::fprintf(stderr,
                    "phyxel run: %s: the simulation is unstable: at step %lld phyxel %ld moves at "

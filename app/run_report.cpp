@@ -170,6 +170,9 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
                         {"phyxel", result.unstable_phyxel},
                         {"speed", result.unstable_speed},
                         {"p_wave_speed", result.unstable_wave_speed}};
+    if (result.unstable_tool >= 0)
+      j["unstable_at"]["nearest_tool"] = {{"name", scene.tools.at(result.unstable_tool).name},
+                                          {"distance", result.unstable_tool_distance}};
   } else {
     j["kinetic_energy"] = result.energies.kinetic;
     j["strain_energy"] = result.energies.strain;

@@ -390,12 +390,25 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         fastest = solver.max_norms().second;
       }
       if (!(fastest <= slowest_wave)) {
-        if (const Runaway r = find_runaway(set, solver.read_state(false).velocity); r.phyxel >= 0) {
+        const PointState state = solver.read_state(false);
+        if (const Runaway r = find_runaway(set, state.velocity); r.phyxel >= 0) {
           result.unstable = true;
           result.unstable_step = step;
           result.unstable_phyxel = r.phyxel;
           result.unstable_speed = r.speed;
           result.unstable_wave_speed = r.wave_speed;
+          const Vec3 x = set.rest[r.phyxel] + state.displacement[r.phyxel];
+          double near = 0;
+          for (const ObjectRange& o : set.objects)
+            if (r.phyxel >= long(o.first) && r.phyxel < long(o.first + o.count))
+              near = 2 * o.support_radius;
+          for (size_t k = 0; k < tools.size(); ++k) {
+            const double d = tool_distance(tools.shape(k), tools.poses()[k], x).distance;
+            if (d <= near && (result.unstable_tool < 0 || d < result.unstable_tool_distance)) {
+              result.unstable_tool = static_cast<int>(k);
+              result.unstable_tool_distance = d;
+            }
+          }
           break;
         }
       }

@@ -86,6 +86,11 @@ struct RunResult {
   int64_t unstable_step = -1;
   long unstable_phyxel = -1;
   double unstable_speed = 0, unstable_wave_speed = 0;
+  // The tool nearest the runaway phyxel where one is within two support radii of it (index
+  // into scene.tools, else -1) and the phyxel's distance from its surface (m, negative inside),
+  // at the step it was found: a tool drove the tissue there past what the step holds.
+  int unstable_tool = -1;
+  double unstable_tool_distance = 0;
   int64_t sleeps = 0, wakes = 0;  // object sleep and wake events
   int64_t load_changes = 0;
   Energies energies;

@@ -57,5 +57,47 @@ TEST(ProbePloughing, DISABLED_ThickProbeThroughTissueStaysFiniteAndSubsonic) {
   EXPECT_EQ(result.steps_done, scene.simulation.steps);
 }
 
+// A run that runs away names the tool beside the runaway phyxel (RunResult::unstable_tool,
+// summary.json's unstable_at.nearest_tool, and `phyxel run`'s message, which then says to slow
+// the tool or let the tissue tear), and no tool where the runaway is away from every tool. A
+// step twice the stable one (courant 2, checked every step) drives a clamped 2 cm box unstable
+// where it moves: under a sphere pressing into its top with no gravity, everywhere under gravity
+// with the sphere 5 cm away.
+TEST(ProbePloughing, ARunawayBesideAToolNamesIt) {
+  auto scene_with = [](const Vec3& sphere_start, const Vec3& gravity) {
+    const double s = 0.002;
+    Scene scene =
+        test::box_scene(Vec3::Zero(), Vec3(0.02, 0.02, 0.02), s, test::tissue(1e5, 0.3, 1.0));
+    scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.5 * s)));
+    scene.simulation.gravity = gravity;
+    scene.simulation.courant = 2;  // past what the scene reader allows (1)
+    scene.simulation.steps = 2000;
+    ToolDesc probe;
+    probe.name = "sphere";
+    probe.shape.type = ToolShape::Type::Sphere;
+    probe.shape.radius = 0.003;
+    probe.path = {{0.0, sphere_start, Vec3::UnitZ()},
+                  {0.02, sphere_start - Vec3(0, 0, 0.004), Vec3::UnitZ()}};
+    scene.tools.push_back(probe);
+    return scene;
+  };
+  auto run = [](Scene scene) {
+    const PhyxelSet set = sample_scene(scene);
+    scene.simulation.dt = plan_time_step(scene, set).dt_stable;  // one substep a step
+    const std::unique_ptr<Solver> solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+    RunOptions options;
+    options.steps = scene.simulation.steps;
+    options.check_every = 1;  // the runaway is caught before it turns non-finite
+    return run_simulation(scene, set, *solver, options);
+  };
+  const RunResult pressed = run(scene_with(Vec3(0.01, 0.01, 0.0235), Vec3::Zero()));
+  ASSERT_TRUE(pressed.unstable) << "non-finite: " << pressed.non_finite;
+  EXPECT_EQ(pressed.unstable_tool, 0);
+  EXPECT_LT(pressed.unstable_tool_distance, 0.004);  // within a support radius (4 mm)
+  const RunResult away = run(scene_with(Vec3(0.01, 0.01, 0.08), Vec3(0, 0, -9.81)));
+  ASSERT_TRUE(away.unstable) << "non-finite: " << away.non_finite;
+  EXPECT_EQ(away.unstable_tool, -1);
+}
+
 }  // namespace
 }  // namespace phyxel
