@@ -312,6 +312,19 @@ int run_command(const Args& args) {
       std::fprintf(stderr, "phyxel run: Vulkan validation: %s\n", validation->summary().c_str());
       if (validation->error_count() > 0) return 1;
     }
+    if (result.non_finite && result.non_finite_tool >= 0) {
+      std::fprintf(stderr,
+                   "phyxel run: %s: the simulation became non-finite by step %lld (phyxel %ld) "
+                   "while tool '%s' pressed on the tissue (up to %u phyxels in contact); "
+                   "stopped. A tool that deforms tissue past what this time step holds (tissue "
+                   "that cannot tear, stretched around a tool ploughing through it, or a tool too "
+                   "fast) does this: slow the tool, give the material a tear_stress so that it "
+                   "tears (docs/tearing.md), or lower simulation.courant\n",
+                   scene.file.c_str(), static_cast<long long>(result.non_finite_step),
+                   result.non_finite_phyxel, scene.tools[result.non_finite_tool].name.c_str(),
+                   result.non_finite_tool_contacts);
+      return 3;
+    }
     if (result.non_finite) {
       std::fprintf(stderr,
                    "phyxel run: %s: the simulation became non-finite by step %lld (phyxel %ld); "

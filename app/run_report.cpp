@@ -165,6 +165,10 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
   }
   if (result.non_finite) {
     j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};
+    if (result.non_finite_tool >= 0)
+      j["non_finite_at"]["tool_in_contact"] = {
+          {"name", scene.tools.at(result.non_finite_tool).name},
+          {"max_contacts", result.non_finite_tool_contacts}};
   } else if (result.unstable) {
     j["unstable_at"] = {{"step", result.unstable_step},
                         {"phyxel", result.unstable_phyxel},

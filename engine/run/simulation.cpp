@@ -165,6 +165,9 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
                              solver.device() + " cannot do; use --device cpu");
   const int64_t check = check_interval(scene, options, sleeping);
   ToolTrack tools(scene.tools, options.tool_pose);
+  // Per tool, the most phyxels in contact at a step since the last check (RunResult's
+  // non_finite_tool).
+  std::vector<uint32_t> contacts_since_check(tools.size(), 0u);
   Aspirator aspirator(scene, set);
   if (aspirator.active() && !solver.supports_removal())
     throw std::runtime_error(scene.file.string() + ": a suction tool aspirates tissue, which " +
@@ -335,6 +338,10 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     const auto advance_start = mark;
     const std::vector<ToolStepRecord> records = advance_with_tools(
         solver, tools, step, next - step, result.plan.substeps, result.plan.dt_used);
+    for (size_t r = 0; r < records.size(); ++r) {
+      uint32_t& most = contacts_since_check[r % tools.size()];
+      most = std::max(most, records[r].contacts);
+    }
     if (polled)
       poll_steps = steps_within(options.stop_poll_seconds, next - step, advance_start, poll_steps);
     lap(result.split.advance);
@@ -373,8 +380,15 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
         result.non_finite = true;
         result.non_finite_step = step;
         result.non_finite_phyxel = bad;
+        for (size_t k = 0; k < contacts_since_check.size(); ++k) {
+          if (contacts_since_check[k] > result.non_finite_tool_contacts) {
+            result.non_finite_tool = static_cast<int>(k);
+            result.non_finite_tool_contacts = contacts_since_check[k];
+          }
+        }
         break;
       }
+      std::fill(contacts_since_check.begin(), contacts_since_check.end(), 0u);
     }
     // The checks read reductions: per object its kinetic energy and largest speed where rest or
     // sleep is decided, else the largest speed alone. Only a phyxel faster than the slowest

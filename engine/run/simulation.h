@@ -81,6 +81,11 @@ struct RunResult {
   bool non_finite = false;
   int64_t non_finite_step = -1;  // first check at which a non-finite value was seen
   long non_finite_phyxel = -1;
+  // The tool that had the most phyxels in contact in the steps since the check before the
+  // non-finite one (index into scene.tools; -1 where no tool touched the tissue then), and
+  // that many phyxels: a tool drove the tissue past what the step holds, most likely.
+  int non_finite_tool = -1;
+  uint32_t non_finite_tool_contacts = 0;
   // A finite but runaway state: some phyxel faster than its material's p-wave speed.
   bool unstable = false;
   int64_t unstable_step = -1;

@@ -59,7 +59,8 @@ TEST(ProbePloughing, DISABLED_ThickProbeThroughTissueStaysFiniteAndSubsonic) {
 
 // A run that runs away names the tool beside the runaway phyxel (RunResult::unstable_tool,
 // summary.json's unstable_at.nearest_tool, and `phyxel run`'s message, which then says to slow
-// the tool or let the tissue tear), and no tool where the runaway is away from every tool. A
+// the tool or let the tissue tear), and no tool where the runaway is away from every tool; one
+// that turns non-finite names the tool in contact since the check before (non_finite_tool). A
 // step twice the stable one (courant 2, checked every step) drives a clamped 2 cm box unstable
 // where it moves: under a sphere pressing into its top with no gravity, everywhere under gravity
 // with the sphere 5 cm away.
@@ -81,13 +82,13 @@ TEST(ProbePloughing, ARunawayBesideAToolNamesIt) {
     scene.tools.push_back(probe);
     return scene;
   };
-  auto run = [](Scene scene) {
+  auto run = [](Scene scene, int64_t check_every = 1) {
     const PhyxelSet set = sample_scene(scene);
     scene.simulation.dt = plan_time_step(scene, set).dt_stable;  // one substep a step
     const std::unique_ptr<Solver> solver = make_cpu_solver(set, scene.simulation.gravity, 1);
     RunOptions options;
     options.steps = scene.simulation.steps;
-    options.check_every = 1;  // the runaway is caught before it turns non-finite
+    options.check_every = check_every;  // 1: the runaway is caught before it turns non-finite
     return run_simulation(scene, set, *solver, options);
   };
   const RunResult pressed = run(scene_with(Vec3(0.01, 0.01, 0.0235), Vec3::Zero()));
@@ -97,6 +98,15 @@ TEST(ProbePloughing, ARunawayBesideAToolNamesIt) {
   const RunResult away = run(scene_with(Vec3(0.01, 0.01, 0.08), Vec3(0, 0, -9.81)));
   ASSERT_TRUE(away.unstable) << "non-finite: " << away.non_finite;
   EXPECT_EQ(away.unstable_tool, -1);
+  // Checked every 100 steps the same runs turn non-finite first: the tool that touched the
+  // tissue since the check before is named, and none where no tool touched it.
+  const RunResult pressed_late = run(scene_with(Vec3(0.01, 0.01, 0.0235), Vec3::Zero()), 100);
+  ASSERT_TRUE(pressed_late.non_finite);
+  EXPECT_EQ(pressed_late.non_finite_tool, 0);
+  EXPECT_GT(pressed_late.non_finite_tool_contacts, 0u);
+  const RunResult away_late = run(scene_with(Vec3(0.01, 0.01, 0.08), Vec3(0, 0, -9.81)), 100);
+  ASSERT_TRUE(away_late.non_finite);
+  EXPECT_EQ(away_late.non_finite_tool, -1);
 }
 
 }  // namespace
