@@ -56,7 +56,15 @@ void GpuSolver::check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pa
     throw std::invalid_argument("the GPU solver indexes phyxels with 31 bits");
   ctx.check_fits(required_device_bytes(phyxels, pairs));
   check_binding_size(ctx, phyxels * 48, "stress (48 bytes per phyxel)");
-  check_binding_size(ctx, pairs * 4, "neighbour index (4 bytes per pair)");
+  // The neighbour index and the pair weights are bound in two parts (PairBuffer).
+  const uint64_t per_part = pairs_per_part(ctx);
+  if (pairs > 2 * per_part)
+    throw VulkanError("the scene needs a neighbour index (4 bytes per pair) of " +
+                          format_bytes(pairs * 4) + " but " + ctx.info().name + " binds at most " +
+                          format_bytes(2 * per_part * 4) +
+                          " of it (two bindings of maxStorageBufferRange); use a smaller "
+                          "scene, or --device cpu",
+                      VK_ERROR_OUT_OF_DEVICE_MEMORY);
 }
 
 GpuSolver::GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
@@ -99,7 +107,9 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   check_capacity(*ctx_, count_, lattice_pair_bound(set));
 
   const SolverSetup host = prepare_solver_setup(set, gravity);
-  kernels_ = std::make_unique<SolverKernels>(*ctx_);
+  // Pipelines for pairs in two parts where the lattice bound says one may not hold them.
+  kernels_ = std::make_unique<SolverKernels>(
+      *ctx_, lattice_pair_bound(set) > pairs_per_part(*ctx_, options_.pair_part_bytes));
   Context& ctx = *ctx_;
   const uint64_t n = count_;
   auto device = [&](uint64_t bytes, const char* name) {
@@ -179,7 +189,14 @@ std::string GpuSolver::device() const {
 }
 
 SolverBuffers GpuSolver::buffers() const {
-  return {&rest_, &disp_[0], &nbr_offset_, &nbr_index_, count_, &weight_};
+  return {&rest_,
+          &disp_[0],
+          &nbr_offset_,
+          &nbr_index_.lo_buffer(),
+          count_,
+          &weight_.lo_buffer(),
+          nbr_index_.hi_buffer(),
+          weight_.hi_buffer()};
 }
 
 StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode, uint32_t lanes) const {
@@ -214,8 +231,8 @@ void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   const StepPush pc = push(n, 0.0f, 0, lanes_for(Gather::Stress, n));
   dispatch(rec, kernels_->stress, pc,
-           {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, resid_, flags_, classes_,
-            stress_, stress_list_},
+           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp, ainv_, resid_, flags_,
+            classes_, stress_, stress_list_, nbr_index_.hi(), weight_.hi()},
            n * pc.lanes);
 }
 
@@ -224,8 +241,8 @@ void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffe
   const uint32_t n = static_cast<uint32_t>(force_count_);
   const StepPush pc = push(n, dt, mode, lanes_for(Gather::Force, n));
   dispatch(rec, kernels_->force, pc,
-           {nbr_offset_, nbr_index_, weight_, local_, in, out, stress_, vel_, force_, ext_, flags_,
-            classes_, force_list_},
+           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, in, out, stress_, vel_, force_,
+            ext_, flags_, classes_, force_list_, nbr_index_.hi(), weight_.hi()},
            n * pc.lanes);
 }
 

@@ -31,6 +31,7 @@
 
 #include "compute/buffer.h"
 #include "compute/context.h"
+#include "compute/pair_buffer.h"
 #include "compute/shaders/layout.h"
 #include "compute/timing.h"
 #include "engine/solver/solver.h"
@@ -43,6 +44,9 @@ namespace phyxel::gpu {
 //   nbr_offset    uint[count + 1]  CSR row starts, as NeighbourLists::offset
 //   nbr_index     uint[pairs]      CSR neighbour indices, as NeighbourLists::index
 //   pair_weight   float[pairs]     the pair weights; 0: a severed or removed pair
+// In a scene whose pairs exceed one binding, nbr_index and pair_weight hold the first
+// nbr_index->size() / 4 pairs and nbr_index_hi and pair_weight_hi the rest (PairBuffer);
+// otherwise the two are null.
 struct SolverBuffers {
   const Buffer* rest;
   const Buffer* displacement;
@@ -50,6 +54,8 @@ struct SolverBuffers {
   const Buffer* nbr_index;
   uint32_t count;
   const Buffer* pair_weight;
+  const Buffer* nbr_index_hi;
+  const Buffer* pair_weight_hi;
 };
 
 struct GpuSolverOptions {
@@ -74,6 +80,10 @@ struct GpuSolverOptions {
   // flight). The sums are added in a fixed order, so a rerun is bit-identical; lanes > 1
   // changes the order of the neighbour sum, hence the last bits, against lanes = 1.
   uint32_t lanes = 0;
+  // Bytes of pairs one part of the neighbour index and of the pair weights holds (PairBuffer):
+  // 0, the device's limit (maxStorageBufferRange). Tests lower it to split a small scene's
+  // pairs in two, as a scene past about 41M phyxels is.
+  uint64_t pair_part_bytes = 0;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -230,9 +240,10 @@ class GpuSolver final : public Solver {
   // std::invalid_argument past what the neighbour search indexes.
   static uint64_t required_device_bytes(uint64_t phyxels, uint64_t pairs);
   // Whether `ctx` holds a solver of that many phyxels and pairs: its memory (check_fits) and
-  // the largest buffer one binding reaches (maxStorageBufferRange: the neighbour index, 4
-  // bytes per pair, is the first to hit it). Throws VulkanError naming the device, the buffer
-  // and the bytes; std::invalid_argument past 2^31 phyxels.
+  // the largest buffer one binding reaches (maxStorageBufferRange: the stress, 48 bytes per
+  // phyxel, at about 89M phyxels on NVIDIA; the neighbour index and the pair weights, 4 bytes
+  // per pair, are bound in two parts, PairBuffer). Throws VulkanError naming the device, the
+  // buffer and the bytes; std::invalid_argument past 2^31 phyxels.
   static void check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pairs);
 
  private:
@@ -292,21 +303,21 @@ class GpuSolver final : public Solver {
   NeighbourLists neighbours_;
 
   // Per phyxel.
-  Buffer classes_;     // SolverClass per (object, material)
-  Buffer rest_;        // x0, volume
-  Buffer local_;       // x0 - object centre (float), kappa
-  Buffer disp_[2];     // u; disp_[0] holds it between advance() calls
-  Buffer vel_;         // v
-  Buffer force_;       // f for the u in disp_[0]
-  Buffer ext_;         // m g + loads, m
-  Buffer flags_;       // PhyxelFlags | kFlagRegularised | class << 16
-  Buffer ainv_;        // 2 vec4
-  Buffer resid_;       // 2 vec4
-  Buffer stress_;      // D_i, 3 vec4
-  Buffer nbr_offset_;  // N + 1
-  Buffer nbr_index_;   // pairs
-  Buffer weight_;      // pairs
-  Buffer energy_;      // per-phyxel energies, then the reduction levels
+  Buffer classes_;        // SolverClass per (object, material)
+  Buffer rest_;           // x0, volume
+  Buffer local_;          // x0 - object centre (float), kappa
+  Buffer disp_[2];        // u; disp_[0] holds it between advance() calls
+  Buffer vel_;            // v
+  Buffer force_;          // f for the u in disp_[0]
+  Buffer ext_;            // m g + loads, m
+  Buffer flags_;          // PhyxelFlags | kFlagRegularised | class << 16
+  Buffer ainv_;           // 2 vec4
+  Buffer resid_;          // 2 vec4
+  Buffer stress_;         // D_i, 3 vec4
+  Buffer nbr_offset_;     // N + 1
+  PairBuffer nbr_index_;  // pairs, in two parts past one binding (pair_buffers.glsl)
+  PairBuffer weight_;     // pairs
+  Buffer energy_;         // per-phyxel energies, then the reduction levels
   Buffer reduce_[2];
   Buffer von_mises_;
   Buffer check_;

@@ -83,10 +83,11 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   record_dirty_reset(rec);
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
-  dispatch_indirect(rec, kernels_->sever, push,
-                    {candidate_list_, rest_, disp, nbr_offset_, nbr_index_, weight_, flags_,
-                     cut_quads_, samples_buffer_, cut_dirty_, cut_log_, contact_count_},
-                    contact_count_, offsetof(ContactCount, groups_x));
+  dispatch_indirect(
+      rec, kernels_->sever, push,
+      {candidate_list_, rest_, disp, nbr_offset_, nbr_index_.lo(), weight_.lo(), flags_, cut_quads_,
+       samples_buffer_, cut_dirty_, cut_log_, contact_count_, nbr_index_.hi(), weight_.hi()},
+      contact_count_, offsetof(ContactCount, groups_x));
   record_dirty_precompute(rec);
 }
 
@@ -99,8 +100,8 @@ void GpuSolver::record_dirty_reset(Recorder& rec) {
 void GpuSolver::record_dirty_precompute(Recorder& rec) {
   rec.indirect_barrier();
   dispatch_indirect(rec, kernels_->precompute, PrecomputePush{0u, kPrecomputeCutList},
-                    {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_,
-                     resid_, cut_dirty_},
+                    {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, flags_, classes_, rest_,
+                     ainv_, resid_, cut_dirty_, nbr_index_.hi(), weight_.hi()},
                     cut_dirty_, sizeof(uint32_t));
 }
 
@@ -124,7 +125,7 @@ void GpuSolver::finish_cutting() {
   } else {
     // More than the log holds: compare the weights with the last known pairs (t unknown: the
     // middle), then grow the log for the next advance.
-    const std::vector<float> w = download<float>(*ctx_, weight_, pairs_);
+    const std::vector<float> w = weight_.download<float>(*ctx_);
     const NeighbourLists& nbr = neighbours_;
     for (uint32_t i = 0; i < count_; ++i)
       for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
@@ -153,7 +154,7 @@ std::vector<uint8_t> GpuSolver::pair_alive() {
   settle();
   if (!alive_.empty()) return alive_;
   // Without cuts: every pair with a weight (removed phyxels' pairs have none).
-  const std::vector<float> w = download<float>(*ctx_, weight_, pairs_);
+  const std::vector<float> w = weight_.download<float>(*ctx_);
   std::vector<uint8_t> alive(w.size());
   for (size_t k = 0; k < w.size(); ++k) alive[k] = w[k] != 0.0f;
   return alive;

@@ -26,7 +26,7 @@ void GpuSolver::read_flags_and_weights(std::vector<uint32_t>& flags, std::vector
   Recorder& rec = *rec_[0];
   rec.barrier();
   rec.copy(flags_, edit_readback_, flag_bytes, 0, 0);
-  if (weight_bytes > 0) rec.copy(weight_, edit_readback_, weight_bytes, 0, flag_bytes);
+  weight_.record_copy_to(rec, edit_readback_, flag_bytes);
   rec.submit_and_wait();
   edit_readback_.invalidate();
   const auto* base = static_cast<const char*>(edit_readback_.mapped());
@@ -89,14 +89,14 @@ void GpuSolver::apply_edit(const std::vector<uint32_t>& flags, const std::vector
   Recorder& rec = *rec_[0];
   rec.barrier();
   rec.copy(edit_upload_, flags_, flag_bytes, 0, 0);
-  if (weight_bytes > 0) rec.copy(edit_upload_, weight_, weight_bytes, flag_bytes, 0);
+  weight_.record_copy_from(rec, edit_upload_, flag_bytes);
   if (list_bytes > 0) rec.copy(edit_upload_, list_, list_bytes, flag_bytes + weight_bytes, 0);
   rec.barrier();
   if (!touched.empty()) {
-    dispatch(
-        rec, kernels_->precompute, PrecomputePush{uint32_t(touched.size()), 1},
-        {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
-        uint32_t(touched.size()));
+    dispatch(rec, kernels_->precompute, PrecomputePush{uint32_t(touched.size()), 1},
+             {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, flags_, classes_, rest_, ainv_,
+              resid_, list_, nbr_index_.hi(), weight_.hi()},
+             uint32_t(touched.size()));
     rec.barrier();
   }
   rec.copy(flags_, edit_readback_, flag_bytes, 0, 0);

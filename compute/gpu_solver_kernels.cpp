@@ -31,32 +31,45 @@ namespace phyxel::gpu {
 
 using namespace layout;
 
-SolverKernels::SolverKernels(Context& ctx)
+SolverKernels::SolverKernels(Context& ctx, bool pairs_split)
     : nbr_cells(ctx, PHYXEL_SHADER(nbr_cells), 6, sizeof(NbrPush)),
       nbr_scatter(ctx, PHYXEL_SHADER(nbr_scatter), 4, sizeof(NbrPush)),
-      nbr_pairs(ctx, PHYXEL_SHADER(nbr_pairs), 11, sizeof(NbrPush)),
       scan_block(ctx, PHYXEL_SHADER(scan_block), 3, sizeof(ScanPush)),
       scan_add(ctx, PHYXEL_SHADER(scan_add), 2, sizeof(ScanPush)),
-      precompute(ctx, PHYXEL_SHADER(solver_precompute), 10, sizeof(PrecomputePush)),
       kick_drift(ctx, PHYXEL_SHADER(solver_kick_drift), 8, sizeof(StepPush)),
-      stress(ctx, PHYXEL_SHADER(solver_stress), 11, sizeof(StepPush)),
-      force(ctx, PHYXEL_SHADER(solver_force), 13, sizeof(StepPush)),
-      energy(ctx, PHYXEL_SHADER(solver_energy), 11, sizeof(StepPush)),
       reduce(ctx, PHYXEL_SHADER(solver_reduce), 2, sizeof(ReducePush)),
       check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
-      von_mises(ctx, PHYXEL_SHADER(solver_von_mises), 11, sizeof(StepPush)),
-      principal(ctx, PHYXEL_SHADER(solver_principal), 11, sizeof(StepPush)),
-      tear(ctx, PHYXEL_SHADER(solver_tear), 12, sizeof(TearPush)),
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
       motion(ctx, PHYXEL_SHADER(solver_motion), 4, sizeof(MotionPush)),
       contact(ctx, PHYXEL_SHADER(tool_contact), 11, sizeof(ContactPush)),
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
-      sever(ctx, PHYXEL_SHADER(tool_sever), 12, sizeof(SeverPush)),
-      grasp(ctx, PHYXEL_SHADER(tool_grasp), 12, sizeof(GraspPush)) {
-  if (ctx.float64())
-    nbr_pairs_f64 = Pipeline(ctx, PHYXEL_SHADER(nbr_pairs_f64), 11, sizeof(NbrPush));
+      grasp(ctx, PHYXEL_SHADER(tool_grasp), 12, sizeof(GraspPush)),
+      pairs_split_(pairs_split) {
+  make_pair_pipelines(ctx);
+}
+
+void SolverKernels::split_pairs(Context& ctx) {
+  pairs_split_ = true;
+  make_pair_pipelines(ctx);
+}
+
+void SolverKernels::make_pair_pipelines(Context& ctx) {
+  const std::vector<uint32_t> spec = {pairs_split_ ? 1u : 0u};
+  auto make = [&](const ShaderCode& code, uint32_t bindings, uint32_t push) {
+    return Pipeline(ctx, code, bindings, push, VK_NULL_HANDLE, spec);
+  };
+  nbr_pairs = make(PHYXEL_SHADER(nbr_pairs), 13, sizeof(NbrPush));
+  if (ctx.float64()) nbr_pairs_f64 = make(PHYXEL_SHADER(nbr_pairs_f64), 13, sizeof(NbrPush));
+  precompute = make(PHYXEL_SHADER(solver_precompute), 12, sizeof(PrecomputePush));
+  stress = make(PHYXEL_SHADER(solver_stress), 13, sizeof(StepPush));
+  force = make(PHYXEL_SHADER(solver_force), 15, sizeof(StepPush));
+  energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
+  von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
+  principal = make(PHYXEL_SHADER(solver_principal), 13, sizeof(StepPush));
+  tear = make(PHYXEL_SHADER(solver_tear), 14, sizeof(TearPush));
+  sever = make(PHYXEL_SHADER(tool_sever), 14, sizeof(SeverPush));
 }
 
 namespace {

@@ -12,7 +12,13 @@ namespace phyxel::gpu {
 
 class SolverKernels {
  public:
-  explicit SolverKernels(Context& ctx);
+  // `pairs_split`: the pipelines that touch pairs read a second part of the neighbour index
+  // and the pair weights (PairBuffer; specialization constant 0 of pair_buffers.glsl).
+  SolverKernels(Context& ctx, bool pairs_split);
+  // Remakes the pipelines that touch pairs for a second part (the neighbour search found more
+  // pairs than one part holds, though the lattice bound said otherwise).
+  void split_pairs(Context& ctx);
+  bool pairs_split() const { return pairs_split_; }
 
   Pipeline nbr_cells;       // layout::NbrPush; kNbrCells* bindings
   Pipeline nbr_scatter;     // layout::NbrPush; kNbrScatter* bindings
@@ -38,6 +44,10 @@ class SolverKernels {
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
   Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
+
+ private:
+  void make_pair_pipelines(Context& ctx);
+  bool pairs_split_ = false;
 };
 
 // Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for

@@ -61,36 +61,32 @@ void GpuSolver::build_neighbours(const std::vector<vec4>& rest_lo_host) {
     // Index and weight are not touched when counting; the offsets stand in for them.
     dispatch(rec, pairs, count_push,
              {local_, rest_lo, flags_, classes_, cell_of, bucket_start, sorted, pair_count,
-              nbr_offset_, nbr_offset_, nbr_offset_},
+              nbr_offset_, nbr_offset_, nbr_offset_, nbr_offset_, nbr_offset_},
              count_);
     rec.barrier();
     row_scan.record(rec, pair_count, count_, nbr_offset_);
     rec.submit_and_wait();
   }
   pairs_ = download<uint32_t>(ctx, nbr_offset_, 1, n * sizeof(uint32_t))[0];
-  if (uint64_t{pairs_} * 4 > ctx.info().max_storage_buffer_range)
-    throw VulkanError("the scene has " + std::to_string(pairs_) + " neighbour pairs, more than " +
-                          ctx.info().name +
-                          " can bind in one buffer; use a smaller scene or "
-                          "support radius, or --device cpu",
-                      VK_ERROR_OUT_OF_DEVICE_MEMORY);
-  nbr_index_ = device(pairs_ * sizeof(uint32_t), "neighbour index");
-  weight_ = device(pairs_ * sizeof(float), "pair weight");
+  const uint64_t per_part = pairs_per_part(ctx, options_.pair_part_bytes);
+  if (pairs_ > per_part && !kernels_->pairs_split()) kernels_->split_pairs(ctx);
+  nbr_index_ = PairBuffer(ctx, pairs_, per_part, "neighbour index");
+  weight_ = PairBuffer(ctx, pairs_, per_part, "pair weight");
   {
     Recorder rec(ctx, "neighbour search: fill, precompute");
     dispatch(rec, pairs, fill_push,
              {local_, rest_lo, flags_, classes_, cell_of, bucket_start, sorted, pair_count,
-              nbr_offset_, nbr_index_, weight_},
+              nbr_offset_, nbr_index_.lo(), weight_.lo(), nbr_index_.hi(), weight_.hi()},
              count_);
     rec.barrier();
-    dispatch(
-        rec, kernels_->precompute, PrecomputePush{count_, 0},
-        {nbr_offset_, nbr_index_, weight_, local_, flags_, classes_, rest_, ainv_, resid_, list_},
-        count_);
+    dispatch(rec, kernels_->precompute, PrecomputePush{count_, 0},
+             {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, flags_, classes_, rest_, ainv_,
+              resid_, list_, nbr_index_.hi(), weight_.hi()},
+             count_);
     rec.submit_and_wait();
   }
   neighbours_.offset = download<uint32_t>(ctx, nbr_offset_, n + 1);
-  neighbours_.index = download<uint32_t>(ctx, nbr_index_, pairs_);
+  neighbours_.index = nbr_index_.download<uint32_t>(ctx);
   count_flags();
 }
 

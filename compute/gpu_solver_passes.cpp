@@ -122,8 +122,9 @@ void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
   const StepPush pc =
       push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u, lanes_for(Gather::Stress, n));
   dispatch(rec, kernels_->principal, pc,
-           {nbr_offset_, nbr_index_, weight_, local_, disp, ainv_, flags_, classes_,
-            principal_stress_, stress_list_, tearing_ ? cauchy_ : principal_stress_},
+           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp, ainv_, flags_, classes_,
+            principal_stress_, stress_list_, tearing_ ? cauchy_ : principal_stress_,
+            nbr_index_.hi(), weight_.hi()},
            n * pc.lanes);
 }
 

@@ -38,8 +38,8 @@ Energies GpuSolver::energies() {
   settle();
   Recorder& rec = *rec_[0];
   dispatch(rec, kernels_->energy, push(count_, 0.0f),
-           {nbr_offset_, nbr_index_, weight_, local_, disp_[0], vel_, ainv_, ext_, flags_, classes_,
-            energy_},
+           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp_[0], vel_, ainv_, ext_, flags_,
+            classes_, energy_, nbr_index_.hi(), weight_.hi()},
            count_);
   // Reduce by kScanBlock per level until few enough partial sums are left to download.
   const Buffer* src = &energy_;
@@ -190,8 +190,8 @@ PointState GpuSolver::read_state(bool with_stress) {
   Recorder& rec = *rec_[0];
   if (with_stress) {
     dispatch(rec, kernels_->von_mises, push(count_, 0.0f),
-             {nbr_offset_, nbr_index_, weight_, local_, disp_[0], vel_, ainv_, ext_, flags_,
-              classes_, von_mises_},
+             {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp_[0], vel_, ainv_, ext_,
+              flags_, classes_, von_mises_, nbr_index_.hi(), weight_.hi()},
              count_);
   }
   rec.barrier();
@@ -239,7 +239,7 @@ std::vector<MomentInverseRow> GpuSolver::moment_inverses() {
 
 std::vector<float> GpuSolver::pair_weights() {
   settle();
-  return download<float>(*ctx_, weight_, pairs_);
+  return weight_.download<float>(*ctx_);
 }
 
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {

@@ -38,8 +38,8 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   record_dirty_reset(rec);
   dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, 0u, 0u},
-           {stress_list_, rest_, disp, nbr_offset_, nbr_index_, weight_, flags_, classes_,
-            principal_stress_, cauchy_, cut_dirty_, cut_log_},
+           {stress_list_, rest_, disp, nbr_offset_, nbr_index_.lo(), weight_.lo(), flags_, classes_,
+            principal_stress_, cauchy_, cut_dirty_, cut_log_, nbr_index_.hi(), weight_.hi()},
            n);
   record_dirty_precompute(rec);
 }

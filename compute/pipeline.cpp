@@ -55,7 +55,8 @@ std::array<uint32_t, 3> group_counts(uint32_t elements, uint32_t workgroup_size,
 }
 
 Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
-                   uint32_t push_constant_size, VkDescriptorSetLayout set1)
+                   uint32_t push_constant_size, VkDescriptorSetLayout set1,
+                   const std::vector<uint32_t>& specialization)
     : ctx_(&ctx), bindings_(bindings), push_size_(push_constant_size), name_(code.name) {
   const DeviceInfo& info = ctx.info();
   workgroup_ = spirv_workgroup_size(code);
@@ -113,6 +114,15 @@ Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
     create.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     create.stage.module = module;
     create.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> entries(specialization.size());
+    for (uint32_t k = 0; k < entries.size(); ++k)
+      entries[k] = {k, k * uint32_t{sizeof(uint32_t)}, sizeof(uint32_t)};
+    VkSpecializationInfo spec{};
+    spec.mapEntryCount = static_cast<uint32_t>(entries.size());
+    spec.pMapEntries = entries.data();
+    spec.dataSize = specialization.size() * sizeof(uint32_t);
+    spec.pData = specialization.data();
+    if (!specialization.empty()) create.stage.pSpecializationInfo = &spec;
     create.layout = layout_;
     VK_CHECK(
         fn.vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &create, nullptr, &pipeline_));

@@ -12,6 +12,7 @@
 #include <initializer_list>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "compute/recorder.h"
 
@@ -46,9 +47,11 @@ class Pipeline {
   // push constants (0 for none; use sizeof of the shared layout.h struct). The workgroup size
   // is read from the SPIR-V. `set1`, when given, is the layout of a descriptor set 1 that the
   // caller owns and binds itself (vkCmdBindDescriptorSets with layout()) before dispatch(),
-  // for what is not a storage buffer (a sampled texture).
+  // for what is not a storage buffer (a sampled texture). `specialization[k]` is the 32-bit
+  // value of the shader's specialization constant k (constant_id = k; a bool is 0 or 1).
   Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings, uint32_t push_constant_size,
-           VkDescriptorSetLayout set1 = VK_NULL_HANDLE);
+           VkDescriptorSetLayout set1 = VK_NULL_HANDLE,
+           const std::vector<uint32_t>& specialization = {});
   ~Pipeline();
   Pipeline(Pipeline&& other) noexcept;
   Pipeline& operator=(Pipeline&& other) noexcept;

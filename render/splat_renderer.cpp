@@ -52,7 +52,7 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.limits = props.limits;
   m.texture = Texture(m.images, texture, m.limits.maxImageDimension2D);
   m.create_texture_sets();
-  m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 7, sizeof(layout::DeformPush));
+  m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 9, sizeof(layout::DeformPush));
   m.visibility = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_visibility), 2, sizeof(layout::RasterPush));
   m.accumulate = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_accumulate), 3, sizeof(layout::RasterPush),
                                m.texture_layout);
@@ -237,6 +237,12 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   if (!in.rest || !in.displacement || !in.nbr_offset || !in.nbr_index) {
     throw std::invalid_argument("SplatRenderer: a RenderInputs buffer is missing");
   }
+  if ((in.nbr_index_hi != nullptr) != (in.pair_weight_hi != nullptr) ||
+      (in.nbr_index_hi != nullptr && in.pair_weight == nullptr) ||
+      (in.nbr_index_hi != nullptr && in.pair_weight->size() != in.nbr_index->size())) {
+    throw std::invalid_argument(
+        "SplatRenderer: split pair buffers need both hi parts and lo parts of one size");
+  }
   if (in.count != m.table_phyxels) {
     throw std::invalid_argument("SplatRenderer: the solver has " + std::to_string(in.count) +
                                 " phyxels but the surfel table was built for " +
@@ -291,9 +297,15 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   deform.min_inverse_condition = m.options.min_inverse_condition;
   deform.max_stretch = m.options.max_stretch;
   deform.pair_weights = in.pair_weight != nullptr ? 1u : 0u;
-  gpu::dispatch(rec, m.deform, deform,
+  if (in.nbr_index_hi != nullptr && m.deform_split.handle() == VK_NULL_HANDLE) {
+    m.deform_split = gpu::Pipeline(m.ctx, PHYXEL_SHADER(deform_surfels), 9,
+                                   sizeof(layout::DeformPush), VK_NULL_HANDLE, {1u});
+  }
+  gpu::dispatch(rec, in.nbr_index_hi != nullptr ? m.deform_split : m.deform, deform,
                 {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, m.surfels, m.splats,
-                 in.pair_weight != nullptr ? *in.pair_weight : m.no_weights},
+                 in.pair_weight != nullptr ? *in.pair_weight : m.no_weights,
+                 in.nbr_index_hi != nullptr ? *in.nbr_index_hi : *in.nbr_index,
+                 in.pair_weight_hi != nullptr ? *in.pair_weight_hi : m.no_weights},
                 m.count * layout::kDeformLanes);
   end();
   rec.barrier();

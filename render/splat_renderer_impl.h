@@ -47,6 +47,9 @@ struct SplatRenderer::Impl {
   RendererOptions options;
   VkPhysicalDeviceLimits limits{};
   gpu::Pipeline deform, visibility, accumulate, shade, tool_pass;
+  // deform for a solver whose pairs are in two parts (pair_buffers.glsl's specialization
+  // constant set); made on first use.
+  gpu::Pipeline deform_split;
   // The tools of the next frames; their GPU copy (mapped staging, device) grows as needed.
   std::vector<ToolDrawable> tools;
   gpu::Buffer tool_staging, tool_buffer;

@@ -37,6 +37,10 @@ struct RenderInputs {
   const gpu::Buffer* nbr_index = nullptr;
   uint32_t count = 0;                        // phyxels
   const gpu::Buffer* pair_weight = nullptr;  // optional: float per CSR pair, 0 = severed
+  // A GPU solver whose pairs exceed one binding holds the first nbr_index->size() / 4 of them
+  // in nbr_index and pair_weight and the rest in these (gpu::PairBuffer); else null.
+  const gpu::Buffer* nbr_index_hi = nullptr;
+  const gpu::Buffer* pair_weight_hi = nullptr;
 
   RenderInputs() = default;
   RenderInputs(const gpu::Buffer* rest_, const gpu::Buffer* displacement_,
@@ -64,6 +68,13 @@ struct RenderInputs {
                     { b.pair_weight } -> std::convertible_to<const gpu::Buffer*>;
                   }) {
       pair_weight = b.pair_weight;
+    }
+    if constexpr (requires {
+                    { b.nbr_index_hi } -> std::convertible_to<const gpu::Buffer*>;
+                    { b.pair_weight_hi } -> std::convertible_to<const gpu::Buffer*>;
+                  }) {
+      nbr_index_hi = b.nbr_index_hi;
+      pair_weight_hi = b.pair_weight_hi;
     }
   }
 };

@@ -72,7 +72,9 @@ PHYXEL_ASSERT_SIZE(StreamCopyPush, 16);
 // ---------------------------------------------------------------------------------------
 // GPU solver (compute/gpu_solver*.cpp, shaders/nbr_*.comp, scan_*.comp, solver_*.comp).
 // Per-phyxel buffers are arrays of vec4 (or uint/float), indexed by phyxel; per-pair buffers
-// are aligned with the CSR neighbour index (see compute/README.md, "GPU solver buffers").
+// are aligned with the CSR neighbour index (see compute/README.md, "GPU solver buffers"), and
+// each shader binds them twice, as lo and hi ranges (pair_buffers.glsl): the *IndexHi and
+// *WeightHi bindings come last in every list.
 
 // The engine's PhyxelFlags (engine/sampling/phyxel_set.h) in the low byte of the per-phyxel flags
 // word, the GPU's own status bits above them, and the phyxel's parameter class in the high 16 bits.
@@ -137,6 +139,8 @@ PHYXEL_CONST uint kNbrPairsBindingCount = 7;
 PHYXEL_CONST uint kNbrPairsBindingOffset = 8;
 PHYXEL_CONST uint kNbrPairsBindingIndex = 9;
 PHYXEL_CONST uint kNbrPairsBindingWeight = 10;
+PHYXEL_CONST uint kNbrPairsBindingIndexHi = 11;  // pairs past the first binding (pair_buffers.glsl)
+PHYXEL_CONST uint kNbrPairsBindingWeightHi = 12;
 
 // Exclusive prefix sum in blocks of kScanBlock elements (scan_block then scan_add per level):
 // out[i] = sum of in[k] for k < i, i < count, where in[k] = 0 for k >= input_count.
@@ -177,6 +181,8 @@ PHYXEL_CONST uint kPrecomputeBindingRest = 6;
 PHYXEL_CONST uint kPrecomputeBindingAinv = 7;
 PHYXEL_CONST uint kPrecomputeBindingResid = 8;
 PHYXEL_CONST uint kPrecomputeBindingList = 9;
+PHYXEL_CONST uint kPrecomputeBindingIndexHi = 10;
+PHYXEL_CONST uint kPrecomputeBindingWeightHi = 11;
 
 // The step passes. dt in seconds; `weights` selects where w_ij comes from. solver_kick_drift,
 // solver_stress and solver_force visit the phyxels of a pass list (binding kKickDriftBindingList
@@ -227,6 +233,8 @@ PHYXEL_CONST uint kStressBindingFlags = 7;
 PHYXEL_CONST uint kStressBindingClasses = 8;
 PHYXEL_CONST uint kStressBindingStress = 9;
 PHYXEL_CONST uint kStressBindingList = 10;  // the stress pass list
+PHYXEL_CONST uint kStressBindingIndexHi = 11;
+PHYXEL_CONST uint kStressBindingWeightHi = 12;
 // solver_force: {offset, index, weight, local, disp_in, disp_out, stress, vel, force, ext, flags,
 // classes, list}
 PHYXEL_CONST uint kForceBindingOffset = 0;
@@ -242,6 +250,8 @@ PHYXEL_CONST uint kForceBindingExt = 9;
 PHYXEL_CONST uint kForceBindingFlags = 10;
 PHYXEL_CONST uint kForceBindingClasses = 11;
 PHYXEL_CONST uint kForceBindingList = 12;  // the force pass list
+PHYXEL_CONST uint kForceBindingIndexHi = 13;
+PHYXEL_CONST uint kForceBindingWeightHi = 14;
 
 // solver_energy: {offset, index, weight, local, disp, vel, ainv, ext, flags, classes, out}
 // out[i] = (strain, kinetic, potential, 0) of phyxel i; solver_von_mises: the same inputs but
@@ -257,6 +267,8 @@ PHYXEL_CONST uint kEnergyBindingExt = 7;
 PHYXEL_CONST uint kEnergyBindingFlags = 8;
 PHYXEL_CONST uint kEnergyBindingClasses = 9;
 PHYXEL_CONST uint kEnergyBindingOut = 10;
+PHYXEL_CONST uint kEnergyBindingIndexHi = 11;
+PHYXEL_CONST uint kEnergyBindingWeightHi = 12;
 
 // solver_principal (tearing; only while GpuSolver::set_principal_stress is on), over the stress
 // pass list with StepPush (dt unused): out[i] = the largest principal value of the Cauchy
@@ -275,6 +287,8 @@ PHYXEL_CONST uint kPrincipalBindingOut = 8;
 PHYXEL_CONST uint kPrincipalBindingList = 9;  // the stress pass list
 // vec4[2 N]; without tearing the principal buffer is bound here and never written.
 PHYXEL_CONST uint kPrincipalBindingCauchy = 10;
+PHYXEL_CONST uint kPrincipalBindingIndexHi = 11;
+PHYXEL_CONST uint kPrincipalBindingWeightHi = 12;
 PHYXEL_CONST uint kPrincipalWithTensor = 1u;  // StepPush.mode
 
 // solver_tear (engine/surgery/tearing.h), over the stress pass list after the force pass of a
@@ -300,6 +314,8 @@ PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_princi
 PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_principal)
 PHYXEL_CONST uint kTearBindingDirty = 10;     // tool_sever's dirty list
 PHYXEL_CONST uint kTearBindingLog = 11;       // the cut log
+PHYXEL_CONST uint kTearBindingIndexHi = 12;
+PHYXEL_CONST uint kTearBindingWeightHi = 13;
 
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;
@@ -380,8 +396,9 @@ PHYXEL_CONST uint kContactBindingContact = 9;
 PHYXEL_CONST uint kContactBindingCount = 10;  // ContactCount (tool_broad_scan)
 
 // tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
-// tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a fixed tree) and writes
-// samples[sample * tools + tool] = (minus the summed force: the force on the tool, contacts).
+// tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
+// fixed tree) and writes samples[sample * tools + tool] = (minus the summed force: the force on the
+// tool, contacts).
 struct ContactReducePush {
   uint unused;  // (ContactCount.total)
   uint tools;
@@ -524,6 +541,8 @@ PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on t
 PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, groups x y z, then phyxels
 PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, torn)
 PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount
+PHYXEL_CONST uint kSeverBindingIndexHi = 12;
+PHYXEL_CONST uint kSeverBindingWeightHi = 13;
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

@@ -25,8 +25,12 @@ layout(std430, binding = kNbrPairsBindingBucketStart) readonly buffer Start {
 layout(std430, binding = kNbrPairsBindingSorted) readonly buffer Sorted { uint sorted_ids[]; };
 layout(std430, binding = kNbrPairsBindingCount) buffer Count { uint pair_count[]; };
 layout(std430, binding = kNbrPairsBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kNbrPairsBindingIndex) buffer Index { uint nbr_index[]; };
-layout(std430, binding = kNbrPairsBindingWeight) writeonly buffer Weight { float weight[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kNbrPairsBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kNbrPairsBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kNbrPairsBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kNbrPairsBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 1
+#include "pair_buffers.glsl"
 
 void main() {
   const uint i = PHYXEL_GLOBAL_INDEX;
@@ -52,7 +56,7 @@ void main() {
           if (j == i || cell_of[j] != visit) continue;
           if (!within_support(hi_i, lo_i, local_pos[j].xyz, rest_lo[j].xyz, cls.search))
             continue;
-          if (p.mode == kNbrFill) nbr_index[row + n] = j;
+          if (p.mode == kNbrFill) set_nbr_index(row + n, j);
           ++n;
         }
       }
@@ -64,17 +68,17 @@ void main() {
   }
   // Insertion sort of the row (a few dozen entries), then the weights in row order.
   for (uint a = 1u; a < n; ++a) {
-    const uint key = nbr_index[row + a];
+    const uint key = nbr_index(row + a);
     uint b = a;
-    while (b > 0u && nbr_index[row + b - 1u] > key) {
-      nbr_index[row + b] = nbr_index[row + b - 1u];
+    while (b > 0u && nbr_index(row + b - 1u) > key) {
+      set_nbr_index(row + b, nbr_index(row + b - 1u));
       --b;
     }
-    nbr_index[row + b] = key;
+    set_nbr_index(row + b, key);
   }
   for (uint a = 0u; a < n; ++a) {
-    const vec3 x = local_pos[nbr_index[row + a]].xyz - hi_i;
-    weight[row + a] = poly6_weight(dot(x, x), cls.kernel);
+    const vec3 x = local_pos[nbr_index(row + a)].xyz - hi_i;
+    set_pair_weight(row + a, poly6_weight(dot(x, x), cls.kernel));
   }
 }
 

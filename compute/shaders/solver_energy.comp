@@ -11,8 +11,12 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { StepPush p; };
 layout(std430, binding = kEnergyBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kEnergyBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kEnergyBindingWeight) readonly buffer Weight { float weight[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kEnergyBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kEnergyBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kEnergyBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kEnergyBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 0
+#include "pair_buffers.glsl"
 layout(std430, binding = kEnergyBindingLocal) readonly buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kEnergyBindingDisp) readonly buffer Disp { vec4 disp[]; };
 layout(std430, binding = kEnergyBindingVel) readonly buffer Vel { vec4 vel[]; };
@@ -23,7 +27,7 @@ layout(std430, binding = kEnergyBindingClasses) readonly buffer Classes { Solver
 layout(std430, binding = kEnergyBindingOut) writeonly buffer Out { vec4 energy[]; };
 
 float weight_of(bool stored, uint k, vec3 x, vec4 kernel) {
-  return stored ? weight[k] : poly6_weight(dot(x, x), kernel);
+  return stored ? pair_weight(k) : poly6_weight(dot(x, x), kernel);
 }
 
 void main() {
@@ -38,7 +42,7 @@ void main() {
   const uint end = offset[i + 1u];
   mat3 m = mat3(0.0);
   for (uint k = begin; k < end; ++k) {
-    const uint j = nbr_index[k];
+    const uint j = nbr_index(k);
     const vec3 x = local_pos[j].xyz - li.xyz;
     m += outerProduct(weight_of(stored, k, x, cls.kernel) * (disp[j].xyz - ui), x);
   }
@@ -46,7 +50,7 @@ void main() {
   const mat3 g = m * unpack_sym(ainv[2u * i], a1);
   float hourglass = 0.0;
   for (uint k = begin; k < end; ++k) {
-    const uint j = nbr_index[k];
+    const uint j = nbr_index(k);
     const vec3 x = local_pos[j].xyz - li.xyz;
     const vec3 e = g * x - (disp[j].xyz - ui);
     hourglass += weight_of(stored, k, x, cls.kernel) * dot(e, e);

@@ -13,8 +13,12 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { StepPush p; };
 layout(std430, binding = kForceBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kForceBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kForceBindingWeight) readonly buffer Weight { float weight[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kForceBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kForceBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kForceBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kForceBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 0
+#include "pair_buffers.glsl"
 layout(std430, binding = kForceBindingLocal) readonly buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kForceBindingDispIn) readonly buffer DispIn { vec4 disp_in[]; };
 layout(std430, binding = kForceBindingDispOut) writeonly buffer DispOut { vec4 disp_out[]; };
@@ -60,8 +64,8 @@ void main() {
     // flight per invocation); added in the same order as one at a time.
     uint s = offset[k] + lane;
     for (; s + lanes < end; s += 2u * lanes) {
-      const uint j0 = nbr_index[s];
-      const uint j1 = nbr_index[s + lanes];
+      const uint j0 = nbr_index(s);
+      const uint j1 = nbr_index(s + lanes);
       const vec4 l0 = local_pos[j0];
       const vec4 l1 = local_pos[j1];
       const mat3 d0 = stress_of(j0);
@@ -70,16 +74,16 @@ void main() {
       const vec3 u1 = disp_in[j1].xyz;
       const vec3 x0 = l0.xyz - lk.xyz;
       const vec3 x1 = l1.xyz - lk.xyz;
-      const float w0 = stored ? weight[s] : poly6_weight(dot(x0, x0), cls.kernel);
-      const float w1 = stored ? weight[s + lanes] : poly6_weight(dot(x1, x1), cls.kernel);
+      const float w0 = stored ? pair_weight(s) : poly6_weight(dot(x0, x0), cls.kernel);
+      const float w1 = stored ? pair_weight(s + lanes) : poly6_weight(dot(x1, x1), cls.kernel);
       f += w0 * ((dk + d0) * x0 + (lk.w + l0.w) * (u0 - uk));
       f += w1 * ((dk + d1) * x1 + (lk.w + l1.w) * (u1 - uk));
     }
     if (s < end) {
-      const uint j = nbr_index[s];
+      const uint j = nbr_index(s);
       const vec4 lj = local_pos[j];
       const vec3 x = lj.xyz - lk.xyz;
-      const float w = stored ? weight[s] : poly6_weight(dot(x, x), cls.kernel);
+      const float w = stored ? pair_weight(s) : poly6_weight(dot(x, x), cls.kernel);
       f += w * ((dk + stress_of(j)) * x + (lk.w + lj.w) * (disp_in[j].xyz - uk));
     }
   }

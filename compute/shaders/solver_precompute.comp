@@ -13,8 +13,12 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { PrecomputePush p; };
 layout(std430, binding = kPrecomputeBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kPrecomputeBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kPrecomputeBindingWeight) readonly buffer Weight { float weight[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kPrecomputeBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kPrecomputeBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kPrecomputeBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kPrecomputeBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 0
+#include "pair_buffers.glsl"
 layout(std430, binding = kPrecomputeBindingLocal) buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kPrecomputeBindingFlags) buffer Flags { uint flags[]; };
 layout(std430, binding = kPrecomputeBindingClasses) readonly buffer Classes {
@@ -76,13 +80,13 @@ void main() {
   mat3 reference = mat3(0.0);
   bool damaged = false;  // a pair cut or torn (not lost to a removal): reference != a
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-    const uint j = nbr_index[k];
+    const uint j = nbr_index(k);
     const vec3 x = local_pos[j].xyz - xi;
-    const mat3 term = outerProduct(weight[k] * x, x);
+    const mat3 term = outerProduct(pair_weight(k) * x, x);
     a += term;
     if ((flags[j] & kFlagRemoved) == 0u) {
-      damaged = damaged || weight[k] == 0.0;
-      reference += weight[k] != 0.0 ? term : outerProduct(poly6_weight(dot(x, x), cls.kernel) * x, x);
+      damaged = damaged || pair_weight(k) == 0.0;
+      reference += pair_weight(k) != 0.0 ? term : outerProduct(poly6_weight(dot(x, x), cls.kernel) * x, x);
     }
   }
   const float trace = a[0][0] + a[1][1] + a[2][2];

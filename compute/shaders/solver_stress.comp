@@ -12,8 +12,12 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { StepPush p; };
 layout(std430, binding = kStressBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kStressBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kStressBindingWeight) readonly buffer Weight { float weight[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kStressBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kStressBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kStressBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kStressBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 0
+#include "pair_buffers.glsl"
 layout(std430, binding = kStressBindingLocal) readonly buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kStressBindingDisp) readonly buffer Disp { vec4 disp[]; };
 layout(std430, binding = kStressBindingAinv) readonly buffer Ainv { vec4 ainv[]; };
@@ -46,9 +50,9 @@ void main() {
     const bool stored = stored_weights(p.weights, fl);
     const uint end = offset[i + 1u];
     for (uint k = offset[i] + lane; k < end; k += lanes) {
-      const uint j = nbr_index[k];
+      const uint j = nbr_index(k);
       const vec3 x = local_pos[j].xyz - li.xyz;
-      const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
+      const float w = stored ? pair_weight(k) : poly6_weight(dot(x, x), cls.kernel);
       m += outerProduct(w * (disp[j].xyz - ui), x);
     }
   }

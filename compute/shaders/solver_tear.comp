@@ -14,8 +14,12 @@ layout(std430, binding = kTearBindingList) readonly buffer List { uint list[]; }
 layout(std430, binding = kTearBindingRest) readonly buffer Rest { vec4 rest[]; };
 layout(std430, binding = kTearBindingDisp) readonly buffer Disp { vec4 disp[]; };
 layout(std430, binding = kTearBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kTearBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kTearBindingWeight) buffer Weight { uint weight_bits[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kTearBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kTearBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kTearBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kTearBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 2
+#include "pair_buffers.glsl"
 layout(std430, binding = kTearBindingFlags) buffer Flags { uint flags[]; };
 layout(std430, binding = kTearBindingClasses) readonly buffer Classes { SolverClass classes[]; };
 layout(std430, binding = kTearBindingPrincipal) readonly buffer Principal { float principal[]; };
@@ -53,8 +57,8 @@ void main() {
   bool loaded = false;
   mat3 si = mat3(0.0);
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-    const uint j = nbr_index[k];
-    if (j <= i || weight_bits[k] == 0u) continue;
+    const uint j = nbr_index(k);
+    if (j <= i || pair_weight_bits(k) == 0u) continue;
     const float threshold = pair_threshold(ti, strength(j));
     if (!(threshold > 0.0)) continue;
     if (0.5 * (pi + principal[j]) < 0.9999 * threshold) continue;  // s_ij cannot reach it
@@ -67,8 +71,8 @@ void main() {
     if (!(len2 > 0.0)) continue;
     const float s_ij = dot(r, (0.5 * (si + tensor(j))) * r) / len2;
     if (!(s_ij >= threshold)) continue;
-    weight_bits[k] = 0u;
-    weight_bits[find_slot(j, i)] = 0u;
+    clear_pair_weight(k);
+    clear_pair_weight(find_slot(j, i));
     mark_dirty(i);
     mark_dirty(j);
     const uint at = atomicAdd(cut_log[0].x, 1u);

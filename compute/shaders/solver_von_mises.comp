@@ -10,8 +10,12 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { StepPush p; };
 layout(std430, binding = kEnergyBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kEnergyBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kEnergyBindingWeight) readonly buffer Weight { float weight[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kEnergyBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kEnergyBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kEnergyBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kEnergyBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 0
+#include "pair_buffers.glsl"
 layout(std430, binding = kEnergyBindingLocal) readonly buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kEnergyBindingDisp) readonly buffer Disp { vec4 disp[]; };
 layout(std430, binding = kEnergyBindingAinv) readonly buffer Ainv { vec4 ainv[]; };
@@ -29,9 +33,9 @@ void main() {
   const vec3 ui = disp[i].xyz;
   mat3 m = mat3(0.0);
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-    const uint j = nbr_index[k];
+    const uint j = nbr_index(k);
     const vec3 x = local_pos[j].xyz - li.xyz;
-    const float w = stored ? weight[k] : poly6_weight(dot(x, x), cls.kernel);
+    const float w = stored ? pair_weight(k) : poly6_weight(dot(x, x), cls.kernel);
     m += outerProduct(w * (disp[j].xyz - ui), x);
   }
   const mat3 g = m * unpack_sym(ainv[2u * i], ainv[2u * i + 1u]);

@@ -14,8 +14,12 @@ layout(std430, binding = kSeverBindingList) readonly buffer List { uint list[]; 
 layout(std430, binding = kSeverBindingRest) readonly buffer Rest { vec4 rest[]; };
 layout(std430, binding = kSeverBindingDisp) readonly buffer Disp { vec4 disp[]; };
 layout(std430, binding = kSeverBindingOffset) readonly buffer Offset { uint offset[]; };
-layout(std430, binding = kSeverBindingIndex) readonly buffer Index { uint nbr_index[]; };
-layout(std430, binding = kSeverBindingWeight) buffer Weight { uint weight_bits[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kSeverBindingIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kSeverBindingIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kSeverBindingWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kSeverBindingWeightHi
+#define PHYXEL_PAIR_ACCESS 2
+#include "pair_buffers.glsl"
 layout(std430, binding = kSeverBindingFlags) buffer Flags { uint flags[]; };
 layout(std430, binding = kSeverBindingQuads) readonly buffer Quads { CutQuad quads[]; };
 layout(std430, binding = kSeverBindingSamples) readonly buffer Samples { vec4 samples[]; };
@@ -61,17 +65,17 @@ void main() {
     const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
     if (max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) < threshold) continue;
     for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-      if (weight_bits[k] == 0u) continue;
-      const uint j = nbr_index[k];
+      if (pair_weight_bits(k) == 0u) continue;
+      const uint j = nbr_index(k);
       const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
       float t;
       const bool crosses = i < j ? crosses_quad(xi, xj, quad, t) : crosses_quad(xj, xi, quad, t);
       if (!crosses) continue;
       const uint lo = min(i, j), hi = max(i, j);
       const uint lo_slot = i < j ? k : find_slot(j, i);
-      if (atomicExchange(weight_bits[lo_slot], 0u) == 0u) continue;  // another thread has it
+      if (sever_pair_weight(lo_slot) == 0u) continue;  // another thread has it
       const uint hi_slot = i < j ? find_slot(j, i) : k;
-      weight_bits[hi_slot] = 0u;
+      clear_pair_weight(hi_slot);
       mark_dirty(lo);
       mark_dirty(hi);
       const uint at = atomicAdd(cut_log[0].x, 1u);

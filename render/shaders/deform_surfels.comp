@@ -32,10 +32,14 @@ layout(push_constant) uniform Push { DeformPush p; };
 layout(std430, binding = kDeformBindingRest) readonly buffer Rest { vec4 rest[]; };
 layout(std430, binding = kDeformBindingDisplacement) readonly buffer Disp { vec4 disp[]; };
 layout(std430, binding = kDeformBindingNbrOffset) readonly buffer Offset { uint nbr_offset[]; };
-layout(std430, binding = kDeformBindingNbrIndex) readonly buffer Index { uint nbr_index[]; };
+#define PHYXEL_PAIR_INDEX_BINDING kDeformBindingNbrIndex
+#define PHYXEL_PAIR_INDEX_HI_BINDING kDeformBindingNbrIndexHi
+#define PHYXEL_PAIR_WEIGHT_BINDING kDeformBindingPairWeight
+#define PHYXEL_PAIR_WEIGHT_HI_BINDING kDeformBindingPairWeightHi
+#define PHYXEL_PAIR_ACCESS 0
+#include "pair_buffers.glsl"
 layout(std430, binding = kDeformBindingSurfels) readonly buffer Surfels { SurfelStatic surfels[]; };
 layout(std430, binding = kDeformBindingSplats) writeonly buffer Splats { Splat splats[]; };
-layout(std430, binding = kDeformBindingPairWeight) readonly buffer Weight { float weight[]; };
 
 // A unit vector perpendicular to the unit vector n.
 vec3 any_tangent(vec3 n) {
@@ -61,9 +65,9 @@ void main() {
     const vec3 ui = disp[i].xyz;
     const uint end = nbr_offset[i + 1];
     for (uint e = nbr_offset[i] + lane; e < end; e += kDeformLanes) {
-      const uint j = nbr_index[e];
+      const uint j = nbr_index(e);
       if (j >= p.phyxels) continue;
-      if (p.pair_weights != 0u && weight[e] == 0.0) continue;  // severed
+      if (p.pair_weights != 0u && pair_weight(e) == 0.0) continue;  // severed
       const vec3 x = (rest[j].xyz - xi) * inv_h;
       const float q = 1.0 - dot(x, x);
       if (q <= 0.0) continue;

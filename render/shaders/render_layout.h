@@ -84,6 +84,10 @@ PHYXEL_CONST uint kDeformBindingSplats = 5;
 // float per CSR pair (the GPU solver's pair weights; 0: severed or removed), read only when
 // DeformPush::pair_weights is 1 (else a one-word placeholder is bound).
 PHYXEL_CONST uint kDeformBindingPairWeight = 6;
+// The pairs past the first binding of a large GPU solver's index and weights (its lo and hi
+// parts, compute/shaders/pair_buffers.glsl); the lo buffers again where all fit in one.
+PHYXEL_CONST uint kDeformBindingNbrIndexHi = 7;
+PHYXEL_CONST uint kDeformBindingPairWeightHi = 8;
 // Invocations per surfel (a divisor of PHYXEL_WORKGROUP_SIZE): dispatch count x kDeformLanes.
 PHYXEL_CONST uint kDeformLanes = 8;
 struct DeformPush {
@@ -156,8 +160,8 @@ PHYXEL_ASSERT_SIZE(ToolPush, 112);
 // eyes (the accumulation buffer holds eye 1 at `eye_stride` pixels after eye 0) into the frame;
 // a pixel that no splat reached but a tool did shows the tool (steel); one that neither
 // reached shows the environment (render/environment_map.h) when there is one.
-PHYXEL_CONST uint kShadeBindingAccum = 0;    // kAccumChannels ints per pixel
-PHYXEL_CONST uint kShadeBindingFrame = 1;    // RGBA8 per pixel of the frame, one uint
+PHYXEL_CONST uint kShadeBindingAccum = 0;  // kAccumChannels ints per pixel
+PHYXEL_CONST uint kShadeBindingFrame = 1;  // RGBA8 per pixel of the frame, one uint
 // The backdrop layer (SplatRenderer::set_backdrop), read only with kShadeBackdropBit: the
 // frame's depth buffer (kRasterBindingDepth's, both eyes), and per pixel of each eye (the
 // accumulation's indexing) the backdrop's own visible depth and its shaded colour (RGBA8,
@@ -169,7 +173,7 @@ PHYXEL_CONST uint kShadeSetEnvironment = 1;  // set 1, binding 0: the environmen
 PHYXEL_CONST uint kShadeLayoutMono = 0;
 PHYXEL_CONST uint kShadeLayoutSideBySide = 1;  // eye 0 left, eye 1 right: 2 width x height
 PHYXEL_CONST uint kShadeLayoutAnaglyph = 2;    // red from eye 0, green and blue from eye 1
-PHYXEL_CONST uint kShadeLayoutMask = 0xffu;     // frame.z: the layout in the low bits ...
+PHYXEL_CONST uint kShadeLayoutMask = 0xffu;    // frame.z: the layout in the low bits ...
 // ... and this bit with a backdrop layer: a pixel that no disc reached shows the layer,
 // unless a tool was hit nearer than the layer's depth.
 PHYXEL_CONST uint kShadeBackdropBit = 0x100u;

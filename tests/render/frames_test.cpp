@@ -171,6 +171,43 @@ TEST_F(RenderFrames, GpuSolverBuffersRenderLikeTheHostCopyOfTheirState) {
   EXPECT_EQ(solver.neighbours().index, find_rest_neighbours(set).index);
 }
 
+// A solver whose neighbour index and pair weights are bound in two parts (as past about 41M
+// phyxels; here split mid-row by GpuSolverOptions::pair_part_bytes) deforms the splats from
+// both parts: with the pairs across the block's middle severed in both solvers, its frame is
+// the one-binding solver's, bit for bit.
+TEST_F(RenderFrames, ASolverWithItsPairsInTwoPartsRendersTheOneBindingFrame) {
+  const Scene scene = block_scene(R"({"mode": "mono", "width": 96, "height": 64})");
+  const PhyxelSet set = sample_scene(scene);
+  gpu::GpuSolver whole(ctx(), set, scene.simulation.gravity);
+  gpu::GpuSolverOptions options;
+  options.pair_part_bytes = (whole.pair_count() / 2 + 7) * 4;
+  gpu::GpuSolver split(ctx(), set, scene.simulation.gravity, options);
+  std::vector<SeveredPair> cut;
+  const NeighbourLists& nbr = whole.neighbours();
+  for (uint32_t i = 0; i < set.size(); ++i) {
+    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
+      const uint32_t j = nbr.index[k];
+      if (set.rest[i].x() < 0.0 && set.rest[j].x() >= 0.0) cut.push_back({i, j, 0.5f, false});
+    }
+  }
+  ASSERT_GT(cut.size(), 20u);
+  const double dt = plan_time_step(scene, set).dt_used;
+  for (gpu::GpuSolver* s : {&whole, &split}) {
+    s->sever_pairs(cut);
+    s->advance(40, dt);
+  }
+  ASSERT_NE(split.buffers().nbr_index_hi, nullptr);
+  ASSERT_EQ(whole.buffers().nbr_index_hi, nullptr);
+  FrameWriter writer(scene, set, {RenderSettings::Mode::Mono, fresh_dir("frames_split")}, &ctx());
+  const RgbaImage from_whole = writer.render(whole.buffers());
+  const RgbaImage from_split = writer.render(split.buffers());
+  EXPECT_EQ(from_whole.pixels, from_split.pixels);
+  // The cut shows: the frame differs from the uncut solver's.
+  gpu::GpuSolver uncut(ctx(), set, scene.simulation.gravity);
+  uncut.advance(40, dt);
+  EXPECT_NE(writer.render(uncut.buffers()).pixels, from_split.pixels);
+}
+
 TEST_F(RenderFrames, BenchEntryPointMeasuresAStereoFrame) {
   RenderBenchOptions options;
   options.surfels = 1500;

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# On the device machine (docs/performance.md, "Scale: the largest box one H100 holds"): the
+# two-part pair buffers (compute/pair_buffer.h) on the real GPU. `compare` (the default): the
+# pair-split, capacity and parity tests, then `phyxel bench` at 10k, 100k and 1M phyxels for this
+# build and, where $BASE/phyxel exists (default .devbin/base), a baseline build, interleaved,
+# twice: what reading the pairs through two bindings costs. `scale`: `phyxel bench --no-check`
+# at ${SIZES} (default 10M, 50M, 80M and 100M phyxels): the step rate, the device memory and the
+# refusal past what the card binds. Expects .devbin and .gl from scripts/device-pack.sh.
+# Results go to $OUT: scale.txt and the bench JSON files.
+set -uo pipefail
+source "$(dirname "$0")/device-setup.sh"
+base="${BASE:-.devbin/base}"
+mode="${1:-compare}"
+log="$out/scale.txt"
+nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm,clocks.mem,memory.total \
+  --format=csv | tee -a "$log"
+if [ "$mode" = compare ]; then
+  if [ -x "$b/tests/test_gpu_solver" ]; then
+    PHYXEL_TEST_DEVICE=gpu "$b"/tests/test_gpu_solver \
+      --gtest_filter="${TESTS:-*Part*:*Capacity*:*MatchTheCpu*:*BitIdentical*:*Cut*}" 2>&1 |
+      tail -4 | tee -a "$log"
+  fi
+  for r in ${REPEATS:-1 2}; do
+    for bin in "$base" "$b/app"; do
+      [ -x "$bin/phyxel" ] || continue
+      echo "== $bin/phyxel, round $r" | tee -a "$log"
+      "$bin"/phyxel bench --device gpu --sizes "${SIZES:-10000,100000,1000000}" --repeats 5 \
+        --json "$out/compare_$(basename "$(dirname "$bin/x")")_$r.json" 2>&1 | tee -a "$log"
+    done
+  done
+else
+  "$b"/app/phyxel bench --device gpu \
+    --sizes "${SIZES:-10000000,50000000,80000000,100000000}" --no-check --repeats 3 \
+    --json "$out/scale.json" 2>&1 | tee -a "$log"
+fi
