@@ -17,6 +17,7 @@
 #include "compute/gpu_solver_bench.h"
 #include "compute/timing.h"
 #include "engine/run/simulation.h"
+#include "engine/sampling/phyxel_order.h"
 
 namespace phyxel::app {
 namespace {
@@ -45,6 +46,9 @@ constexpr const char* kBenchHelp =
     "  --lanes LIST          GPU invocations per phyxel in the gathering passes: auto (default:\n"
     "                        per pass and size, 1 on a CPU device), 1, 2, 4, 8 or 16; a list\n"
     "                        times each; the lanes column reads stress/force\n"
+    "  --order LIST          GPU phyxel numbering: lattice (default: x fastest, as scenes are\n"
+    "                        sampled) or morton (Z-order of the lattice coordinates, applied\n"
+    "                        once before the solver is built); a list times each\n"
     "  --steps N             steps per timed repeat (default: about 0.5 s of work)\n"
     "  --repeats N           timed repeats, the median is reported (default 5)\n"
     "  --json FILE           also write the rows as JSON\n"
@@ -151,11 +155,28 @@ std::vector<uint32_t> parse_lanes(const std::string& text) {
   return out;
 }
 
+// --order: a comma-separated list of lattice and morton.
+std::vector<std::string> parse_orders(const std::string& text) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    if (item != "lattice" && item != "morton")
+      throw UsageError("phyxel bench: --order " + text + ": '" + item +
+                       "' is not lattice or morton");
+    out.push_back(item);
+    start = comma + 1;
+  }
+  return out;
+}
+
 // The GPU rows: one Vulkan context for every size, its streaming bandwidth measured once.
 void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
                     const std::string& pair_weights, const std::vector<uint32_t>& lanes_list,
-                    int64_t steps, int64_t repeats, int64_t check_steps,
-                    const std::map<int64_t, double>& cpu_rate, nlohmann::json& rows) {
+                    const std::vector<std::string>& orders, int64_t steps, int64_t repeats,
+                    int64_t check_steps, const std::map<int64_t, double>& cpu_rate,
+                    nlohmann::json& rows) {
   gpu::ContextOptions context;
   context.device = spec;
   context.validation = false;
@@ -172,9 +193,9 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
       "compute-only barrier, %.2f us with none; %d dispatches in one command buffer)\n",
       floor.barrier_us, floor.invocations, floor.compute_barrier_us, floor.no_barrier_us,
       floor.dispatches);
-  std::printf("%9s %10s %5s %8s %11s %14s %9s %10s %9s %9s %10s %s\n", "phyxels", "weights",
-              "lanes", "nbr/phx", "s/step", "phyxel-steps/s", "B/phyxel", "B/phx-step", "roofline",
-              "vs cpu", "err/extent", "passes (us)");
+  std::printf("%9s %7s %10s %5s %8s %11s %14s %9s %10s %9s %9s %10s %s\n", "phyxels", "order",
+              "weights", "lanes", "nbr/phx", "s/step", "phyxel-steps/s", "B/phyxel", "B/phx-step",
+              "roofline", "vs cpu", "err/extent", "passes (us)");
   for (const int64_t size : sizes) {
     // A size the device cannot hold is refused before the box is sampled on the host (the
     // bench box's lattice has 26 neighbours within its support of two spacings).
@@ -189,71 +210,84 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
       continue;
     }
     Scene scene = bench_scene(size);
-    const PhyxelSet set = sample_scene(scene);
-    const double dt = plan_time_step(scene, set).dt_stable;
-    for (const bool stored : {false, true}) {
-      if (pair_weights != "both" && stored != (pair_weights == "stored")) continue;
-      for (const uint32_t lanes : lanes_list) {
-        gpu::GpuBenchOptions options;
-        options.lanes = lanes;
-        options.steps = steps;
-        options.repeats = repeats;
-        options.check_steps = check_steps;
-        options.pair_weights = stored ? gpu::GpuSolverOptions::PairWeights::Stored
-                                      : gpu::GpuSolverOptions::PairWeights::Auto;
-        const gpu::GpuBenchResult r = gpu::bench_gpu_solver(ctx, set, scene.simulation.gravity, dt,
-                                                            bandwidth.gb_per_s, options);
-        const auto cpu = cpu_rate.find(size);
-        const double speedup = cpu != cpu_rate.end() ? r.phyxel_steps_per_second / cpu->second : 0;
-        std::string passes;
-        nlohmann::json pass_json = nlohmann::json::object();
-        for (const gpu::PassTime& p : r.passes) {
-          char text[64];
-          std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ", p.name.c_str(),
-                        p.ns / 1000);
-          passes += text;
-          pass_json[p.name] = p.ns;
+    const PhyxelSet lattice_set = sample_scene(scene);
+    const double dt = plan_time_step(scene, lattice_set).dt_stable;
+    for (const std::string& order : orders) {
+      PhyxelSet morton_set;
+      if (order == "morton") {
+        morton_set = lattice_set;
+        permute_phyxels(morton_set, morton_order(morton_set));
+      }
+      const PhyxelSet& set = order == "morton" ? morton_set : lattice_set;
+      for (const bool stored : {false, true}) {
+        if (pair_weights != "both" && stored != (pair_weights == "stored")) continue;
+        for (const uint32_t lanes : lanes_list) {
+          gpu::GpuBenchOptions options;
+          options.lanes = lanes;
+          options.steps = steps;
+          options.repeats = repeats;
+          options.check_steps = check_steps;
+          options.pair_weights = stored ? gpu::GpuSolverOptions::PairWeights::Stored
+                                        : gpu::GpuSolverOptions::PairWeights::Auto;
+          const gpu::GpuBenchResult r = gpu::bench_gpu_solver(ctx, set, scene.simulation.gravity,
+                                                              dt, bandwidth.gb_per_s, options);
+          const auto cpu = cpu_rate.find(size);
+          const double speedup =
+              cpu != cpu_rate.end() ? r.phyxel_steps_per_second / cpu->second : 0;
+          std::string passes;
+          nlohmann::json pass_json = nlohmann::json::object();
+          for (const gpu::PassTime& p : r.passes) {
+            char text[64];
+            std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ",
+                          p.name.c_str(), p.ns / 1000);
+            passes += text;
+            pass_json[p.name] = p.ns;
+          }
+          std::printf(
+              "%9zu %7s %10s %5s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
+              r.phyxels, order.c_str(), r.pair_weights.c_str(), r.lanes.c_str(),
+              r.neighbours_per_phyxel, r.median_seconds_per_step, r.phyxel_steps_per_second,
+              r.gpu_bytes_per_phyxel, r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup,
+              r.error_over_extent, passes.c_str());
+          rows.push_back(
+              {{"device", r.device},
+               {"backend", "gpu"},
+               {"pair_weights", r.pair_weights},
+               {"order", order},
+               {"lanes", r.lanes},
+               {"lanes_option", lanes == 0 ? std::string("auto") : std::to_string(lanes)},
+               {"phyxels", r.phyxels},
+               {"neighbours_per_phyxel", r.neighbours_per_phyxel},
+               {"median_seconds_per_step", r.median_seconds_per_step},
+               {"phyxel_steps_per_second", r.phyxel_steps_per_second},
+               {"steps_per_repeat", r.steps_per_repeat},
+               {"seconds_per_step_of_each_repeat", r.seconds_per_step},
+               {"repeats", r.repeats},
+               {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
+               {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
+               {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
+               {"dma_copy_bandwidth_gb_per_s", bandwidth.dma_gb_per_s},
+               {"launch_floor_us",
+                {{"barrier", floor.barrier_us},
+                 {"compute_barrier", floor.compute_barrier_us},
+                 {"no_barrier", floor.no_barrier_us}}},
+               {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
+               {"roofline_fraction", r.roofline_fraction},
+               {"pass_ns", pass_json},
+               {"speedup_vs_cpu", speedup},
+               {"check_steps", r.check_steps},
+               {"error_over_extent", r.error_over_extent},
+               {"error_over_max_displacement", r.error_over_max_displacement},
+               {"max_displacement", r.max_displacement},
+               {"finite", r.finite},
+               {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
+               {"host_peak_bytes", host_peak_bytes()}});
+          std::printf(
+              "%9s memory: %s on the device, host peak %s\n", "",
+              gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
+              gpu::format_bytes(host_peak_bytes()).c_str());
+          std::fflush(stdout);
         }
-        std::printf("%9zu %10s %5s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
-                    r.phyxels, r.pair_weights.c_str(), r.lanes.c_str(), r.neighbours_per_phyxel,
-                    r.median_seconds_per_step, r.phyxel_steps_per_second, r.gpu_bytes_per_phyxel,
-                    r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup,
-                    r.error_over_extent, passes.c_str());
-        rows.push_back({{"device", r.device},
-                        {"backend", "gpu"},
-                        {"pair_weights", r.pair_weights},
-                        {"lanes", r.lanes},
-                        {"lanes_option", lanes == 0 ? std::string("auto") : std::to_string(lanes)},
-                        {"phyxels", r.phyxels},
-                        {"neighbours_per_phyxel", r.neighbours_per_phyxel},
-                        {"median_seconds_per_step", r.median_seconds_per_step},
-                        {"phyxel_steps_per_second", r.phyxel_steps_per_second},
-                        {"steps_per_repeat", r.steps_per_repeat},
-                        {"seconds_per_step_of_each_repeat", r.seconds_per_step},
-                        {"repeats", r.repeats},
-                        {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
-                        {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
-                        {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
-                        {"dma_copy_bandwidth_gb_per_s", bandwidth.dma_gb_per_s},
-                        {"launch_floor_us",
-                         {{"barrier", floor.barrier_us},
-                          {"compute_barrier", floor.compute_barrier_us},
-                          {"no_barrier", floor.no_barrier_us}}},
-                        {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
-                        {"roofline_fraction", r.roofline_fraction},
-                        {"pass_ns", pass_json},
-                        {"speedup_vs_cpu", speedup},
-                        {"check_steps", r.check_steps},
-                        {"error_over_extent", r.error_over_extent},
-                        {"error_over_max_displacement", r.error_over_max_displacement},
-                        {"max_displacement", r.max_displacement},
-                        {"finite", r.finite},
-                        {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
-                        {"host_peak_bytes", host_peak_bytes()}});
-        std::printf("%9s memory: %s on the device, host peak %s\n", "",
-                    gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
-                    gpu::format_bytes(host_peak_bytes()).c_str());
-        std::fflush(stdout);
       }
     }
   }
@@ -306,6 +340,7 @@ int bench_command(const Args& args) {
   if (opts.flag("--no-check")) check_steps = -1;
   const std::string pair_weights = opts.value("--pair-weights", "auto");
   const std::vector<uint32_t> lanes = parse_lanes(opts.value("--lanes", "auto"));
+  const std::vector<std::string> orders = parse_orders(opts.value("--order", "lattice"));
   opts.finish();
   if (pair_weights != "auto" && pair_weights != "stored" && pair_weights != "both")
     throw UsageError("phyxel bench: --pair-weights " + pair_weights +
@@ -357,8 +392,8 @@ int bench_command(const Args& args) {
     }
   }
   if (want_gpu)
-    bench_gpu_rows(device == "all" ? "gpu" : device, sizes, pair_weights, lanes, fixed_steps,
-                   repeats, check_steps, cpu_rate, rows);
+    bench_gpu_rows(device == "all" ? "gpu" : device, sizes, pair_weights, lanes, orders,
+                   fixed_steps, repeats, check_steps, cpu_rate, rows);
   if (!json_file.empty()) {
     std::ofstream out(json_file);
     out << rows.dump(2) << "\n";
