@@ -108,8 +108,9 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
 
   const SolverSetup host = prepare_solver_setup(set, gravity);
   // Pipelines for pairs in two parts where the lattice bound says one may not hold them.
-  kernels_ = std::make_unique<SolverKernels>(
-      *ctx_, lattice_pair_bound(set) > pairs_per_part(*ctx_, options_.pair_part_bytes));
+  const uint64_t per_part = pairs_per_part(*ctx_, options_.pair_part_bytes);
+  kernels_ = std::make_unique<SolverKernels>(*ctx_, lattice_pair_bound(set) > per_part,
+                                             static_cast<uint32_t>(per_part));
   Context& ctx = *ctx_;
   const uint64_t n = count_;
   auto device = [&](uint64_t bytes, const char* name) {

@@ -31,7 +31,7 @@ namespace phyxel::gpu {
 
 using namespace layout;
 
-SolverKernels::SolverKernels(Context& ctx, bool pairs_split)
+SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
     : nbr_cells(ctx, PHYXEL_SHADER(nbr_cells), 6, sizeof(NbrPush)),
       nbr_scatter(ctx, PHYXEL_SHADER(nbr_scatter), 4, sizeof(NbrPush)),
       scan_block(ctx, PHYXEL_SHADER(scan_block), 3, sizeof(ScanPush)),
@@ -46,17 +46,19 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split)
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
       grasp(ctx, PHYXEL_SHADER(tool_grasp), 12, sizeof(GraspPush)),
-      pairs_split_(pairs_split) {
+      pairs_split_(pairs_split),
+      pairs_lo_(pairs_lo) {
   make_pair_pipelines(ctx);
 }
 
-void SolverKernels::split_pairs(Context& ctx) {
+void SolverKernels::split_pairs(Context& ctx, uint32_t pairs_lo) {
   pairs_split_ = true;
+  pairs_lo_ = pairs_lo;
   make_pair_pipelines(ctx);
 }
 
 void SolverKernels::make_pair_pipelines(Context& ctx) {
-  const std::vector<uint32_t> spec = {pairs_split_ ? 1u : 0u};
+  const std::vector<uint32_t> spec = {pairs_split_ ? 1u : 0u, pairs_lo_};
   auto make = [&](const ShaderCode& code, uint32_t bindings, uint32_t push) {
     return Pipeline(ctx, code, bindings, push, VK_NULL_HANDLE, spec);
   };

@@ -13,11 +13,12 @@ namespace phyxel::gpu {
 class SolverKernels {
  public:
   // `pairs_split`: the pipelines that touch pairs read a second part of the neighbour index
-  // and the pair weights (PairBuffer; specialization constant 0 of pair_buffers.glsl).
-  SolverKernels(Context& ctx, bool pairs_split);
-  // Remakes the pipelines that touch pairs for a second part (the neighbour search found more
-  // pairs than one part holds, though the lattice bound said otherwise).
-  void split_pairs(Context& ctx);
+  // and the pair weights past the first `pairs_lo` pairs (PairBuffer; specialization
+  // constants 0 and 1 of pair_buffers.glsl).
+  SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo);
+  // Remakes the pipelines that touch pairs for a second part after `pairs_lo` pairs (the
+  // neighbour search found more pairs than one part holds, though the lattice bound said not).
+  void split_pairs(Context& ctx, uint32_t pairs_lo);
   bool pairs_split() const { return pairs_split_; }
 
   Pipeline nbr_cells;       // layout::NbrPush; kNbrCells* bindings
@@ -48,6 +49,7 @@ class SolverKernels {
  private:
   void make_pair_pipelines(Context& ctx);
   bool pairs_split_ = false;
+  uint32_t pairs_lo_ = 0;
 };
 
 // Exclusive prefix sum of a uint array on the GPU: dst[i] = sum of src[k] for k < i, for

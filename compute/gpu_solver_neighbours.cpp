@@ -69,7 +69,8 @@ void GpuSolver::build_neighbours(const std::vector<vec4>& rest_lo_host) {
   }
   pairs_ = download<uint32_t>(ctx, nbr_offset_, 1, n * sizeof(uint32_t))[0];
   const uint64_t per_part = pairs_per_part(ctx, options_.pair_part_bytes);
-  if (pairs_ > per_part && !kernels_->pairs_split()) kernels_->split_pairs(ctx);
+  if (pairs_ > per_part && !kernels_->pairs_split())
+    kernels_->split_pairs(ctx, static_cast<uint32_t>(per_part));
   nbr_index_ = PairBuffer(ctx, pairs_, per_part, "neighbour index");
   weight_ = PairBuffer(ctx, pairs_, per_part, "pair weight");
   {

@@ -297,9 +297,15 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   deform.min_inverse_condition = m.options.min_inverse_condition;
   deform.max_stretch = m.options.max_stretch;
   deform.pair_weights = in.pair_weight != nullptr ? 1u : 0u;
-  if (in.nbr_index_hi != nullptr && m.deform_split.handle() == VK_NULL_HANDLE) {
-    m.deform_split = gpu::Pipeline(m.ctx, PHYXEL_SHADER(deform_surfels), 9,
-                                   sizeof(layout::DeformPush), VK_NULL_HANDLE, {1u});
+  if (in.nbr_index_hi != nullptr && (m.deform_split.handle() == VK_NULL_HANDLE ||
+                                     m.deform_split_lo != in.nbr_index->size() / 4)) {
+    // A frame in flight may still use the pipeline this replaces (a renderer drawing two split
+    // solvers of one set in turn: tests only).
+    if (m.deform_split.handle() != VK_NULL_HANDLE) m.ctx.fn().vkDeviceWaitIdle(m.ctx.device());
+    m.deform_split_lo = in.nbr_index->size() / 4;
+    m.deform_split =
+        gpu::Pipeline(m.ctx, PHYXEL_SHADER(deform_surfels), 9, sizeof(layout::DeformPush),
+                      VK_NULL_HANDLE, {1u, static_cast<uint32_t>(m.deform_split_lo)});
   }
   gpu::dispatch(rec, in.nbr_index_hi != nullptr ? m.deform_split : m.deform, deform,
                 {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, m.surfels, m.splats,

@@ -48,8 +48,10 @@ struct SplatRenderer::Impl {
   VkPhysicalDeviceLimits limits{};
   gpu::Pipeline deform, visibility, accumulate, shade, tool_pass;
   // deform for a solver whose pairs are in two parts (pair_buffers.glsl's specialization
-  // constant set); made on first use.
+  // constants: split, and the pairs of the first part), made on first use and again when the
+  // first part's size changes.
   gpu::Pipeline deform_split;
+  uint64_t deform_split_lo = 0;
   // The tools of the next frames; their GPU copy (mapped staging, device) grows as needed.
   std::vector<ToolDrawable> tools;
   gpu::Buffer tool_staging, tool_buffer;

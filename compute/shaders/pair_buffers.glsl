@@ -1,5 +1,5 @@
-// The per-pair buffers (the CSR neighbour index and the pair weights), each bound as two
-// ranges of one buffer: lo holds pairs [0, n) and hi pairs [n, pairs), where n is lo's length.
+// The per-pair buffers (the CSR neighbour index and the pair weights), each held in two
+// buffers: lo holds pairs [0, n) and hi pairs [n, pairs), n a specialization constant.
 // One storage-buffer binding reaches at most maxStorageBufferRange bytes (4 GiB on NVIDIA, at
 // about 41M phyxels of a lattice), so a larger scene binds the rest as hi; a smaller one binds
 // the whole buffer as lo (and again as hi, never read). See compute/pair_buffer.h. Unless the
@@ -52,9 +52,14 @@ layout(std430, binding = PHYXEL_PAIR_WEIGHT_HI_BINDING) PHYXEL_PAIR_WEIGHT_QUALI
 // driver's compiler drops the test: the code of one binding. (Tested per pair, the split cost
 // the stress pass 40 % at 1M phyxels on an H200.)
 layout(constant_id = 0) const bool kPairsSplit = false;
+// Specialization constant 1: the pairs in lo where there is a second part (the same for the
+// index and the weights: both are 4 bytes a pair). A constant, not the lo binding's length():
+// NVIDIA's driver (580.159.04) gave wrong results for every pair in a lo binding of 3 GB and
+// more when the shader took its length(), while the same binding read without length() was
+// right (docs/performance.md, "Past one binding").
+layout(constant_id = 1) const uint kPairsLo = 0xffffffffu;
 
-// The pairs in lo (the same for the index and the weights: both are 4 bytes a pair).
-uint pairs_lo() { return uint(index_lo.length()); }
+uint pairs_lo() { return kPairsLo; }
 
 // Neighbour j of pair slot k.
 uint nbr_index(uint k) {
