@@ -3,7 +3,8 @@
 // storage-buffer binding (maxStorageBufferRange, 4 GiB on NVIDIA) and one allocation. A lattice
 // reaches 4 GiB of pairs at about 41M phyxels; two parts take the solver to about 82M, past
 // which the stress buffer (48 bytes a phyxel) exceeds one binding as well. Shaders read the two
-// parts through compute/shaders/pair_buffers.glsl, which takes lo's length from its binding.
+// parts through compute/shaders/pair_buffers.glsl, which compares a pair with lo (a
+// specialization constant of the pipelines, SolverKernels).
 #pragma once
 
 #include <cstdint>
