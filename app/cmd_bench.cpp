@@ -280,12 +280,14 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
                {"error_over_max_displacement", r.error_over_max_displacement},
                {"max_displacement", r.max_displacement},
                {"finite", r.finite},
+               {"ill_conditioned_moment_matrices", r.ill_conditioned},
                {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
                {"host_peak_bytes", host_peak_bytes()}});
           std::printf(
-              "%9s memory: %s on the device, host peak %s\n", "",
-              gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
-              gpu::format_bytes(host_peak_bytes()).c_str());
+              "%9s memory: %s on the device, host peak %s; %zu ill-conditioned moment matrices%s\n",
+              "", gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
+              gpu::format_bytes(host_peak_bytes()).c_str(), r.ill_conditioned,
+              r.ill_conditioned != 0 ? " (the box has none: this row's physics is wrong)" : "");
           std::fflush(stdout);
         }
       }

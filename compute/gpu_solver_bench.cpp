@@ -59,6 +59,7 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
     r.roofline_fraction = r.phyxel_steps_per_second / r.roofline_phyxel_steps_per_second;
     r.passes = solver.profile(10, dt);
     r.finite = solver.first_non_finite() < 0;
+    r.ill_conditioned = solver.regularised_count();
   }
 
   // Accuracy: fresh solvers, the same steps on the GPU and on the CPU reference (double).

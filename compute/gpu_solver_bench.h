@@ -44,6 +44,10 @@ struct GpuBenchResult {
   double error_over_max_displacement = 0;  // max |u_gpu - u_cpu| / max |u_cpu|
   double max_displacement = 0;             // max |u_cpu| after check_steps
   bool finite = true;
+  // Moment matrices the GPU's precompute found ill-conditioned and regularised: 0 for the bench
+  // box (every phyxel of a lattice has a full neighbourhood). A check that needs no CPU
+  // reference: at sizes run without one (--no-check), pairs read wrong show here.
+  size_t ill_conditioned = 0;
 };
 
 // Times the GPU solver on `set` with step `dt` (ctx is shared between sizes; the bandwidth is

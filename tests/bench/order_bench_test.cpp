@@ -1,7 +1,7 @@
 // `phyxel bench --device gpu --order lattice,morton` end to end, short (lavapipe, one small
-// box): a row per order, both finite and as close to the CPU reference as each other (the
-// numbering changes the order of the neighbour sums, not the physics); an unknown order is a
-// usage error. Timing never decides the test.
+// box): a row per order, both finite, as close to the CPU reference as each other (the
+// numbering changes the order of the neighbour sums, not the physics) and without an
+// ill-conditioned moment matrix; an unknown order is a usage error. Timing never decides the test.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,6 +36,8 @@ TEST(BenchOrder, LatticeAndMortonRowsAgreeWithTheCpu) {
     EXPECT_TRUE(row["finite"].get<bool>());
     EXPECT_GT(row["phyxel_steps_per_second"].get<double>(), 0.0);
     EXPECT_LT(row["error_over_max_displacement"].get<double>(), 1e-4);
+    // Every phyxel of the box has a full neighbourhood, in either numbering.
+    EXPECT_EQ(row["ill_conditioned_moment_matrices"].get<int>(), 0);
   }
   const std::string bad = std::string(PHYXEL_BINARY_DIR) +
                           "/app/phyxel bench --device gpu --order zorder > " +
