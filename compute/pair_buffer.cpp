@@ -11,8 +11,7 @@ uint64_t pairs_per_part(const Context& ctx, uint64_t bytes) {
   uint64_t limit = info.max_storage_buffer_range;
   if (info.max_allocation_size != 0) limit = std::min(limit, info.max_allocation_size);
   if (bytes != 0) limit = std::min(limit, bytes);
-  // At least 64 pairs, so that lo is never smaller than a buffer's least allocation (whose
-  // whole binding would then be longer than lo).
+  // At least 64 pairs: a part that holds none would split nothing.
   return std::max<uint64_t>(limit / 4, 64);
 }
 

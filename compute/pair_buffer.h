@@ -29,10 +29,6 @@ class PairBuffer {
   // and the sizes) when the rest does not fit one more part.
   PairBuffer(Context& ctx, uint64_t count, uint64_t per_part, const std::string& name);
 
-  uint64_t count() const { return count_; }
-  uint64_t lo_count() const { return lo_count_; }
-  bool split() const { return static_cast<bool>(hi_); }
-
   // The two bindings of pair_buffers.glsl: lo, and hi (lo again where every pair is in lo).
   BufferRef lo() const { return BufferRef(lo_); }
   BufferRef hi() const { return BufferRef(hi_ ? hi_ : lo_); }

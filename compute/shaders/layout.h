@@ -73,8 +73,8 @@ PHYXEL_ASSERT_SIZE(StreamCopyPush, 16);
 // GPU solver (compute/gpu_solver*.cpp, shaders/nbr_*.comp, scan_*.comp, solver_*.comp).
 // Per-phyxel buffers are arrays of vec4 (or uint/float), indexed by phyxel; per-pair buffers
 // are aligned with the CSR neighbour index (see compute/README.md, "GPU solver buffers"), and
-// each shader binds them twice, as lo and hi ranges (pair_buffers.glsl): the *IndexHi and
-// *WeightHi bindings come last in every list.
+// each shader binds both of their parts, lo and hi (PairBuffer, pair_buffers.glsl): the *IndexHi
+// and *WeightHi bindings come last in every list.
 
 // The engine's PhyxelFlags (engine/sampling/phyxel_set.h) in the low byte of the per-phyxel flags
 // word, the GPU's own status bits above them, and the phyxel's parameter class in the high 16 bits.
