@@ -175,6 +175,9 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
     rec.fill(disp_[1], 0);
     rec.fill(list_, 0);
     rec.fill(force_, 0);  // as the CPU's: 0 until a phyxel is in the force pass
+    // The force pass reads D_j and u_j of every neighbour from here, with weight 0 where j was
+    // removed before any stress pass visited it: finite, never garbage.
+    rec.fill(stress_, 0);
     rec.submit_and_wait();
   }
   build_neighbours(host.rest_lo);  // CSR, weights, A^-1, kappa; then the first forces

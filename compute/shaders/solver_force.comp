@@ -34,6 +34,14 @@ mat3 stress_of(uint i) {
   return mat3(stress[3u * i].xyz, stress[3u * i + 1u].xyz, stress[3u * i + 2u].xyz);
 }
 
+// D_j and u_j of a neighbour from its three stress columns (solver_stress stores u_j, which it
+// read from disp_in, in their fourth components): one gather fewer per pair.
+void stress_and_disp(uint j, out mat3 d, out vec3 u) {
+  const vec4 c0 = stress[3u * j], c1 = stress[3u * j + 1u], c2 = stress[3u * j + 2u];
+  d = mat3(c0.xyz, c1.xyz, c2.xyz);
+  u = vec3(c0.w, c1.w, c2.w);
+}
+
 // Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 (which starts from the
 // external force) then adds the lanes' sums in lane order, so reruns are bit-identical.
 shared vec3 partial_f[PHYXEL_WORKGROUP_SIZE];
@@ -68,10 +76,10 @@ void main() {
       const uint j1 = nbr_index(s + lanes);
       const vec4 l0 = local_pos[j0];
       const vec4 l1 = local_pos[j1];
-      const mat3 d0 = stress_of(j0);
-      const mat3 d1 = stress_of(j1);
-      const vec3 u0 = disp_in[j0].xyz;
-      const vec3 u1 = disp_in[j1].xyz;
+      mat3 d0, d1;
+      vec3 u0, u1;
+      stress_and_disp(j0, d0, u0);
+      stress_and_disp(j1, d1, u1);
       const vec3 x0 = l0.xyz - lk.xyz;
       const vec3 x1 = l1.xyz - lk.xyz;
       const float w0 = stored ? pair_weight(s) : poly6_weight(dot(x0, x0), cls.kernel);
@@ -84,7 +92,10 @@ void main() {
       const vec4 lj = local_pos[j];
       const vec3 x = lj.xyz - lk.xyz;
       const float w = stored ? pair_weight(s) : poly6_weight(dot(x, x), cls.kernel);
-      f += w * ((dk + stress_of(j)) * x + (lk.w + lj.w) * (disp_in[j].xyz - uk));
+      mat3 dj;
+      vec3 uj;
+      stress_and_disp(j, dj, uj);
+      f += w * ((dk + dj) * x + (lk.w + lj.w) * (uj - uk));
     }
   }
   if (lanes > 1u) {  // uniform: every invocation of the workgroup reaches the barrier

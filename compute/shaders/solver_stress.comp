@@ -2,7 +2,9 @@
 // invocations):
 //   M = sum_j w_ij (u_j - u_i) x_ij^T, G = M A^-1, F = I + G,
 //   D_i = v_i P(F) A^-1 - kappa_i G (+ kappa_i M R_i where A_i was regularised),
-// stored as three vec4 columns. See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
+// stored as three vec4 columns whose fourth components carry u_i, the displacement this pass
+// read: the force pass gathers D_j and u_j of a neighbour in the same three loads. See
+// engine/solver/cpu_solver.cpp, compute_forces(), first loop.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -40,13 +42,14 @@ void main() {
   uint i = 0u, fl = 0u;
   SolverClass cls;
   vec4 li = vec4(0.0);
+  vec3 ui = vec3(0.0);
   mat3 m = mat3(0.0);
   if (in_pass) {
     i = pass_list[slot];
     fl = flags[i];
     cls = classes[fl >> kFlagClassShift];
     li = local_pos[i];
-    const vec3 ui = disp[i].xyz;
+    ui = disp[i].xyz;
     const bool stored = stored_weights(p.weights, fl);
     const uint end = offset[i + 1u];
     for (uint k = offset[i] + lane; k < end; k += lanes) {
@@ -72,7 +75,7 @@ void main() {
   mat3 d = (a1.z * piola) * a_inv - kappa * g;
   if ((fl & kFlagRegularised) != 0u)
     d += kappa * (m * unpack_sym(resid[2u * i], resid[2u * i + 1u]));
-  stress[3u * i] = vec4(d[0], 0.0);
-  stress[3u * i + 1u] = vec4(d[1], 0.0);
-  stress[3u * i + 2u] = vec4(d[2], 0.0);
+  stress[3u * i] = vec4(d[0], ui.x);
+  stress[3u * i + 1u] = vec4(d[1], ui.y);
+  stress[3u * i + 2u] = vec4(d[2], ui.z);
 }
