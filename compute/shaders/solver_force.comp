@@ -69,11 +69,16 @@ void main() {
     if (lane == 0u) f = e.xyz;
     const uint end = offset[k + 1u];
     // Two neighbours per iteration, their loads issued before either is used (more gathers in
-    // flight per invocation); added in the same order as one at a time.
+    // flight per invocation); added in the same order as one at a time. The next iteration's
+    // two indices are loaded before this one's gathers, so they are in flight meanwhile.
     uint s = offset[k] + lane;
+    uint n0 = s < end ? nbr_index(s) : 0u;
+    uint n1 = s + lanes < end ? nbr_index(s + lanes) : 0u;
     for (; s + lanes < end; s += 2u * lanes) {
-      const uint j0 = nbr_index(s);
-      const uint j1 = nbr_index(s + lanes);
+      const uint j0 = n0;
+      const uint j1 = n1;
+      if (s + 2u * lanes < end) n0 = nbr_index(s + 2u * lanes);
+      if (s + 3u * lanes < end) n1 = nbr_index(s + 3u * lanes);
       const vec4 l0 = local_pos[j0];
       const vec4 l1 = local_pos[j1];
       mat3 d0, d1;
@@ -88,7 +93,7 @@ void main() {
       f += w1 * ((dk + d1) * x1 + (lk.w + l1.w) * (u1 - uk));
     }
     if (s < end) {
-      const uint j = nbr_index(s);
+      const uint j = n0;
       const vec4 lj = local_pos[j];
       const vec3 x = lj.xyz - lk.xyz;
       const float w = stored ? pair_weight(s) : poly6_weight(dot(x, x), cls.kernel);

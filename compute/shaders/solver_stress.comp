@@ -52,8 +52,11 @@ void main() {
     ui = disp[i].xyz;
     const bool stored = stored_weights(p.weights, fl);
     const uint end = offset[i + 1u];
-    for (uint k = offset[i] + lane; k < end; k += lanes) {
-      const uint j = nbr_index(k);
+    uint k = offset[i] + lane;
+    uint next = k < end ? nbr_index(k) : 0u;
+    for (; k < end; k += lanes) {
+      const uint j = next;
+      if (k + lanes < end) next = nbr_index(k + lanes);  // in flight while j is gathered
       const vec3 x = local_pos[j].xyz - li.xyz;
       const float w = stored ? pair_weight(k) : poly6_weight(dot(x, x), cls.kernel);
       m += outerProduct(w * (disp[j].xyz - ui), x);
