@@ -313,7 +313,7 @@ class GpuSolver final : public Solver {
   Buffer flags_;          // PhyxelFlags | kFlagRegularised | class << 16
   Buffer ainv_;           // 2 vec4
   Buffer resid_;          // 2 vec4
-  Buffer stress_;         // D_i, 3 vec4
+  Buffer stress_;         // D_i, 3 vec4 (w: u_i, as the stress pass read it)
   Buffer nbr_offset_;     // N + 1
   PairBuffer nbr_index_;  // pairs, in two parts past one binding (pair_buffers.glsl)
   PairBuffer weight_;     // pairs
