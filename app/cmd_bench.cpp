@@ -135,13 +135,22 @@ uint64_t host_peak_bytes() {
   return uint64_t(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
-// --lanes: a comma-separated list of auto (0), 1, 2, 4, 8 and 16.
-std::vector<uint32_t> parse_lanes(const std::string& text) {
-  std::vector<uint32_t> out;
+// The items of a comma-separated option value, empty ones included (the callers refuse them).
+std::vector<std::string> comma_items(const std::string& text) {
+  std::vector<std::string> out;
   size_t start = 0;
   while (start <= text.size()) {
     const size_t comma = std::min(text.find(',', start), text.size());
-    const std::string item = text.substr(start, comma - start);
+    out.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
+// --lanes: a comma-separated list of auto (0), 1, 2, 4, 8 and 16.
+std::vector<uint32_t> parse_lanes(const std::string& text) {
+  std::vector<uint32_t> out;
+  for (const std::string& item : comma_items(text)) {
     if (item == "auto") {
       out.push_back(0);
     } else if (item == "1" || item == "2" || item == "4" || item == "8" || item == "16") {
@@ -150,25 +159,76 @@ std::vector<uint32_t> parse_lanes(const std::string& text) {
       throw UsageError("phyxel bench: --lanes " + text + ": '" + item +
                        "' is not auto, 1, 2, 4, 8 or 16");
     }
-    start = comma + 1;
   }
   return out;
 }
 
 // --order: a comma-separated list of lattice and morton.
 std::vector<std::string> parse_orders(const std::string& text) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t comma = std::min(text.find(',', start), text.size());
-    const std::string item = text.substr(start, comma - start);
+  const std::vector<std::string> out = comma_items(text);
+  for (const std::string& item : out)
     if (item != "lattice" && item != "morton")
       throw UsageError("phyxel bench: --order " + text + ": '" + item +
                        "' is not lattice or morton");
-    out.push_back(item);
-    start = comma + 1;
-  }
   return out;
+}
+
+// Prints one GPU row (and its memory line) and returns it as JSON.
+nlohmann::json gpu_row(const gpu::GpuBenchResult& r, const std::string& order, uint32_t lanes,
+                       double speedup, const gpu::CopyBandwidth& bandwidth,
+                       const gpu::LaunchFloor& floor) {
+  std::string passes;
+  nlohmann::json pass_json = nlohmann::json::object();
+  for (const gpu::PassTime& p : r.passes) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ", p.name.c_str(),
+                  p.ns / 1000);
+    passes += text;
+    pass_json[p.name] = p.ns;
+  }
+  std::printf("%9zu %7s %10s %5s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
+              r.phyxels, order.c_str(), r.pair_weights.c_str(), r.lanes.c_str(),
+              r.neighbours_per_phyxel, r.median_seconds_per_step, r.phyxel_steps_per_second,
+              r.gpu_bytes_per_phyxel, r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup,
+              r.error_over_extent, passes.c_str());
+  std::printf("%9s memory: %s on the device, host peak %s; %zu ill-conditioned moment matrices%s\n",
+              "", gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
+              gpu::format_bytes(host_peak_bytes()).c_str(), r.ill_conditioned,
+              r.ill_conditioned != 0 ? " (the box has none: this row's physics is wrong)" : "");
+  std::fflush(stdout);
+  return {{"device", r.device},
+          {"backend", "gpu"},
+          {"pair_weights", r.pair_weights},
+          {"order", order},
+          {"lanes", r.lanes},
+          {"lanes_option", lanes == 0 ? std::string("auto") : std::to_string(lanes)},
+          {"phyxels", r.phyxels},
+          {"neighbours_per_phyxel", r.neighbours_per_phyxel},
+          {"median_seconds_per_step", r.median_seconds_per_step},
+          {"phyxel_steps_per_second", r.phyxel_steps_per_second},
+          {"steps_per_repeat", r.steps_per_repeat},
+          {"seconds_per_step_of_each_repeat", r.seconds_per_step},
+          {"repeats", r.repeats},
+          {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
+          {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
+          {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
+          {"dma_copy_bandwidth_gb_per_s", bandwidth.dma_gb_per_s},
+          {"launch_floor_us",
+           {{"barrier", floor.barrier_us},
+            {"compute_barrier", floor.compute_barrier_us},
+            {"no_barrier", floor.no_barrier_us}}},
+          {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
+          {"roofline_fraction", r.roofline_fraction},
+          {"pass_ns", pass_json},
+          {"speedup_vs_cpu", speedup},
+          {"check_steps", r.check_steps},
+          {"error_over_extent", r.error_over_extent},
+          {"error_over_max_displacement", r.error_over_max_displacement},
+          {"max_displacement", r.max_displacement},
+          {"finite", r.finite},
+          {"ill_conditioned_moment_matrices", r.ill_conditioned},
+          {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
+          {"host_peak_bytes", host_peak_bytes()}};
 }
 
 // The GPU rows: one Vulkan context for every size, its streaming bandwidth measured once.
@@ -234,61 +294,7 @@ void bench_gpu_rows(const std::string& spec, const std::vector<int64_t>& sizes,
           const auto cpu = cpu_rate.find(size);
           const double speedup =
               cpu != cpu_rate.end() ? r.phyxel_steps_per_second / cpu->second : 0;
-          std::string passes;
-          nlohmann::json pass_json = nlohmann::json::object();
-          for (const gpu::PassTime& p : r.passes) {
-            char text[64];
-            std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ",
-                          p.name.c_str(), p.ns / 1000);
-            passes += text;
-            pass_json[p.name] = p.ns;
-          }
-          std::printf(
-              "%9zu %7s %10s %5s %8.1f %11.4g %14.4g %9.0f %10.0f %8.1f%% %8.3gx %10.2g %s\n",
-              r.phyxels, order.c_str(), r.pair_weights.c_str(), r.lanes.c_str(),
-              r.neighbours_per_phyxel, r.median_seconds_per_step, r.phyxel_steps_per_second,
-              r.gpu_bytes_per_phyxel, r.bytes_per_phyxel_step, 100 * r.roofline_fraction, speedup,
-              r.error_over_extent, passes.c_str());
-          rows.push_back(
-              {{"device", r.device},
-               {"backend", "gpu"},
-               {"pair_weights", r.pair_weights},
-               {"order", order},
-               {"lanes", r.lanes},
-               {"lanes_option", lanes == 0 ? std::string("auto") : std::to_string(lanes)},
-               {"phyxels", r.phyxels},
-               {"neighbours_per_phyxel", r.neighbours_per_phyxel},
-               {"median_seconds_per_step", r.median_seconds_per_step},
-               {"phyxel_steps_per_second", r.phyxel_steps_per_second},
-               {"steps_per_repeat", r.steps_per_repeat},
-               {"seconds_per_step_of_each_repeat", r.seconds_per_step},
-               {"repeats", r.repeats},
-               {"gpu_bytes_per_phyxel", r.gpu_bytes_per_phyxel},
-               {"bytes_per_phyxel_step", r.bytes_per_phyxel_step},
-               {"copy_bandwidth_gb_per_s", r.copy_gb_per_s},
-               {"dma_copy_bandwidth_gb_per_s", bandwidth.dma_gb_per_s},
-               {"launch_floor_us",
-                {{"barrier", floor.barrier_us},
-                 {"compute_barrier", floor.compute_barrier_us},
-                 {"no_barrier", floor.no_barrier_us}}},
-               {"roofline_phyxel_steps_per_second", r.roofline_phyxel_steps_per_second},
-               {"roofline_fraction", r.roofline_fraction},
-               {"pass_ns", pass_json},
-               {"speedup_vs_cpu", speedup},
-               {"check_steps", r.check_steps},
-               {"error_over_extent", r.error_over_extent},
-               {"error_over_max_displacement", r.error_over_max_displacement},
-               {"max_displacement", r.max_displacement},
-               {"finite", r.finite},
-               {"ill_conditioned_moment_matrices", r.ill_conditioned},
-               {"gpu_bytes", r.gpu_bytes_per_phyxel * double(r.phyxels)},
-               {"host_peak_bytes", host_peak_bytes()}});
-          std::printf(
-              "%9s memory: %s on the device, host peak %s; %zu ill-conditioned moment matrices%s\n",
-              "", gpu::format_bytes(uint64_t(r.gpu_bytes_per_phyxel * double(r.phyxels))).c_str(),
-              gpu::format_bytes(host_peak_bytes()).c_str(), r.ill_conditioned,
-              r.ill_conditioned != 0 ? " (the box has none: this row's physics is wrong)" : "");
-          std::fflush(stdout);
+          rows.push_back(gpu_row(r, order, lanes, speedup, bandwidth, floor));
         }
       }
     }
