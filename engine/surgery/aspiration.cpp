@@ -70,16 +70,19 @@ void map_fracture_to_rest(AspirationEvent& e, const PhyxelSet& set, const Neighb
     });
   };
   // The centre and axis: each aspirated phyxel's first-order preimage of the mouth,
-  // x0_k + F_k^-1 (c - x_k), and F_k^-1 a, mass-weighted (exact for an affine motion).
+  // x0_k + F_k^-1 (c - x_k), and F_k^-1 a, mass-weighted (exact for an affine motion). A
+  // crushed or inverted phyxel (det F < 0.1) has no useful F^-1: it counts with F = I.
   Vec3 centre = Vec3::Zero(), axis = Vec3::Zero();
   double mass = 0;
   for (const uint32_t k : e.removed) {
-    const Eigen::Matrix3d f_inv = deformation(k, false).f.inverse();
+    const Eigen::Matrix3d f = deformation(k, false).f;
+    const Eigen::Matrix3d f_inv =
+        f.determinant() >= 0.1 ? Eigen::Matrix3d(f.inverse()) : Eigen::Matrix3d::Identity();
     centre += set.mass[k] * (set.rest[k] + f_inv * (e.mouth - set.rest[k] - u[k]));
     axis += set.mass[k] * (f_inv * e.axis);
     mass += set.mass[k];
   }
-  e.centre = centre / mass;
+  if (mass > 0) e.centre = centre / mass;
   if (axis.norm() > 0) e.axis = axis.normalized();
   e.rest_radius = (set.rest[e.breaking] - e.centre).norm();
   // The wall's normals as the deform pass will carry them, with the aspirated phyxels gone.
