@@ -161,7 +161,7 @@ std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displaceme
 void FrameWriter::apply_aspiration(const AspirationEvent& event) {
   queue_->drain();
   renderer_->hide_phyxels(event.removed);
-  const FractureRegion region{event.centre, event.radius, event.axis};
+  const FractureRegion region{event.centre, event.rest_radius, event.axis};  // rest space
   std::vector<layout::SurfelStatic> faces;
   for (size_t k = 0; k < event.exposed.size(); ++k) {
     CutFace face;

@@ -4,7 +4,8 @@
 //
 //   otsu_threshold     eq 31: the threshold k of a 256-bin histogram that maximises the
 //                      variance between the two regions, (P_s(k) g_T - g(k))^2 / (P_s(k) P_b(k))
-//                      (P_s the probability below k, g(k) the cumulative grey sum, g_T the mean)
+//                      (P_s the probability below k, g(k) the cumulative grey sum, g_T the
+//                      mean of the whole frame where the paper prints g_s: docs/decisions.md)
 //   specular_mask      the spot region U_s: min(R, G, B) (a glint is bright in every channel,
 //                      tissue is not) above the Otsu threshold and at least `min_level`
 //   magnify_spots      U_s': every connected spot magnified 1.1x by bilinear interpolation

@@ -294,7 +294,6 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   layout::DeformPush deform{};
   deform.count = m.count;
   deform.phyxels = in.count;
-  deform.min_inverse_condition = m.options.min_inverse_condition;
   deform.max_stretch = m.options.max_stretch;
   deform.pair_weights = in.pair_weight != nullptr ? 1u : 0u;
   if (in.nbr_index_hi != nullptr && (m.deform_split.handle() == VK_NULL_HANDLE ||

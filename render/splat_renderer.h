@@ -66,9 +66,8 @@ struct RendererOptions {
   // between the steps of that staircase when seen obliquely; 1.5 (1.2 spacing) closes them
   // from every direction (splat_render_test: the hole test fails below about 1.4).
   float radius_scale = 1.5f;
-  float epsilon = 1.0f;                 // visibility offset, in splat radii
-  float max_stretch = 4.0f;             // splat radius growth limit under tangential stretch
-  float min_inverse_condition = 1e-4f;  // of A (see deform_surfels.comp)
+  float epsilon = 1.0f;      // visibility offset, in splat radii
+  float max_stretch = 4.0f;  // splat radius growth limit under tangential stretch
   // Visibility offset of the backdrop's discs, in their radii: they are large (a drape's
   // spacing is centimetres) and mostly flat, so half a radius joins neighbours without
   // blending the drape into tissue that lies just above it.

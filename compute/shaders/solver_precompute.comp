@@ -2,11 +2,13 @@
 // inverse through a symmetric eigen-decomposition (cyclic Jacobi), regularised when the
 // condition number exceeds kMaxCondition (small eigenvalues raised to lambda_max / 100), the
 // residual R_i = A^-1 A A^-1 - A^-1 of a regularised inverse, and the hourglass stiffness
-// kappa_i = gamma mu v_i / (tr A_i / 3), both scaled by the phyxel's damage. The GLSL twin of regularised_inverse() in
-// engine/solver/mls_model.h. Idempotent, so cutting can rerun it for the phyxels it touched.
+// kappa_i = gamma mu v_i / (tr A_i / 3), both scaled by the phyxel's damage. The inverse is
+// moment_inverse.glsl's (engine/solver/mls_model.h's twin). Idempotent, so cutting can rerun it
+// for the phyxels it touched.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
+#include "moment_inverse.glsl"
 #include "solver_mls.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
@@ -28,44 +30,6 @@ layout(std430, binding = kPrecomputeBindingRest) readonly buffer Rest { vec4 res
 layout(std430, binding = kPrecomputeBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
 layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
-
-const float kMaxCondition = 100.0;  // engine/solver/mls_model.h kMaxMomentCondition
-
-// One Jacobi rotation in the (a, b) plane that zeroes m[a][b]; q accumulates the eigenvectors.
-void rotate(inout mat3 m, inout mat3 q, int a, int b) {
-  const float mab = m[b][a];
-  if (mab == 0.0) return;
-  const float theta = (m[b][b] - m[a][a]) / (2.0 * mab);
-  const float t =
-      theta == 0.0 ? 1.0 : sign(theta) / (abs(theta) + sqrt(theta * theta + 1.0));
-  const float c = inversesqrt(t * t + 1.0);
-  const float s = t * c;
-  mat3 r = mat3(1.0);
-  r[a][a] = c;
-  r[b][b] = c;
-  r[b][a] = s;   // row a, column b
-  r[a][b] = -s;  // row b, column a
-  m = transpose(r) * m * r;
-  m[b][a] = 0.0;
-  m[a][b] = 0.0;
-  q = q * r;
-}
-
-// The eigenvalues of a symmetric a (cyclic Jacobi: a few sweeps bring a 3x3 matrix to float
-// round-off); q accumulates the eigenvectors.
-vec3 jacobi_eigen(mat3 a, out mat3 q) {
-  mat3 d = a;
-  q = mat3(1.0);
-  for (int sweep = 0; sweep < 8; ++sweep) {
-    const float off = d[1][0] * d[1][0] + d[2][0] * d[2][0] + d[2][1] * d[2][1];
-    const float diag = d[0][0] * d[0][0] + d[1][1] * d[1][1] + d[2][2] * d[2][2];
-    if (off <= 1e-14 * diag) break;
-    rotate(d, q, 0, 1);
-    rotate(d, q, 0, 2);
-    rotate(d, q, 1, 2);
-  }
-  return vec3(d[0][0], d[1][1], d[2][2]);
-}
 
 void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
@@ -90,20 +54,11 @@ void main() {
     }
   }
   const float trace = a[0][0] + a[1][1] + a[2][2];
-  mat3 q;
-  vec3 lambda = jacobi_eigen(a, q);
-  const float lmax = max(lambda.x, max(lambda.y, lambda.z));
-  const float lmin = min(lambda.x, min(lambda.y, lambda.z));
-  mat3 inv = mat3(0.0);
-  mat3 residual = mat3(0.0);
-  bool regularised = true;  // no neighbour (or none with weight): no gradient information
-  if (lmax > 0.0) {
-    regularised = !(lmin > 0.0) || lmax / lmin > kMaxCondition;
-    if (regularised) lambda = max(lambda, vec3(lmax / kMaxCondition));
-    inv = q * mat3(1.0 / lambda.x, 0, 0, 0, 1.0 / lambda.y, 0, 0, 0, 1.0 / lambda.z) *
-          transpose(q);
-    if (regularised) residual = inv * a * inv - inv;
-  }
+  const MomentInverse moment = regularised_inverse(a);
+  const float lmin = moment.lambda_min;
+  const mat3 inv = moment.inverse;
+  const mat3 residual = moment.residual;
+  const bool regularised = moment.regularised;
   // Damage (engine/solver/mls_model.h damage_factor): the elastic volume and kappa scaled by
   // lambda_min over the reference's; exactly 1, without a second eigen-decomposition, until a
   // cut or a tear took one of its pairs.

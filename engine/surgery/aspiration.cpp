@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "engine/solver/mls_gradient.h"
 #include "engine/solver/solver.h"
 #include "engine/surgery/suction.h"
 
@@ -25,7 +26,7 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
       principal.size() != n)
     throw std::invalid_argument("fracture_sphere: per-phyxel arrays of different sizes");
   AspirationEvent e;
-  e.centre = mouth.position;
+  e.mouth = e.centre = mouth.position;
   e.axis = mouth.axis;
   auto takes = [&](uint32_t i) {
     return !removed[i] && !(set.flags[i] & kFixed) && tear_stress_of(set, i) > 0;
@@ -34,11 +35,14 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
   double radius = -1;
   for (uint32_t i = 0; i < n; ++i) {
     if (!takes(i) || !(surface[i] || torn[i]) || !in_suction_reach(mouth, reach, x[i])) continue;
-    if (torn[i] || principal[i] >= tear_stress_of(set, i))
-      radius = std::max(radius, (x[i] - mouth.position).norm());
+    const double d = (x[i] - mouth.position).norm();
+    if ((torn[i] || principal[i] >= tear_stress_of(set, i)) && d > radius) {
+      radius = d;
+      e.breaking = i;
+    }
   }
   if (radius < 0) return e;
-  e.radius = radius;
+  e.radius = e.rest_radius = radius;
   // Step 3: inside the sphere aspirated, the shell outside it exposed.
   for (uint32_t i = 0; i < n; ++i) {
     if (removed[i]) continue;
@@ -51,6 +55,41 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
     }
   }
   return e;
+}
+
+void map_fracture_to_rest(AspirationEvent& e, const PhyxelSet& set, const NeighbourLists& nbr,
+                          const std::vector<Vec3>& u, const std::vector<uint8_t>& removed,
+                          const SeveredKeys& severed) {
+  if (e.removed.empty()) return;
+  std::vector<uint8_t> going(set.size(), 0);
+  for (const uint32_t i : e.removed) going[i] = 1;
+  auto deformation = [&](uint32_t i, bool after) {
+    const double h = set.objects[set.object[i]].support_radius;
+    return mls_deformation(set.rest, nbr, u, i, h, [&](uint32_t, uint32_t j) {
+      return !removed[j] && !(after && going[j]) && !severed.count(pair_key(i, j));
+    });
+  };
+  // The centre and axis: each aspirated phyxel's first-order preimage of the mouth,
+  // x0_k + F_k^-1 (c - x_k), and F_k^-1 a, mass-weighted (exact for an affine motion). A
+  // crushed or inverted phyxel (det F < 0.1) has no useful F^-1: it counts with F = I.
+  Vec3 centre = Vec3::Zero(), axis = Vec3::Zero();
+  double mass = 0;
+  for (const uint32_t k : e.removed) {
+    const Eigen::Matrix3d f = deformation(k, false).f;
+    const Eigen::Matrix3d f_inv =
+        f.determinant() >= 0.1 ? Eigen::Matrix3d(f.inverse()) : Eigen::Matrix3d::Identity();
+    centre += set.mass[k] * (set.rest[k] + f_inv * (e.mouth - set.rest[k] - u[k]));
+    axis += set.mass[k] * (f_inv * e.axis);
+    mass += set.mass[k];
+  }
+  if (mass > 0) e.centre = centre / mass;
+  if (axis.norm() > 0) e.axis = axis.normalized();
+  e.rest_radius = (set.rest[e.breaking] - e.centre).norm();
+  // The wall's normals as the deform pass will carry them, with the aspirated phyxels gone.
+  for (size_t k = 0; k < e.exposed.size(); ++k) {
+    const Vec3 n0 = deformation(e.exposed[k], true).f.transpose() * e.exposed_normal[k];
+    if (n0.norm() > 0) e.exposed_normal[k] = n0.normalized();
+  }
 }
 
 Aspirator::Aspirator(const Scene& scene, const PhyxelSet& set)
@@ -107,10 +146,11 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     for (const SeveredPair& p : solver.severed_since(log_cursor_)) {
       surface_[p.i] = surface_[p.j] = 1;
       if (p.torn) torn_[p.i] = torn_[p.j] = 1;
+      severed_.insert(pair_key(p.i, p.j));
     }
     log_cursor_ = solver.severed_pairs();
   }
-  std::vector<Vec3> x;
+  std::vector<Vec3> u, x;
   std::vector<double> principal;
   for (size_t k = 0; k < scene_->tools.size() && k < poses.size(); ++k) {
     const Suction& s = scene_->tools[k].suction;
@@ -118,7 +158,6 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     if (!s.sucks() || !(haptic || s.on_at(t))) continue;
     if (x.empty()) {                      // one read of the state for every tool
       solver.set_advance_readback(true);  // from the next advance on, if the solver can
-      std::vector<Vec3> u;
       solver.read_advanced_state(u, principal);
       x.resize(set_->size());
       for (size_t i = 0; i < x.size(); ++i) x[i] = set_->rest[i] + u[i];
@@ -128,6 +167,7 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     AspirationEvent e =
         fracture_sphere(*set_, removed_, surface_, torn_, x, principal, poses[k], s.reach, shell_);
     if (e.removed.empty()) continue;
+    map_fracture_to_rest(e, *set_, solver.neighbours(), u, removed_, severed_);
     e.tool = k;
     e.time = t;
     solver.remove_phyxels(e.removed);

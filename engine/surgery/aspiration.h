@@ -17,14 +17,22 @@
 //     surface (step 3): they are surface from now on (the next aspiration's step 2 sees them)
 //     and the renderer draws them as torn (docs/tearing.md).
 //
-// Positions are current (rest + u), as the solver had them at the end of the advance.
+// Positions are current (rest + u), as the solver had them at the end of the advance: the
+// sphere is where the mouth is now. What the event hands the renderer is in rest space, as
+// everything the deform pass carries through F = I + grad u (map_fracture_to_rest): the new
+// surface's normals n0 = F^T n / |F^T n| of the crater wall's current normals n, so that the
+// drawn (F^-T n0, normalised) is n, and the sphere's centre and axis mapped back through the
+// F of the aspirated phyxels. F is the deform pass's (engine/solver/mls_gradient.h), over the
+// pairs still joined once the event's phyxels are gone.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
+#include "engine/solver/neighbours.h"
 #include "engine/surgery/tool.h"
 
 namespace phyxel {
@@ -34,25 +42,43 @@ class Solver;
 struct AspirationEvent {
   size_t tool = 0;
   double time = 0;                // s, the end of the advance
-  Vec3 centre = Vec3::Zero();     // the collision point (the mouth), m
-  double radius = 0;              // the fracture radius R, m
+  Vec3 mouth = Vec3::Zero();      // the collision point c (current positions), m
+  double radius = 0;              // the fracture radius R (current positions), m
+  uint32_t breaking = 0;          // the breaking point (step 2)
   std::vector<uint32_t> removed;  // ascending
   std::vector<uint32_t> exposed;  // the new fracture surface, ascending
-  // Per exposed phyxel: the unit direction from it to the mouth (current positions), the
-  // outward normal of the crater's wall it is on.
+  // Rest space (map_fracture_to_rest; fracture_sphere leaves them in current positions): per
+  // exposed phyxel the outward unit normal of the crater's wall it is on; the point that
+  // moved to the mouth; the tool's axis (the crater's, for the noise's falloff); the
+  // breaking point's distance from that centre.
   std::vector<Vec3> exposed_normal;
-  Vec3 axis = Vec3::UnitZ();  // the tool's axis (the crater's, for the noise's falloff)
+  Vec3 centre = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();
+  double rest_radius = 0;  // m
 };
+
+// Pairs (i, j) of the neighbour lists that a cut or a tear severed, keyed by pair_key.
+using SeveredKeys = std::unordered_set<uint64_t>;
+inline uint64_t pair_key(uint32_t i, uint32_t j) {
+  return i < j ? (uint64_t{i} << 32) | j : (uint64_t{j} << 32) | i;
+}
 
 // Steps 1-3 for one mouth. removed, surface, torn: per phyxel (1: removed; 1: on a surface;
 // 1: a pair of its tore); x: current positions; principal: the largest principal stress per
 // phyxel (Pa); shell: delta.
-// Returns an event with no removed phyxel when nothing tears.
+// Returns an event with no removed phyxel when nothing tears. Its rest-space fields are still
+// in current positions (centre = mouth): map_fracture_to_rest maps them.
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
                                 const std::vector<uint8_t>& surface,
                                 const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
                                 const std::vector<double>& principal, const ToolPose& mouth,
                                 double reach, double shell);
+
+// The event's rest-space fields from the current ones, with the displacement u, the rest
+// neighbour lists, the phyxels removed before it and the pairs severed (see the top).
+void map_fracture_to_rest(AspirationEvent& e, const PhyxelSet& set, const NeighbourLists& nbr,
+                          const std::vector<Vec3>& u, const std::vector<uint8_t>& removed,
+                          const SeveredKeys& severed);
 
 // What the aspirators took, per material of the set (objects' then inclusions', as
 // PhyxelSet::materials), and per run.
@@ -84,6 +110,7 @@ class Aspirator {
   std::vector<uint8_t> removed_, surface_;
   std::vector<uint8_t> torn_;  // a pair of the phyxel has torn
   size_t log_cursor_ = 0;      // of the solver's severed log
+  SeveredKeys severed_;        // the log's pairs
   AspirationTotals totals_;
 };
 

@@ -5,7 +5,7 @@
 // phyxels now border the cut there: i's face and j's face each get p as a crossing point. Per
 // phyxel the face is
 //   normal  the least-squares plane of its crossing points, pointing from the phyxel toward
-//           them (out of its own piece: i's face toward j, j's toward i). Pauly et al.'s
+//           them (out of its own piece: i's face toward j, j's toward i). The paper's
 //           eqs 18-20 fit z = a0 x + a1 y + a2, which cannot represent a plane parallel to z;
 //           we fit the total-least-squares plane instead (through the centroid, normal the
 //           eigenvector of the smallest eigenvalue of the points' covariance), which is the

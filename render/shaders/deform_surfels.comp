@@ -20,11 +20,14 @@
 // face (kSurfelTornFace) is a cut face whose rest normal and offset carry the fracture noise
 // (render/cut_surfels.h); its splat gets kSplatTornFace.
 //
-// When A is ill-conditioned (few or coplanar neighbours, e.g. after a cut) or F is singular,
-// the splat keeps its rest normal and texture gradients (normal.w = 0 says so).
+// A is inverted as the solver inverts it (compute/shaders/moment_inverse.glsl, regularised
+// where ill-conditioned: few or coplanar neighbours, e.g. after a cut), so grad u is the
+// solver's. Where A has no weight (no live neighbour) or F is singular, the splat keeps its
+// rest normal and texture gradients (normal.w = 0 says so).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "render_layout.h"
+#include "moment_inverse.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
@@ -102,15 +105,12 @@ void main() {
   const vec3 xi = rest[i].xyz;
   const vec3 ui = disp[i].xyz;
   const mat3 A = mat3(a[0], a[1], a[2], a[1], a[3], a[4], a[2], a[4], a[5]);
-  // det(A) / (tr(A)/3)^3 is 1 for an isotropic neighbourhood and about 3 lambda_min /
-  // lambda_max when one direction is missing.
   const float tr = A[0][0] + A[1][1] + A[2][2];
-  const float det_a = determinant(A);
-  bool usable = tr > 0.0 && det_a > p.min_inverse_condition * pow(tr / 3.0, 3.0);
+  bool usable = tr > 0.0;
   mat3 f_inv_t = mat3(1.0);
   mat3 f = mat3(1.0);
   if (usable) {
-    f = mat3(1.0) + M * inverse(A);
+    f = mat3(1.0) + M * regularised_inverse(A).inverse;
     const float det_f = determinant(f);
     usable = abs(det_f) > 1e-6;
     if (usable) f_inv_t = transpose(inverse(f));

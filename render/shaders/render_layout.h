@@ -91,12 +91,11 @@ PHYXEL_CONST uint kDeformBindingPairWeightHi = 8;
 // Invocations per surfel (a divisor of PHYXEL_WORKGROUP_SIZE): dispatch count x kDeformLanes.
 PHYXEL_CONST uint kDeformLanes = 8;
 struct DeformPush {
-  uint count;                   // surfels
-  uint phyxels;                 // entries of rest / displacement (indices are checked against it)
-  float min_inverse_condition;  // det(A) / (tr(A)/3)^3 below this: A is ill-conditioned
-  float max_stretch;            // radius growth limit under stretch
-  uint pair_weights;            // 1: skip pairs whose kDeformBindingPairWeight entry is 0
-  uint pad0, pad1, pad2;
+  uint count;         // surfels
+  uint phyxels;       // entries of rest / displacement (indices are checked against it)
+  float max_stretch;  // radius growth limit under stretch
+  uint pair_weights;  // 1: skip pairs whose kDeformBindingPairWeight entry is 0
+  uint pad0, pad1, pad2, pad3;
 };
 PHYXEL_ASSERT_SIZE(DeformPush, 32);
 

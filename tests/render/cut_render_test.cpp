@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 
+#include "engine/solver/mls_gradient.h"
 #include "render/cut_surfels.h"
 #include "tests/render/severed_box.h"
 
@@ -23,28 +24,16 @@ using test::pairs_across;
 using test::separated;
 using test::side_of;
 
-// The CPU twin of deform_surfels.comp in double: centre and normal of a surfel from the alive
-// pairs only (alive null: every pair).
+// The CPU twin of deform_surfels.comp in double (engine/solver/mls_gradient.h): centre and
+// normal of a surfel from the alive pairs only (alive null: every pair).
 layout::Splat cpu_deform(const PhyxelSet& set, const NeighbourLists& nbr,
                          const std::vector<uint8_t>* alive, const std::vector<Vec3>& u,
                          const layout::SurfelStatic& s) {
   const uint32_t i = s.index;
-  const double h = s.support;
-  Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), m = Eigen::Matrix3d::Zero();
-  for (uint32_t e = nbr.offset[i]; e < nbr.offset[i + 1]; ++e) {
-    if (alive != nullptr && (*alive)[e] == 0) continue;
-    const uint32_t j = nbr.index[e];
-    const Vec3 x = (set.rest[j] - set.rest[i]) / h;
-    const double q = 1 - x.squaredNorm();
-    if (q <= 0) continue;
-    const double w = q * q * q;
-    a += w * x * x.transpose();
-    m += w * ((u[j] - u[i]) / h) * x.transpose();
-  }
-  const double tr = a.trace();
-  const bool usable = tr > 0 && a.determinant() > 1e-4 * std::pow(tr / 3, 3);
-  const Eigen::Matrix3d f = usable ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() + m * a.inverse())
-                                   : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d f =
+      mls_deformation(set.rest, nbr, u, i, s.support, [&](uint32_t e, uint32_t) {
+        return alive == nullptr || (*alive)[e] != 0;
+      }).f;
   const Vec3 n0(s.normal.x, s.normal.y, s.normal.z);
   const Vec3 n = (f.inverse().transpose() * n0).normalized();
   const bool cut = (s.flags & layout::kSurfelCutFace) != 0;
@@ -165,6 +154,76 @@ TEST_F(CutRender, DeformPassSkipsSeveredPairsAsItsCpuTwin) {
         ((Eigen::Matrix3d::Identity() + kShear).inverse().transpose() * n0).normalized();
     const layout::vec4& got = masked[surfels.size() - cut.size() + k].normal;
     EXPECT_LT((Vec3(got.x, got.y, got.z) - expected).norm(), 1e-3) << "phyxel " << s.index;
+  }
+}
+
+// A cut that leaves a surface phyxel only the neighbours of its own layer (A singular across
+// the layer) or one more just off it (A far beyond the condition limit): the deform pass
+// draws the normal and texture gradients of the solver's regularised gradient there, not the
+// rest normal and not the exact inverse's.
+TEST_F(CutRender, DeformPassUsesTheSolversGradientNextToACut) {
+  PhyxelSet set = cut_box();
+  const double s = kBoxSpacing;
+  auto at = [&](int x, int y, int z) {  // the lattice phyxel at (x, y, z) spacings
+    for (uint32_t i = 0; i < set.size(); ++i)
+      if ((set.rest[i] - Vec3(x, y, z) * s).norm() < 1e-3 * s) return i;
+    ADD_FAILURE() << "no phyxel at " << x << " " << y << " " << z;
+    return 0u;
+  };
+  const uint32_t flat = at(-2, 0, 5), lone = at(2, 0, 5), off = at(3, 1, 4);
+  set.rest[off].z() += 0.9 * s;  // lone's one neighbour below, nearly in its layer
+  CpuSolver<double> solver(set, Vec3::Zero());
+  const NeighbourLists& nbr = solver.neighbours();
+  std::vector<SeveredPair> cut;
+  for (const uint32_t i : {flat, lone})
+    for (uint32_t e = nbr.offset[i]; e < nbr.offset[i + 1]; ++e) {
+      const uint32_t j = nbr.index[e];
+      if (set.rest[j].z() < set.rest[i].z() - 1e-3 * s && j != off)
+        cut.push_back({std::min(i, j), std::max(i, j), 0.5f, false});
+    }
+  solver.sever_pairs(cut);
+  // A curved field: u_z = a x^2 + b x y bends the top, plus an in-plane shear and stretch.
+  std::vector<Vec3>& u = solver.displacement();
+  for (size_t i = 0; i < set.size(); ++i) {
+    const Vec3 x = set.rest[i] / 0.01;
+    u[i] = 0.002 * Vec3(0.3 * x.x() + 0.2 * x.y() * x.z(), 0.1 * x.x() * x.z(),
+                        1.2 * x.x() * x.x() + 0.5 * x.x() * x.y());
+  }
+  std::vector<uint8_t> alive(nbr.index.size());
+  for (size_t e = 0; e < alive.size(); ++e) alive[e] = solver.pair_weights()[e] != 0;
+
+  HostInputs inputs(ctx(), set, nbr);
+  const SurfelTable table = build_surfel_table(set);
+  SplatRenderer renderer(ctx(), table, procedural_tissue_texture(64));
+  inputs.set_displacement(u);
+  inputs.set_pair_alive(alive);
+  renderer.render(inputs.inputs(), test::setup_for(test::face_camera(), 64, 36));
+  const std::vector<layout::Splat> splats = renderer.read_splats();
+  auto vec = [](const layout::vec4& v) { return Vec3(v.x, v.y, v.z); };
+  for (const uint32_t i : {flat, lone}) {
+    size_t k = 0;
+    while (k < table.surfels.size() && table.surfels[k].index != i) ++k;
+    ASSERT_LT(k, table.surfels.size()) << "phyxel " << i << " has a surfel";
+    const layout::SurfelStatic& surfel = table.surfels[k];
+    // The solver's own A: regularised, singular (flat) or nearly so (lone).
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    for (uint32_t e = nbr.offset[i]; e < nbr.offset[i + 1]; ++e) {
+      const Vec3 x = set.rest[nbr.index[e]] - set.rest[i];
+      a += solver.pair_weights()[e] * x * x.transpose();
+    }
+    EXPECT_GT(regularised_inverse(a).condition, 5 * kMaxMomentCondition) << "phyxel " << i;
+    const Eigen::Matrix3d f_inv_t =
+        (Eigen::Matrix3d::Identity() + solver.gradient(i)).inverse().transpose();
+    const Vec3 n0 = vec(surfel.normal);
+    const Vec3 want_n = (f_inv_t * n0).normalized();
+    EXPECT_GT((want_n - n0).norm(), 0.1) << "the bend tilts the normal";
+    EXPECT_LT((vec(splats[k].normal) - want_n).norm(), 1e-3) << "phyxel " << i;
+    EXPECT_LT((vec(splats[k].ds_dx) - f_inv_t * vec(surfel.ds_dx)).norm(),
+              1e-3 * vec(surfel.ds_dx).norm())
+        << "phyxel " << i;
+    EXPECT_LT((vec(splats[k].dt_dx) - f_inv_t * vec(surfel.dt_dx)).norm(),
+              1e-3 * vec(surfel.dt_dx).norm())
+        << "phyxel " << i;
   }
 }
 

@@ -204,9 +204,9 @@ TEST_F(SplatRender, AnaglyphAndSwappedEyesComeFromTheSideBySidePair) {
   EXPECT_GT(differ, 50) << "the eyes see different images";
 }
 
-TEST_F(SplatRender, CoplanarNeighboursFallBackToTheRestNormal) {
-  // One layer of phyxels: every moment matrix is singular. The sheet still renders where it
-  // was moved, with its rest normal.
+TEST_F(SplatRender, CoplanarNeighboursRenderWhereMovedWithTheRestNormal) {
+  // One layer of phyxels: every moment matrix is singular (regularised, as the solver's). The
+  // sheet, translated, still renders where it was moved, with its rest normal.
   RenderedSet s(ctx(), lattice_box(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0), 0.004),
                 procedural_tissue_texture(64));
   const Camera cam = test::camera_at(Vec3(0, 0, 0.1), Vec3::Zero(), Vec3::UnitY(), 40);

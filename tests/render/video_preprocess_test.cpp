@@ -51,7 +51,9 @@ TEST(SpecularRepair, OtsuThresholdOfEquation31SplitsTwoLevels) {
   const int k = otsu_threshold(h);
   EXPECT_GE(k, 70);
   EXPECT_LT(k, 230);
-  // Brute force of eq 31 as printed: the maximum over k of (P_s g_T - g(k))^2 / (P_s P_b).
+  // Brute force of eq 31 with the total mean g_T where the paper prints g_s (Otsu's criterion;
+  // with g_s, the mean of U_s, the numerator is 0 for every k: docs/decisions.md): the maximum
+  // over k of (P_s g_T - g(k))^2 / (P_s P_b).
   double best = -1;
   int k_best = -1;
   const double n = 1460, g_t = (60 * 900 + 70 * 500 + 230 * 40 + 240 * 20) / n;
