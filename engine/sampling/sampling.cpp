@@ -458,6 +458,10 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
   out.initial_velocity.resize(total, object.initial_velocity);
   fill_phyxels(occ, shape, eps, first, out);
   add_outside_parts(occ, shape, eps, first, out);
+  // A site inside by its own point with none of its sub-cell centres inside (a sliver of a
+  // segmentation) gets one sub-cell's volume, not none: a massless phyxel cannot move.
+  for (size_t p = first; p < total; ++p)
+    if (!(out.volume[p] > 0)) out.volume[p] = s * s * s / (kSubcells * kSubcells * kSubcells);
 
   // Inclusions in order, so that a later one wins where they overlap.
   for (size_t c = 0; c < object.inclusions.size(); ++c) {
