@@ -79,7 +79,11 @@ constexpr const char* kBenchHelp =
     "  --tearing             what tearing costs per step and the step rate while tearing: a\n"
     "                        probe ploughing through boxes with tear_stress (--device D,\n"
     "                        --sizes LIST, --tear-stress T, --steps N, --repeats N, --out DIR;\n"
-    "                        --tearing --help)";
+    "                        --tearing --help)\n"
+    "  --sampling            reading and sampling an image shape: a synthetic two-label volume\n"
+    "                        (--size N voxels a side, default 256) to about --phyxels P\n"
+    "                        (default 1000000), or --scene FILE's loading and sampling\n"
+    "                        (--repeats N, --threads N, --out DIR, --json FILE)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -316,6 +320,7 @@ int bench_command(const Args& args) {
   if (has("--haptics")) return bench_haptics(args);
   if (has("--cutting")) return bench_cutting(args);
   if (has("--tearing")) return bench_tearing(args);
+  if (has("--sampling")) return bench_sampling(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")

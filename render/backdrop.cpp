@@ -181,6 +181,8 @@ std::vector<BackdropSample> sample_backdrop_surface(const Shape& shape, double s
     case Shape::Type::Mesh:
       if (shape.mesh) sample_mesh(*shape.mesh, spacing, out);
       break;
+    case Shape::Type::Image:  // refused by the scene reader (no surface to draw)
+      break;
   }
   return out;
 }
@@ -202,6 +204,7 @@ double distance_to_surface(const Shape& shape, const Vec3& p) {
       return std::abs(q - 1) * d.norm() / q;  // along the ray from the centre
     }
     case Shape::Type::Mesh:
+    case Shape::Type::Image:
       break;
   }
   return std::numeric_limits<double>::infinity();

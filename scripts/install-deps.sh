@@ -7,7 +7,10 @@ packages=(
   cmake g++ make pkg-config            # toolchain
   libeigen3-dev                        # CPU reference solver
   nlohmann-json3-dev                   # scene files, summaries
-  libtinyobjloader-dev                 # mesh shapes
+  libtinyobjloader-dev                 # mesh shapes (OBJ)
+  libassimp-dev                        # mesh shapes as planning tools export them (STL, PLY)
+  libnifti2-dev                        # image shapes: NIfTI-1/-2 label volumes (docs/decisions.md)
+  mricron-data                         # MRI template and atlases of scenes/brain_mri_tumour_removal.json
   libstb-dev                           # PNG/JPEG textures and frames
   zlib1g-dev                           # deflate of the PNG frames (docs/decisions.md)
   libavcodec-dev libavformat-dev       # H.264/MP4 video of the frames (libavcodec59 brings libx264)

@@ -1,10 +1,15 @@
-// OBJ loading (tinyobjloader) and the inside test of closed triangle surfaces.
+// Mesh loading (OBJ by tinyobjloader, STL and PLY by assimp) and the inside test of closed
+// triangle surfaces.
 //
-// The one tinyobjloader implementation unit of the project. Coordinates are parsed in the
-// library's default single precision (the ABI of Debian's libtinyobjloader), then widened to
-// double and scaled.
+// The one tinyobjloader implementation unit of the project. Coordinates are parsed in single
+// precision (the ABI of Debian's libtinyobjloader; STL stores floats), then widened to double
+// and scaled.
 #define TINYOBJLOADER_IMPLEMENTATION
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
 #include <tiny_obj_loader.h>
+
+#include <assimp/Importer.hpp>
 
 #include <array>
 #include <cctype>
@@ -99,7 +104,7 @@ struct EdgeUse {
 
 // Every edge must be shared by exactly two triangles that run it in opposite directions.
 void check_closed(const std::filesystem::path& path, const std::vector<Eigen::Vector3i>& tris,
-                  const std::vector<int>& obj_index) {
+                  const std::vector<int>& file_index, const std::string& vertex_word) {
   std::unordered_map<uint64_t, EdgeUse> edges;
   edges.reserve(tris.size() * 2);
   for (const Eigen::Vector3i& t : tris) {
@@ -124,8 +129,8 @@ void check_closed(const std::filesystem::path& path, const std::vector<Eigen::Ve
     }
   }
   auto vertices = [&](uint64_t key) {
-    return "OBJ vertices " + std::to_string(obj_index[key >> 32]) + " and " +
-           std::to_string(obj_index[key & 0xffffffffu]);
+    return vertex_word + " " + std::to_string(file_index[key >> 32]) + " and " +
+           std::to_string(file_index[key & 0xffffffffu]);
   };
   if (open > 0)
     fail(path, "the surface is not closed: " + std::to_string(open) +
@@ -140,6 +145,63 @@ void check_closed(const std::filesystem::path& path, const std::vector<Eigen::Ve
                    "); re-export the surface with consistent face winding (normals all outward)");
 }
 
+void check_scale(const std::filesystem::path& path, double scale) {
+  if (!(std::isfinite(scale) && scale > 0))
+    fail(path, "the mesh scale must be a positive number (got " + std::to_string(scale) + ")");
+}
+
+// Triangles as a file stores them: positions per file vertex, faces as indices into them.
+struct RawSurface {
+  std::vector<std::array<float, 3>> positions;
+  std::vector<std::array<int, 3>> faces;
+  std::string vertex_word;  // "OBJ vertices": how messages name the file's vertices
+};
+
+// Welds vertices at identical positions (exporters that repeat positions per face, and STL,
+// which always does, still give a connected surface), leaves out collapsed faces, checks that
+// the surface is closed and bounds a volume, and turns it outward.
+TriangleMesh closed_mesh(const std::filesystem::path& path, const RawSurface& raw, double scale) {
+  TriangleMesh mesh;
+  std::vector<int> file_index;  // 1-based number in the file, for messages
+  std::map<std::array<float, 3>, int> welded;
+  std::vector<int> remap(raw.positions.size(), -1);
+  auto vertex_id = [&](int v) {
+    if (remap[v] < 0) {
+      const std::array<float, 3>& key = raw.positions[v];
+      auto [it, inserted] = welded.emplace(key, static_cast<int>(mesh.vertices.size()));
+      if (inserted) {
+        mesh.vertices.push_back(scale * Vec3(key[0], key[1], key[2]));
+        file_index.push_back(v + 1);
+      }
+      remap[v] = it->second;
+    }
+    return remap[v];
+  };
+  for (const auto& f : raw.faces) {
+    const Eigen::Vector3i t(vertex_id(f[0]), vertex_id(f[1]), vertex_id(f[2]));
+    // A face that collapses onto an edge or a point bounds no area and is left out.
+    if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) mesh.triangles.push_back(t);
+  }
+  if (mesh.triangles.empty())
+    fail(path,
+         "the file has no triangle or polygon faces; a mesh shape needs a closed "
+         "triangle surface");
+  check_closed(path, mesh.triangles, file_index, raw.vertex_word);
+
+  for (const Vec3& v : mesh.vertices) mesh.bounds.extend(v);
+  double volume = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6;
+  const double diagonal = mesh.bounds.diagonal().norm();
+  if (!(std::abs(volume) > 1e-12 * diagonal * diagonal * diagonal))
+    fail(path, "the closed surface encloses no volume; a mesh shape must bound a solid");
+  // Inward-facing surfaces (clockwise faces) are common in exported files: turn them outward,
+  // which the winding-number inside test needs.
+  if (volume < 0)
+    for (Eigen::Vector3i& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
+
 }  // namespace
 
 bool TriangleMesh::contains(const Vec3& p) const {
@@ -147,8 +209,7 @@ bool TriangleMesh::contains(const Vec3& p) const {
 }
 
 TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale) {
-  if (!(std::isfinite(scale) && scale > 0))
-    fail(path, "the mesh scale must be a positive number (got " + std::to_string(scale) + ")");
+  check_scale(path, scale);
   std::error_code ec;
   std::ifstream in;
   if (std::filesystem::is_regular_file(path, ec)) in.open(path);
@@ -170,62 +231,79 @@ TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale) {
     fail(path, "cannot parse the OBJ file: " + one_line(warn) +
                    "; every face must refer to vertices defined in the file");
 
-  // Weld vertices at identical positions, so that exporters that repeat positions per face
-  // still give a connected surface. obj_index keeps the 1-based OBJ number for messages.
-  TriangleMesh mesh;
-  std::vector<int> obj_index;
-  std::map<std::array<tinyobj::real_t, 3>, int> welded;
-  std::vector<int> remap(attrib.vertices.size() / 3, -1);
-  auto vertex_id = [&](int v) {
-    if (remap[v] < 0) {
-      const std::array<tinyobj::real_t, 3> key = {
-          attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]};
-      auto [it, inserted] = welded.emplace(key, static_cast<int>(mesh.vertices.size()));
-      if (inserted) {
-        mesh.vertices.push_back(scale * Vec3(key[0], key[1], key[2]));
-        obj_index.push_back(v + 1);
-      }
-      remap[v] = it->second;
-    }
-    return remap[v];
-  };
+  RawSurface raw;
+  raw.vertex_word = "OBJ vertices";
+  for (size_t v = 0; v + 2 < attrib.vertices.size(); v += 3)
+    raw.positions.push_back({attrib.vertices[v], attrib.vertices[v + 1], attrib.vertices[v + 2]});
   for (const tinyobj::shape_t& shape : shapes) {
     size_t offset = 0;
     for (const unsigned char corners : shape.mesh.num_face_vertices) {
       if (corners == 3) {
-        Eigen::Vector3i t;
+        std::array<int, 3> t;
         for (int k = 0; k < 3; ++k) {
           const int v = shape.mesh.indices[offset + k].vertex_index;
-          if (v < 0 || static_cast<size_t>(v) >= remap.size())
+          if (v < 0 || static_cast<size_t>(v) >= raw.positions.size())
             fail(path, "a face of '" + shape.name + "' refers to vertex " + std::to_string(v + 1) +
-                           ", but the file defines " + std::to_string(remap.size()) +
+                           ", but the file defines " + std::to_string(raw.positions.size()) +
                            " vertices; every face must refer to vertices defined in the file");
-          t[k] = vertex_id(v);
+          t[k] = v;
         }
-        // A face that collapses onto an edge or a point bounds no area and is left out.
-        if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) mesh.triangles.push_back(t);
+        raw.faces.push_back(t);
       }
       offset += corners;
     }
   }
-  if (mesh.triangles.empty())
-    fail(path,
-         "the file has no triangle or polygon faces; a mesh shape needs a closed "
-         "triangle surface");
-  check_closed(path, mesh.triangles, obj_index);
+  return closed_mesh(path, raw, scale);
+}
 
-  for (const Vec3& v : mesh.vertices) mesh.bounds.extend(v);
-  double volume = 0;
-  for (const Eigen::Vector3i& t : mesh.triangles)
-    volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6;
-  const double diagonal = mesh.bounds.diagonal().norm();
-  if (!(std::abs(volume) > 1e-12 * diagonal * diagonal * diagonal))
-    fail(path, "the closed surface encloses no volume; a mesh shape must bound a solid");
-  // Inward-facing surfaces (clockwise faces) are common in exported files: turn them outward,
-  // which the winding-number inside test needs.
-  if (volume < 0)
-    for (Eigen::Vector3i& t : mesh.triangles) std::swap(t[1], t[2]);
-  return mesh;
+TriangleMesh load_assimp_mesh(const std::filesystem::path& path, double scale,
+                              const std::string& format) {
+  check_scale(path, scale);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw std::runtime_error("cannot open " + path.string() + ": check the path");
+  Assimp::Importer importer;
+  // Points and lines bound nothing: they are dropped, the faces triangulated. Vertices are
+  // welded below, as for OBJ files, so that messages can name them.
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
+  if (!scene)
+    fail(path, "cannot parse the " + format + " file: " + one_line(importer.GetErrorString()));
+  RawSurface raw;
+  raw.vertex_word = format + " vertices";
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    const int base = static_cast<int>(raw.positions.size());
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v)
+      raw.positions.push_back(
+          {float(mesh->mVertices[v].x), float(mesh->mVertices[v].y), float(mesh->mVertices[v].z)});
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      std::array<int, 3> t;
+      for (int k = 0; k < 3; ++k) {
+        if (face.mIndices[k] >= mesh->mNumVertices)
+          fail(path, "a face refers to vertex " + std::to_string(face.mIndices[k] + 1) +
+                         " of a mesh of " + std::to_string(mesh->mNumVertices) + " vertices");
+        t[k] = base + static_cast<int>(face.mIndices[k]);
+      }
+      raw.faces.push_back(t);
+    }
+  }
+  return closed_mesh(path, raw, scale);
+}
+
+TriangleMesh load_mesh(const std::filesystem::path& path, double scale) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj") return load_obj_mesh(path, scale);
+  if (ext == ".stl") return load_assimp_mesh(path, scale, "STL");
+  if (ext == ".ply") return load_assimp_mesh(path, scale, "PLY");
+  fail(path, "unsupported mesh format \"" + ext +
+                 "\"; use a closed surface in OBJ (.obj), STL "
+                 "(.stl, binary or ASCII) or PLY (.ply)");
 }
 
 }  // namespace phyxel

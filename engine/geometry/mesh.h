@@ -1,8 +1,10 @@
-// Closed triangle surfaces read from OBJ files (tinyobjloader), with an inside test.
+// Closed triangle surfaces read from OBJ (tinyobjloader), STL and PLY files (assimp), with an
+// inside test.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "engine/scene/scene.h"
@@ -17,8 +19,13 @@ struct TriangleMesh {
   bool contains(const Vec3& p) const;
 };
 
-// Loads an OBJ file and scales it. Throws std::runtime_error with a one-line reason
-// (missing file, parse error, no triangles, not closed); the scene loader adds the JSON path.
+// Loads a mesh file by its extension (.obj, .stl binary or ASCII, .ply) and scales it. Throws
+// std::runtime_error with a one-line reason (missing file, unsupported format, parse error, no
+// triangles, not closed); the scene loader adds the JSON path.
+TriangleMesh load_mesh(const std::filesystem::path& path, double scale);
+// The same for one format: OBJ, or "STL" / "PLY" through assimp.
 TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale);
+TriangleMesh load_assimp_mesh(const std::filesystem::path& path, double scale,
+                              const std::string& format);
 
 }  // namespace phyxel

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "engine/geometry/image_volume.h"
 #include "engine/geometry/mesh.h"
 #include "engine/geometry/mesh_query.h"
 
@@ -27,6 +28,8 @@ bool shape_contains(const Shape& shape, const Vec3& p, double eps) {
     case Shape::Type::Mesh:
       if (!shape.mesh) return false;
       return shape.mesh->contains(p) || (eps > 0 && surface_distance_direct(*shape.mesh, p) <= eps);
+    case Shape::Type::Image:
+      return shape.image && shape.image->contains(p);
   }
   return false;
 }
@@ -42,6 +45,8 @@ Eigen::AlignedBox3d shape_bounds(const Shape& shape) {
       return Eigen::AlignedBox3d(shape.center - shape.radii, shape.center + shape.radii);
     case Shape::Type::Mesh:
       return shape.mesh ? shape.mesh->bounds : Eigen::AlignedBox3d();
+    case Shape::Type::Image:
+      return shape.image ? shape.image->bounds() : Eigen::AlignedBox3d();
   }
   return Eigen::AlignedBox3d();
 }

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/geometry/image_volume.h"
 #include "engine/geometry/shape.h"
 #include "engine/sampling/phyxel_set.h"
 #include "engine/sampling/sampling_region.h"
@@ -118,6 +119,8 @@ Vec3 lattice_normal(unsigned missing) {
 // function. Box: the sum of the normals of the faces next to the point, which are exactly the
 // directions of its missing neighbours (an edge gets the diagonal). Mesh: the pseudo-normal of
 // the closest surface point (mesh_query.h), which matches the box on a lattice-aligned cube.
+// Image: minus the gradient of the label mask blurred over 2 spacings (at least 3 voxels), so
+// smooth across voxel steps also for phyxels up to a spacing below the surface (image_volume.h).
 Vec3 surface_normal(const Shape& shape, const Region& region, const Vec3& p, double s,
                     unsigned missing) {
   Vec3 n = Vec3::Zero();
@@ -130,6 +133,9 @@ Vec3 surface_normal(const Shape& shape, const Region& region, const Vec3& p, dou
       break;
     case Shape::Type::Mesh:
       if (region.mesh()) n = region.mesh()->surface_normal(p, 1e-6 * s);
+      break;
+    case Shape::Type::Image:
+      if (shape.image) n = shape.image->normal(p, std::max(2 * s, 3 * shape.image->voxel_size()));
       break;
     case Shape::Type::Box:
       break;
@@ -172,7 +178,8 @@ void fill_phyxels(const Occupancy& occ, const Region& shape, double eps, size_t 
         missing |= 1u << f;
     // Analytic shapes are convex: a cell whose 26 neighbours are all inside lies in their hull
     // and is full. Meshes need not be convex; their sub-cell test is cheap away from the
-    // surface, so every cell takes it.
+    // surface, so every cell takes it. Images are taken as full there too: a hole smaller than
+    // the spacing between 27 inside sites is below the sampling's resolution.
     bool full = !shape.mesh() && missing == 0;
     for (int dk = -1; dk <= 1 && full; ++dk)
       for (int dj = -1; dj <= 1 && full; ++dj)
@@ -259,6 +266,9 @@ std::string describe_size(const Shape& shape) {
     case Shape::Type::Box:
       if (size.x() == size.y() && size.y() == size.z()) return "box " + mm(size.x()) + " mm across";
       return "box " + mm(size.x()) + " x " + mm(size.y()) + " x " + mm(size.z()) + " mm";
+    case Shape::Type::Image:
+      return "image of bounds " + mm(size.x()) + " x " + mm(size.y()) + " x " + mm(size.z()) +
+             " mm";
     case Shape::Type::Mesh:
       break;
   }
@@ -277,6 +287,66 @@ double spacing_needed(const Shape& shape, double s) {
   return needed < s ? needed : s / 2;
 }
 
+// Lattice offsets k with |k| s < h (the kernel's support), nearest first.
+std::vector<std::array<int, 3>> support_stencil(double s, double h) {
+  std::vector<std::array<int, 3>> stencil;
+  const int reach = static_cast<int>(std::ceil(h / s));
+  for (int k = -reach; k <= reach; ++k)
+    for (int j = -reach; j <= reach; ++j)
+      for (int i = -reach; i <= reach; ++i)
+        if ((i || j || k) && std::sqrt(double(i * i + j * j + k * k)) * s < h)
+          stencil.push_back({i, j, k});
+  std::stable_sort(stencil.begin(), stencil.end(), [](const auto& a, const auto& b) {
+    return a[0] * a[0] + a[1] * a[1] + a[2] * a[2] < b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+  });
+  return stencil;
+}
+
+// Neighbours of phyxel n within the stencil and whether they span space (stops once both hold).
+std::pair<int, bool> mls_fit(const Occupancy& occ, const std::vector<std::array<int, 3>>& stencil,
+                             size_t n) {
+  const auto [i, j, k] = occ.coords(occ.linear[n]);
+  Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();  // sum of k k^T: whole numbers
+  int count = 0;
+  for (const auto& [di, dj, dk] : stencil) {
+    if (!occ.is_phyxel(i + di, j + dj, k + dk)) continue;
+    const Vec3 d(di, dj, dk);
+    moment += d * d.transpose();
+    if (++count >= kMinMlsNeighbours && moment.determinant() > 0.5) return {count, true};
+  }
+  return {count, moment.determinant() > 0.5};
+}
+
+// Largest share of an image's phyxels that may be left out for want of a usable fit.
+constexpr double kMaxImagePruned = 0.01;
+
+// A segmentation has speckles and strands thinner than the spacing: an image shape leaves out
+// the phyxels without a usable MLS fit (again, as leaving some out can strand others), as long
+// as they are at most kMaxImagePruned of its phyxels; more is left to check_mls_fit to refuse.
+void prune_unfit(Occupancy& occ, double h) {
+  const auto stencil = support_stencil(occ.lattice.s, h);
+  const size_t budget = size_t(kMaxImagePruned * double(occ.linear.size()));
+  size_t pruned = 0;
+  for (int pass = 0; pass < 8; ++pass) {
+    std::vector<uint8_t> bad(occ.linear.size());
+    const auto count = static_cast<int64_t>(occ.linear.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (int64_t n = 0; n < count; ++n) bad[n] = !mls_fit(occ, stencil, size_t(n)).second;
+    const size_t found = size_t(std::count(bad.begin(), bad.end(), 1));
+    if (found == 0 || pruned + found > budget) return;
+    pruned += found;
+    std::vector<size_t> kept;
+    kept.reserve(occ.linear.size() - found);
+    for (size_t n = 0; n < occ.linear.size(); ++n) {
+      if (bad[n])
+        occ.inside[occ.linear[n]] = 0;
+      else
+        kept.push_back(occ.linear[n]);
+    }
+    occ.linear = std::move(kept);
+  }
+}
+
 // Refuses an object whose MLS fit is unusable: every phyxel needs kMinMlsNeighbours neighbours
 // of its object within the support radius h (|offset| < h, the kernel's support), not all in
 // one plane, so that its moment matrix is invertible with room to spare; hence an object needs
@@ -287,29 +357,8 @@ void check_mls_fit(const Occupancy& occ, const ObjectDesc& object, double h,
                    const std::string& path, const Errors& errors) {
   const Lattice& lattice = occ.lattice;
   const double s = lattice.s;
-  std::vector<std::array<int, 3>> stencil;  // offsets with |k| s < h, nearest first
-  const int reach = static_cast<int>(std::ceil(h / s));
-  for (int k = -reach; k <= reach; ++k)
-    for (int j = -reach; j <= reach; ++j)
-      for (int i = -reach; i <= reach; ++i)
-        if ((i || j || k) && std::sqrt(double(i * i + j * j + k * k)) * s < h)
-          stencil.push_back({i, j, k});
-  std::stable_sort(stencil.begin(), stencil.end(), [](const auto& a, const auto& b) {
-    return a[0] * a[0] + a[1] * a[1] + a[2] * a[2] < b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
-  });
-  // Neighbours and whether they span space (stops once both hold).
-  const auto fit = [&](size_t n) {
-    const auto [i, j, k] = occ.coords(occ.linear[n]);
-    Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();  // sum of k k^T: whole numbers
-    int count = 0;
-    for (const auto& [di, dj, dk] : stencil) {
-      if (!occ.is_phyxel(i + di, j + dj, k + dk)) continue;
-      const Vec3 d(di, dj, dk);
-      moment += d * d.transpose();
-      if (++count >= kMinMlsNeighbours && moment.determinant() > 0.5) return std::pair{count, true};
-    }
-    return std::pair{count, moment.determinant() > 0.5};
-  };
+  const auto stencil = support_stencil(s, h);
+  const auto fit = [&](size_t n) { return mls_fit(occ, stencil, n); };
   const auto count = static_cast<int64_t>(occ.linear.size());
   int64_t first_bad = count;
   if (count >= kMinMlsNeighbours + 1) {
@@ -325,9 +374,12 @@ void check_mls_fit(const Occupancy& occ, const ObjectDesc& object, double h,
   const std::string what = path + " \"" + object.name + "\" (" + describe_size(object.shape) + ")";
   const std::string samples = "samples to " + std::to_string(count) +
                               (count == 1 ? " phyxel" : " phyxels") + " with spacing " + length(s);
-  const std::string fix = ": use a spacing of at most " +
-                          std::string(object.shape.type == Shape::Type::Mesh ? "about " : "") +
-                          needed + " (" + path + ".spacing)";
+  const std::string fix =
+      ": use a spacing of at most " +
+      std::string(object.shape.type == Shape::Type::Mesh || object.shape.type == Shape::Type::Image
+                      ? "about "
+                      : "") +
+      needed + " (" + path + ".spacing)";
   if (first_bad == count)
     errors.fail(what, samples + "; it needs at least " + std::to_string(kMinMlsNeighbours + 1) +
                           " phyxels, each with " + rule +
@@ -354,12 +406,16 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
   if (!(std::isfinite(s) && s > 0))
     errors.fail(path + ".spacing", "the spacing must be a positive length in metres");
   const double eps = kBoundaryTolerance * s;
-  // Scenes built in code may skip load_obj_mesh; the scene reader always loads meshes.
+  // Scenes built in code may skip load_mesh; the scene reader always loads meshes and images.
   auto check_mesh = [&](const Shape& shape, const std::string& at) {
     if (shape.type == Shape::Type::Mesh && !shape.mesh)
       errors.fail(at,
                   "the mesh shape has no loaded surface; read the scene with load_scene() "
-                  "or fill Shape::mesh with load_obj_mesh()");
+                  "or fill Shape::mesh with load_mesh()");
+    if (shape.type == Shape::Type::Image && !shape.image)
+      errors.fail(at,
+                  "the image shape has no loaded label mask; read the scene with load_scene() "
+                  "or fill Shape::image with a LabelMask");
   };
   check_mesh(object.shape, path + ".shape");
   for (size_t c = 0; c < object.inclusions.size(); ++c)
@@ -381,6 +437,7 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
                     " lies inside the shape; make the shape larger than the spacing or lower " +
                     path + ".spacing");
   const double h = object.support_radius > 0 ? object.support_radius : 2 * s;
+  if (options.require_usable_fit && object.shape.type == Shape::Type::Image) prune_unfit(occ, h);
   if (options.require_usable_fit) check_mls_fit(occ, object, h, path, errors);
   const size_t first = out.size();
   if (first + occ.linear.size() > UINT32_MAX)
@@ -401,6 +458,10 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
   out.initial_velocity.resize(total, object.initial_velocity);
   fill_phyxels(occ, shape, eps, first, out);
   add_outside_parts(occ, shape, eps, first, out);
+  // A site inside by its own point with none of its sub-cell centres inside (a sliver of a
+  // segmentation) gets one sub-cell's volume, not none: a massless phyxel cannot move.
+  for (size_t p = first; p < total; ++p)
+    if (!(out.volume[p] > 0)) out.volume[p] = s * s * s / (kSubcells * kSubcells * kSubcells);
 
   // Inclusions in order, so that a later one wins where they overlap.
   for (size_t c = 0; c < object.inclusions.size(); ++c) {

@@ -42,11 +42,11 @@ void check_box(const Node& node, const Shape& s) {
   }
 }
 
-void load_mesh(const Node& path_node, Shape& s, const fs::path& folder) {
+void read_mesh_file(const Node& path_node, Shape& s, const fs::path& folder) {
   // Built by appending: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string&&.
   std::string allowed =
-      "allowed a path to a closed triangle surface in OBJ format, relative to the scene file's "
-      "folder (";
+      "allowed a path to a closed triangle surface in OBJ, STL or PLY format, relative to the "
+      "scene file's folder (";
   allowed += folder.empty() ? std::string("the working directory") : folder.string();
   allowed += ")";
   std::error_code ec;
@@ -54,7 +54,7 @@ void load_mesh(const Node& path_node, Shape& s, const fs::path& folder) {
     path_node.fail("mesh file \"" + s.path.string() + "\" does not exist", allowed);
   }
   try {
-    s.mesh = std::make_shared<const TriangleMesh>(load_obj_mesh(s.path, s.scale));
+    s.mesh = std::make_shared<const TriangleMesh>(load_mesh(s.path, s.scale));
   } catch (const std::exception& e) {
     path_node.fail("cannot use mesh file \"" + s.path.string() + "\": " + e.what(), allowed);
   }
@@ -63,11 +63,13 @@ void load_mesh(const Node& path_node, Shape& s, const fs::path& folder) {
 }  // namespace
 
 // Declared in scene_json_tools.h (the backdrop's shapes use it too).
-Shape read_shape(const Node& node, const fs::path& folder) {
-  node.expect_object(kShapeExpected,
-                     {"type", "min", "max", "center", "radius", "radii", "path", "scale"});
-  const std::string type = node.at("type", "\"box\", \"sphere\", \"ellipsoid\" or \"mesh\"")
-                               .choice({"box", "sphere", "ellipsoid", "mesh"});
+Shape read_shape(const Node& node, const fs::path& folder, ImageReads* images) {
+  node.expect_object(kShapeExpected, {"type", "min", "max", "center", "radius", "radii", "path",
+                                      "scale", "file", "labels", "threshold", "frame"});
+  const std::string type =
+      node.at("type", "\"box\", \"sphere\", \"ellipsoid\", \"mesh\" or \"image\"")
+          .choice({"box", "sphere", "ellipsoid", "mesh", "image"});
+  if (type == "image") return read_image_shape(node, folder, images);
   Shape s;
   if (type == "box") {
     node.expect_object("a box", {"type", "min", "max"});
@@ -88,10 +90,11 @@ Shape read_shape(const Node& node, const fs::path& folder) {
   } else {
     node.expect_object("a mesh", {"type", "path", "scale"});
     s.type = Shape::Type::Mesh;
-    const Node path_node = node.at("path", "the OBJ file, relative to the scene file's folder");
+    const Node path_node =
+        node.at("path", "the OBJ, STL or PLY file, relative to the scene file's folder");
     s.path = folder / path_node.text();
     s.scale = node.number_or("scale", 1.0, Limits::above(0), "");
-    load_mesh(path_node, s, folder);
+    read_mesh_file(path_node, s, folder);
   }
   return s;
 }
@@ -163,13 +166,13 @@ std::vector<T> read_list(const Node& object, std::string_view key, std::string_v
 // `mirror`: the fraction of a surface's colour that reflects render.environment.
 const Limits kMirrorLimits{0, 1, true, true};
 
-ObjectDesc read_object(const Node& node, const fs::path& folder) {
+ObjectDesc read_object(const Node& node, const fs::path& folder, ImageReads* images) {
   node.expect_object("an object description",
                      {"name", "shape", "spacing", "support_radius", "material", "inclusions",
                       "fixed", "loads", "initial_velocity", "mirror"});
   ObjectDesc o;
   o.name = node.at("name", "a non-empty string").text();
-  o.shape = read_shape(node.at("shape", kShapeExpected), folder);
+  o.shape = read_shape(node.at("shape", kShapeExpected), folder, images);
   o.spacing = node.number("spacing", Limits::above(0), "m");
   o.support_radius = node.number_or("support_radius", 2 * o.spacing, Limits::above(0), "m");
   check_support_radius(node, o);
@@ -190,18 +193,18 @@ ObjectDesc read_object(const Node& node, const fs::path& folder) {
               "duplicate inclusion name \"" + inc.name + "\" (also " + it->second + ")",
               "allowed a name that no other inclusion of this object uses");
         }
-        inc.shape = read_shape(n.at("shape", kShapeExpected), folder);
+        inc.shape = read_shape(n.at("shape", kShapeExpected), folder, images);
         inc.material = read_material(n.at("material", kMaterialExpected), o.material);
         inc.mirror = n.number_or("mirror", 0.0, kMirrorLimits, "");
         return inc;
       });
   o.fixed = read_list<Shape>(node, "fixed", "an array of shape objects",
-                             [&](const Node& n) { return read_shape(n, folder); });
+                             [&](const Node& n) { return read_shape(n, folder, images); });
   o.loads = read_list<Load>(node, "loads", "an array of load objects", [&](const Node& n) {
     n.expect_object("a load object {\"region\": shape, \"force\": [x, y, z]}",
                     {"region", "force", "from", "until"});
     Load load;
-    load.region = read_shape(n.at("region", kShapeExpected), folder);
+    load.region = read_shape(n.at("region", kShapeExpected), folder, images);
     load.force = n.vec3("force", Limits::any(), "N");
     load.from = n.number_or("from", 0.0, Limits::at_least(0), "s");
     if (n.find("until")) {
@@ -305,8 +308,9 @@ Scene parse_scene(const std::string& json_text, const fs::path& file) {
   const std::vector<Node> list = objects.elements("an array of one or more objects");
   if (list.empty()) objects.fail("empty array", "allowed an array of one or more objects");
   std::map<std::string, std::string> names;  // name -> path of its first use
+  ImageReads images;                         // each image file read once
   for (const Node& node : list) {
-    scene.objects.push_back(read_object(node, file.parent_path()));
+    scene.objects.push_back(read_object(node, file.parent_path(), &images));
     const std::string path = node.path() + ".name";
     if (const auto [it, fresh] = names.emplace(scene.objects.back().name, path); !fresh) {
       json_reader::fail(name, path,

@@ -52,6 +52,10 @@ BackdropItem read_item(const Node& node, const fs::path& folder) {
   BackdropItem b;
   b.name = node.at("name", "a non-empty string").text();
   b.shape = read_shape(node.at("shape", kShapeExpected), folder);
+  if (b.shape.type == Shape::Type::Image)
+    node.at("shape", "")
+        .fail("an image shape has no surface to draw as a backdrop",
+              "allowed a box, sphere, ellipsoid or mesh");
   b.spacing = node.number("spacing", Limits::above(0), "m");
   const std::string look = node.at("look", "\"drape\", \"skin\", \"bone\" or \"tissue\"")
                                .choice({"drape", "skin", "bone", "tissue"});

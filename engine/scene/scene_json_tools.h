@@ -4,7 +4,10 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "engine/scene/json_reader.h"
@@ -17,9 +20,23 @@ namespace phyxel {
 void read_tools(const json_reader::Node& root, Scene& scene);
 
 inline constexpr std::string_view kShapeExpected =
-    "a shape object {\"type\": \"box\" | \"sphere\" | \"ellipsoid\" | \"mesh\", ...}";
-// A shape object of the scene format (scene_json.cpp); a mesh is loaded relative to `folder`.
-Shape read_shape(const json_reader::Node& node, const std::filesystem::path& folder);
+    "a shape object {\"type\": \"box\" | \"sphere\" | \"ellipsoid\" | \"mesh\" | \"image\", "
+    "...}";
+
+struct ImageVolume;
+// The images read while one scene is read, by file and frame: shapes that name the same file
+// read it once.
+using ImageReads =
+    std::map<std::pair<std::filesystem::path, int64_t>, std::shared_ptr<const ImageVolume>>;
+
+// A shape object of the scene format (scene_json.cpp); a mesh or an image is loaded relative to
+// `folder`, an image through `images` when given.
+Shape read_shape(const json_reader::Node& node, const std::filesystem::path& folder,
+                 ImageReads* images = nullptr);
+// An image shape {"type": "image", "file": ..., "labels": [...] | "threshold": x, "frame": n}
+// (scene_json_image.cpp).
+Shape read_image_shape(const json_reader::Node& node, const std::filesystem::path& folder,
+                       ImageReads* images);
 // A tool's shape object {"type": "sphere" | "capsule", "radius": m, "length": m}
 // (scene_json_tools.cpp).
 ToolShape read_tool_shape(const json_reader::Node& node);

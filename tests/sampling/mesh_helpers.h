@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/geometry/mesh.h"
 #include "engine/scene/scene.h"
 #include "sampling_helpers.h"
 
@@ -75,6 +76,17 @@ inline std::string l_prism_obj() {
     obj << "f " << k << " " << n << " " << n + 6 << " " << k + 6 << "\n";
   }
   return obj.str();
+}
+
+// The message of loading a mesh file (OBJ, STL or PLY) that must fail.
+inline std::string load_error(const std::filesystem::path& path) {
+  try {
+    load_mesh(path, 1);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error loading " << path;
+  return {};
 }
 
 inline Shape mesh_shape(const std::shared_ptr<const TriangleMesh>& mesh) {

@@ -20,16 +20,6 @@ std::shared_ptr<const TriangleMesh> load(const std::filesystem::path& path, doub
   return std::make_shared<const TriangleMesh>(load_obj_mesh(path, scale));
 }
 
-std::string load_error(const std::filesystem::path& path) {
-  try {
-    load_obj_mesh(path, 1);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no error loading " << path;
-  return {};
-}
-
 double signed_volume(const TriangleMesh& m) {
   double v = 0;
   for (const auto& t : m.triangles)
