@@ -194,6 +194,8 @@ LabelMask::LabelMask(const ImageVolume& volume, const VoxelSelection& selection)
       if (!labels.empty()) {
         lowest = std::min(lowest, raw);
         highest = std::max(highest, raw);
+        // Only whole numbers in int64's range can be labels (the cast is then defined).
+        if (!(std::abs(raw) < 9.2e18) || raw != std::floor(raw)) continue;
         const auto it = std::lower_bound(labels.begin(), labels.end(), int64_t(raw));
         if (it != labels.end() && double(*it) == raw) {
           full[n] = 1;
