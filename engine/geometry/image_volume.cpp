@@ -194,6 +194,8 @@ LabelMask::LabelMask(const ImageVolume& volume, const VoxelSelection& selection)
       if (!labels.empty()) {
         lowest = std::min(lowest, raw);
         highest = std::max(highest, raw);
+        // Only whole numbers in int64's range can be labels (the cast is then defined).
+        if (!(std::abs(raw) < 9.2e18) || raw != std::floor(raw)) continue;
         const auto it = std::lower_bound(labels.begin(), labels.end(), int64_t(raw));
         if (it != labels.end() && double(*it) == raw) {
           full[n] = 1;
@@ -272,11 +274,22 @@ double LabelMask::field(const Vec3& world) const {
     if (base[d] < double(lo_[d] - 1) || base[d] > double(lo_[d] + n_[d])) return 0;
   const Vec3 t = c - base;
   const auto i = int64_t(base.x()), j = int64_t(base.y()), k = int64_t(base.z());
+  const int64_t a = i - lo_[0], b = j - lo_[1], e = k - lo_[2];
+  if (a >= 0 && b >= 0 && e >= 0 && a + 1 < n_[0] && b + 1 < n_[1] && e + 1 < n_[2]) {
+    // All eight corners in the kept box (nearly every query): direct loads.
+    const size_t sy = size_t(n_[0]), sz = size_t(n_[0] * n_[1]);
+    const uint8_t* m = &mask_[size_t((e * n_[1] + b) * n_[0] + a)];
+    const auto lerp = [](double u, double v, double w) { return u + (v - u) * w; };
+    const double y0 = lerp(lerp(m[0], m[1], t.x()), lerp(m[sy], m[sy + 1], t.x()), t.y());
+    const double y1 =
+        lerp(lerp(m[sz], m[sz + 1], t.x()), lerp(m[sz + sy], m[sz + sy + 1], t.x()), t.y());
+    return lerp(y0, y1, t.z());
+  }
   double value = 0;
   for (int corner = 0; corner < 8; ++corner) {
-    const int a = corner & 1, b = (corner >> 1) & 1, e = (corner >> 2) & 1;
-    if (!at(i + a, j + b, k + e)) continue;
-    value += (a ? t.x() : 1 - t.x()) * (b ? t.y() : 1 - t.y()) * (e ? t.z() : 1 - t.z());
+    const int da = corner & 1, db = (corner >> 1) & 1, de = (corner >> 2) & 1;
+    if (!at(i + da, j + db, k + de)) continue;
+    value += (da ? t.x() : 1 - t.x()) * (db ? t.y() : 1 - t.y()) * (de ? t.z() : 1 - t.z());
   }
   return value;
 }

@@ -323,7 +323,8 @@ constexpr double kMaxImagePruned = 0.01;
 // A segmentation has speckles and strands thinner than the spacing: an image shape leaves out
 // the phyxels without a usable MLS fit (again, as leaving some out can strand others), as long
 // as they are at most kMaxImagePruned of its phyxels; more is left to check_mls_fit to refuse.
-void prune_unfit(Occupancy& occ, double h) {
+// Returns true when every phyxel left has a usable fit (check_mls_fit would pass).
+bool prune_unfit(Occupancy& occ, double h) {
   const auto stencil = support_stencil(occ.lattice.s, h);
   const size_t budget = size_t(kMaxImagePruned * double(occ.linear.size()));
   size_t pruned = 0;
@@ -333,7 +334,8 @@ void prune_unfit(Occupancy& occ, double h) {
 #pragma omp parallel for schedule(dynamic, 1024)
     for (int64_t n = 0; n < count; ++n) bad[n] = !mls_fit(occ, stencil, size_t(n)).second;
     const size_t found = size_t(std::count(bad.begin(), bad.end(), 1));
-    if (found == 0 || pruned + found > budget) return;
+    if (found == 0) return occ.linear.size() >= size_t(kMinMlsNeighbours + 1);
+    if (pruned + found > budget) return false;
     pruned += found;
     std::vector<size_t> kept;
     kept.reserve(occ.linear.size() - found);
@@ -345,6 +347,7 @@ void prune_unfit(Occupancy& occ, double h) {
     }
     occ.linear = std::move(kept);
   }
+  return false;
 }
 
 // Refuses an object whose MLS fit is unusable: every phyxel needs kMinMlsNeighbours neighbours
@@ -437,8 +440,10 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
                     " lies inside the shape; make the shape larger than the spacing or lower " +
                     path + ".spacing");
   const double h = object.support_radius > 0 ? object.support_radius : 2 * s;
-  if (options.require_usable_fit && object.shape.type == Shape::Type::Image) prune_unfit(occ, h);
-  if (options.require_usable_fit) check_mls_fit(occ, object, h, path, errors);
+  // An image's pruning scans every phyxel's fit; when all are usable the check need not rescan.
+  const bool all_fit =
+      options.require_usable_fit && object.shape.type == Shape::Type::Image && prune_unfit(occ, h);
+  if (options.require_usable_fit && !all_fit) check_mls_fit(occ, object, h, path, errors);
   const size_t first = out.size();
   if (first + occ.linear.size() > UINT32_MAX)
     errors.fail(path + ".spacing",
