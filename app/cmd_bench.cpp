@@ -79,7 +79,12 @@ constexpr const char* kBenchHelp =
     "  --tearing             what tearing costs per step and the step rate while tearing: a\n"
     "                        probe ploughing through boxes with tear_stress (--device D,\n"
     "                        --sizes LIST, --tear-stress T, --steps N, --repeats N, --out DIR;\n"
-    "                        --tearing --help)";
+    "                        --tearing --help)\n"
+    "  --surgery             the surgery scenes refined K times: substeps/s, real-time factor\n"
+    "                        with and without stereo frames at 60/s, host time per part, GPU\n"
+    "                        time per pass, the step against a bare box's (--device D,\n"
+    "                        --scenes LIST, --refine LIST, --steps N, --out DIR; --surgery\n"
+    "                        --help)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -316,6 +321,7 @@ int bench_command(const Args& args) {
   if (has("--haptics")) return bench_haptics(args);
   if (has("--cutting")) return bench_cutting(args);
   if (has("--tearing")) return bench_tearing(args);
+  if (has("--surgery")) return bench_surgery(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")
