@@ -16,6 +16,7 @@ int bench_haptics(const Args& args);         // bench_haptics.cpp
 int bench_cutting(const Args& args);         // bench_cutting.cpp
 int bench_tearing(const Args& args);         // bench_tearing.cpp
 int bench_sampling(const Args& args);        // bench_sampling.cpp
+int bench_surgery(const Args& args);         // bench_surgery.cpp
 
 // A cube of about `phyxels` points: 0.1 m on a side, clamped at z = 0, soft tissue material
 // (cmd_bench.cpp; dt left at 1 for the caller to replace by the stable step).

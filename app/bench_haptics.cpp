@@ -78,10 +78,7 @@ Scene haptic_scene(const std::string& file, double refine) {
   if (scene.tools.empty())
     throw UsageError("phyxel bench --haptics: --scene " + file +
                      ": the scene has no tool to drive through the haptic loop");
-  for (ObjectDesc& o : scene.objects) {
-    o.spacing /= refine;
-    o.support_radius /= refine;
-  }
+  refine_scene(scene, refine);
   scene.tools.resize(1);
   scene.tools[0].control = ToolDesc::Control::Haptic;
   scene.simulation.until_rest.enabled = false;
@@ -374,7 +371,7 @@ int bench_haptics(const Args& args) {
   }
   const std::string device = opts.value("--device", "cpu");
   const std::string scene_file = opts.value("--scene", "scenes/probe_indent.json");
-  const double refine = opts.number("--refine", 1, 1, 16);
+  const double refine = opts.number("--refine", 1, 1, kMaxRefine);
   const double seconds = opts.number("--seconds", 10, 0.01, 3600);
   const auto sizes = parse_phyxel_sizes(
       opts.value("--sizes", device == "cpu" ? "10000,100000" : "10000,100000,1000000"), 8);

@@ -42,7 +42,7 @@ int bench_skips(const Args& args) {
   const std::string device = opts.value("--device", "cpu");  // cpu, gpu, gpu:N or a name
   const std::string json_file = opts.value("--json", "");
   // Finer versions of the scenes: spacing and support radius divided by this (phyxels x K^3).
-  const int64_t refine = opts.integer("--refine", 1, 1, 8);
+  const double refine = opts.number("--refine", 1, 1, kMaxRefine);
   opts.finish();
   std::vector<std::string> scenes;
   std::stringstream ss(scenes_text);
@@ -51,10 +51,7 @@ int bench_skips(const Args& args) {
   nlohmann::json rows = nlohmann::json::array();
   for (const std::string& file : scenes) {
     Scene scene = load_scene(file);
-    for (ObjectDesc& o : scene.objects) {
-      o.spacing /= double(refine);
-      o.support_radius /= double(refine);
-    }
+    refine_scene(scene, refine);
     const PhyxelSet set = sample_scene(scene);
     const double dt = plan_time_step(scene, set).dt_stable;
     size_t fixed = 0;

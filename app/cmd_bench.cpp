@@ -83,7 +83,12 @@ constexpr const char* kBenchHelp =
     "  --sampling            reading and sampling an image shape: a synthetic two-label volume\n"
     "                        (--size N voxels a side, default 256) to about --phyxels P\n"
     "                        (default 1000000), or --scene FILE's loading and sampling\n"
-    "                        (--repeats N, --threads N, --out DIR, --json FILE)";
+    "                        (--repeats N, --threads N, --out DIR, --json FILE)\n"
+    "  --surgery             the surgery scenes refined K times: substeps/s, real-time factor\n"
+    "                        with and without stereo frames at 60/s, host time per part, GPU\n"
+    "                        time per pass, the step against a bare box's (--device D,\n"
+    "                        --scenes LIST, --refine LIST, --steps N, --out DIR; --surgery\n"
+    "                        --help)";
 
 std::vector<int64_t> parse_list(const std::string& text, const std::string& option) {
   std::vector<int64_t> out;
@@ -321,6 +326,7 @@ int bench_command(const Args& args) {
   if (has("--cutting")) return bench_cutting(args);
   if (has("--tearing")) return bench_tearing(args);
   if (has("--sampling")) return bench_sampling(args);
+  if (has("--surgery")) return bench_surgery(args);
   if (std::find(args.begin(), args.end(), "--accuracy") != args.end()) {
     return bench_accuracy(args, [](const std::string& device, int threads) -> SolverFactory {
       if (device == "cpu")

@@ -36,6 +36,9 @@ constexpr const char* kRunHelp =
     "  --validate          with a GPU device: Vulkan validation layers on; the run fails\n"
     "                      (exit 1) if they report an error\n"
     "  --steps N           number of steps (default: the scene's simulation.steps)\n"
+    "  --refine K          every object's spacing and support radius divided by K (a number\n"
+    "                      from 1 to 16; K^3 times the phyxels); tools, paths, materials and\n"
+    "                      times unchanged, the substeps follow the stable step\n"
     "  --out DIR           output folder (default: out)\n"
     "  --threads N         CPU threads (default: all cores)\n"
     "  --precision P       double (default) or float, for the CPU solver; float on the GPU\n"
@@ -129,6 +132,7 @@ int run_command(const Args& args) {
   const std::string render_device = opts.value("--render-device", "gpu");
   const std::string haptic_device = opts.value("--haptic-device", "scripted");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
+  const double refine = opts.number("--refine", 1, 1, kMaxRefine);
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {
     std::fprintf(stderr, "phyxel run: expected one SCENE file (see phyxel run --help)\n");
@@ -176,6 +180,7 @@ int run_command(const Args& args) {
       checkpoint = std::make_unique<Checkpoint>(
           read_checkpoint(std::filesystem::path(resume_dir) / kCheckpointFile));
     Scene scene = load_scene(positional[0]);
+    refine_scene(scene, refine);
     if (!render_mode.empty())
       scene.render.mode = render_mode == "mono"     ? RenderSettings::Mode::Mono
                           : render_mode == "stereo" ? RenderSettings::Mode::Stereo

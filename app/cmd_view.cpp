@@ -35,6 +35,7 @@ constexpr const char* kViewHelp =
     "  --render-device D   Vulkan device of the renderer with --device cpu (default gpu: the "
     "best)\n"
     "  --threads N         CPU solver threads (default: all cores)\n"
+    "  --refine K          every object's spacing and support radius divided by K (1 to 16)\n"
     "  --hand TOOL         the scene's tool named TOOL follows the mouse instead of its path\n"
     "                      (as \"control\": \"haptic\"), e.g. the scalpel of\n"
     "                      scenes/breast_resection.json\n"
@@ -64,6 +65,7 @@ int view_command(const Args& args) {
   options.validation = opts.flag("--validate");
   options.picture_dir = opts.value("--out", ".");
   const std::string hand = opts.value("--hand", "");
+  const double refine = opts.number("--refine", 1, 1, kMaxRefine);
   const std::vector<std::string> positional = opts.finish();
   if (positional.size() != 1) {
     std::fprintf(stderr, "phyxel view: expected one SCENE file (see phyxel view --help)\n");
@@ -81,6 +83,7 @@ int view_command(const Args& args) {
   options.stop_requested = [] { return InterruptGuard::received() != 0; };
   try {
     Scene scene = load_scene(positional[0]);
+    refine_scene(scene, refine);
     if (!hand.empty()) {  // the named tool follows the mouse instead of its path
       std::string names;
       ToolDesc* chosen = nullptr;

@@ -1,9 +1,19 @@
 #include "app/options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace phyxel::app {
+namespace {
+
+std::string short_number(double v) {  // %g: "1", "0.5", "1e+03"
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+}  // namespace
 
 OptionParser::OptionParser(std::string command, const Args& args) : command_(std::move(command)) {
   for (const std::string& a : args) {
@@ -58,7 +68,7 @@ double OptionParser::number(const std::string& name, double fallback, double min
   const double v = std::strtod(text.c_str(), &end);
   if (*end != '\0' || !std::isfinite(v) || v < min || v > max)
     throw UsageError("phyxel " + command_ + ": " + name + " " + text + ": expected a number from " +
-                     std::to_string(min) + " to " + std::to_string(max));
+                     short_number(min) + " to " + short_number(max));
   return v;
 }
 

@@ -49,6 +49,7 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
       static_cast<double>(result.plan.substeps);
   json j = {
       {"scene", scene.file.string()},
+      {"refine", scene.refine},
       {"device", solver.device()},
       {"phyxels", set.size()},
       {"objects", objects},

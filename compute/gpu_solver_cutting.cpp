@@ -59,10 +59,16 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       if (row == motion_steps_) m.from = m.to;
       const phyxel::CutQuad quad =
           swept_quad(blade, m.from, m.to, blade.reach > 0 ? blade.reach : contact_spacing_);
-      q.p0 = to_vec4(quad.corner[0] - origin);
+      // The w components carry the blade body's strip (CpuSolver's body_strip): its radius,
+      // and how far back along the edge the blade's end and tip are from p2 and p3.
+      const ToolShape& body = tools_[t].shape;
+      const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
+      const Vec3 end = m.to.position + blade.length * m.to.axis;
+      q.p0 = to_vec4(quad.corner[0] - origin, float(radius));
       q.p1 = to_vec4(quad.corner[1] - origin);
-      q.p2 = to_vec4(quad.corner[2] - origin);
-      q.p3 = to_vec4(quad.corner[3] - origin);
+      q.p2 = to_vec4(quad.corner[2] - origin, float((end - quad.corner[2]).dot(quad.edge)));
+      q.p3 =
+          to_vec4(quad.corner[3] - origin, float((m.to.position - quad.corner[3]).dot(quad.edge)));
       q.edge = to_vec4(quad.edge, float(blade.threshold));
     }
   }

@@ -49,6 +49,23 @@ bool crosses_quad(vec3 p, vec3 q, CutQuad c, out float t) {
          crosses_triangle(p, q, c.p0.xyz, c.p2.xyz, c.p3.xyz, t);
 }
 
+// The blade body's strip (CpuSolver's body_strip): the blade's plane within the body's radius
+// (p0.w) of the blade at the end pose, whose tip and end lie p3.w and p2.w along the edge from
+// p3 and p2. A pair crossing it passes through the body.
+bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
+  t = 0.0;
+  const float radius = c.p0.w;
+  if (radius <= 0.0) return false;
+  const vec3 e = c.edge.xyz;
+  const vec3 tip = c.p3.xyz + c.p3.w * e, end = c.p2.xyz + c.p2.w * e;
+  return crosses_triangle(p, q, tip - radius * e, end - radius * e, end + radius * e, t) ||
+         crosses_triangle(p, q, tip - radius * e, end + radius * e, tip + radius * e, t);
+}
+
+bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
+  return crosses_quad(p, q, c, t) || crosses_body(p, q, c, t);
+}
+
 #include "pair_edit.glsl"
 
 void main() {
@@ -69,7 +86,7 @@ void main() {
       const uint j = nbr_index(k);
       const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
       float t;
-      const bool crosses = i < j ? crosses_quad(xi, xj, quad, t) : crosses_quad(xj, xi, quad, t);
+      const bool crosses = i < j ? crosses_blade(xi, xj, quad, t) : crosses_blade(xj, xi, quad, t);
       if (!crosses) continue;
       const uint lo = min(i, j), hi = max(i, j);
       const uint lo_slot = i < j ? k : find_slot(j, i);

@@ -201,6 +201,7 @@ struct Scene {
   CameraSettings camera;
   RenderSettings render;
   std::vector<ToolDesc> tools;  // `tools`: instruments (engine/surgery/tool.h)
+  double refine = 1;            // K of refine_scene (1: as the file says)
 
   // Whether anything can tear, so that the solvers compute the largest principal stress of
   // every phyxel each step (and the outputs carry it): for now a material of an object or an
@@ -219,6 +220,15 @@ struct Scene {
 Scene load_scene(const std::filesystem::path& file);
 // Same, from JSON text; `file` is used for messages and to resolve relative paths.
 Scene parse_scene(const std::string& json_text, const std::filesystem::path& file);
+
+// The largest --refine K the commands accept: K^3 times the phyxels.
+inline constexpr double kMaxRefine = 16;
+
+// `--refine K`: every object's spacing and support radius divided by K (a real number, 1 ...
+// kMaxRefine), so the same tissue has K^3 times the phyxels; tools, paths, materials, times and
+// the backdrop stay as they are. Records K in scene.refine (refinements multiply). Throws
+// std::invalid_argument for a K outside that range.
+void refine_scene(Scene& scene, double factor);
 
 // Lame parameters of a material.
 inline double lame_lambda(const Material& m) {

@@ -3,12 +3,31 @@
 // rows of the broad phase's candidates against the quad it swept in the step; a crossing pair
 // gets weight 0 on both sides, and the precompute reruns for the phyxels whose rows changed.
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 
 #include "engine/solver/cpu_solver.h"
 
 namespace phyxel {
+namespace {
+
+// The blade body's strip (docs/cutting.md, "The blade's body"): the part of the blade's plane
+// at the substep's end pose within the body's radius of the blade. A pair whose segment crosses
+// it passes through the body, which separates it whatever the blade's reach ahead (the GPU twin
+// builds the same strip in tool_sever.comp).
+std::array<Vec3, 4> body_strip(const Blade& blade, const ToolPose& to, const Vec3& edge,
+                               double radius) {
+  const Vec3 tip = to.position, end = to.position + blade.length * to.axis;
+  return {tip - radius * edge, end - radius * edge, end + radius * edge, tip + radius * edge};
+}
+
+// The radius of a scalpel's body (its capsule; 0 for another shape).
+double blade_body_radius(const ContactTool& tool) {
+  return tool.shape.type == ToolShape::Type::Capsule ? tool.shape.radius : 0.0;
+}
+
+}  // namespace
 
 template <class Real>
 bool CpuSolver<Real>::sever(uint32_t i, uint32_t k, float t) {
@@ -35,6 +54,12 @@ void CpuSolver<Real>::apply_cuts() {
     const Vec3 felt = samples_[samples_.size() - nt + tool].force;
     if (cut_force(felt, quad) < blade.threshold) continue;
     const std::array<Vec3, 4>& c = quad.corner;
+    const double body = blade_body_radius(tools_[tool]);
+    const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
+    auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
+      return segment_crosses_quad<double>(p, q, c, t) ||
+             (body > 0 && segment_crosses_quad<double>(p, q, strip, t));
+    };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
       for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
@@ -43,8 +68,7 @@ void CpuSolver<Real>::apply_cuts() {
         const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
         // The canonical order (lower index first): both sides of a pair decide alike.
         double t = 0;
-        const bool crosses = i < j ? segment_crosses_quad<double>(xi, xj, c, &t)
-                                   : segment_crosses_quad<double>(xj, xi, c, &t);
+        const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
         if (!crosses) continue;
         sever(i, k, float(i < j ? t : 1 - t));
         touched.push_back(i);
