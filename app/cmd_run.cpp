@@ -317,51 +317,8 @@ int run_command(const Args& args) {
       std::fprintf(stderr, "phyxel run: Vulkan validation: %s\n", validation->summary().c_str());
       if (validation->error_count() > 0) return 1;
     }
-    if (result.non_finite && result.non_finite_tool >= 0) {
-      std::fprintf(stderr,
-                   "phyxel run: %s: the simulation became non-finite by step %lld (phyxel %ld) "
-                   "while tool '%s' pressed on the tissue (up to %u phyxels in contact); "
-                   "stopped. A tool that deforms tissue past what this time step holds (tissue "
-                   "that cannot tear, stretched around a tool ploughing through it, or a tool too "
-                   "fast) does this: slow the tool, give the material a tear_stress so that it "
-                   "tears (docs/tearing.md), or lower simulation.courant\n",
-                   scene.file.c_str(), static_cast<long long>(result.non_finite_step),
-                   result.non_finite_phyxel, scene.tools[result.non_finite_tool].name.c_str(),
-                   result.non_finite_tool_contacts);
-      return 3;
-    }
-    if (result.non_finite) {
-      std::fprintf(stderr,
-                   "phyxel run: %s: the simulation became non-finite by step %lld (phyxel %ld); "
-                   "stopped. Lower simulation.dt or simulation.courant, or check the material\n",
-                   scene.file.c_str(), static_cast<long long>(result.non_finite_step),
-                   result.non_finite_phyxel);
-      return 3;
-    }
-    if (result.unstable && result.unstable_tool >= 0) {
-      std::fprintf(stderr,
-                   "phyxel run: %s: the simulation is unstable: at step %lld phyxel %ld, %.1f mm "
-                   "from tool '%s', moves at %.3g m/s, faster than sound in its material (%.3g "
-                   "m/s); stopped before it turned non-finite. The tool deforms the tissue there "
-                   "past what this time step holds (tissue that cannot tear, stretched around a "
-                   "tool ploughing through it, or a tool too fast): slow the tool, give the "
-                   "material a tear_stress so that it tears (docs/tearing.md), or lower "
-                   "simulation.courant\n",
-                   scene.file.c_str(), static_cast<long long>(result.unstable_step),
-                   result.unstable_phyxel, 1e3 * std::max(result.unstable_tool_distance, 0.0),
-                   scene.tools[result.unstable_tool].name.c_str(), result.unstable_speed,
-                   result.unstable_wave_speed);
-      return 3;
-    }
-    if (result.unstable) {
-      std::fprintf(stderr,
-                   "phyxel run: %s: the simulation is unstable: at step %lld phyxel %ld moves at "
-                   "%.3g m/s, faster than sound in its material (%.3g m/s), which no elastic "
-                   "tissue does; stopped before it turned non-finite. The time step is too large "
-                   "for the material or a load is far too strong: lower simulation.courant or "
-                   "simulation.dt, or the load\n",
-                   scene.file.c_str(), static_cast<long long>(result.unstable_step),
-                   result.unstable_phyxel, result.unstable_speed, result.unstable_wave_speed);
+    if (const std::string stop = describe_stop(scene, result); !stop.empty()) {
+      std::fprintf(stderr, "phyxel run: %s\n", stop.c_str());
       return 3;
     }
     if (signal != 0) {

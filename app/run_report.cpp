@@ -5,6 +5,7 @@
 #include "engine/run/atomic_file.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -19,9 +20,9 @@ nlohmann::json wall_split_json(const RunResult::WallSplit& split) {
           {"outputs", split.outputs}};
 }
 
-void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
-                       Solver& solver, const RunOptions& options, const RunResult& result,
-                       const HapticSession* haptics, const char* interrupted_by) {
+nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                           const RunOptions& options, const RunResult& result,
+                           const HapticSession* haptics, const char* interrupted_by) {
   using nlohmann::json;
   json objects = json::array();
   const NeighbourLists& nbr = solver.neighbours();
@@ -184,7 +185,61 @@ void write_run_summary(const std::filesystem::path& file, const Scene& scene, co
     j["potential_energy"] = result.energies.potential;
     j["max_displacement"] = result.max_displacement;
   }
-  write_file_atomically(file, j.dump(2) + "\n");
+  return j;
+}
+
+void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
+                       Solver& solver, const RunOptions& options, const RunResult& result,
+                       const HapticSession* haptics, const char* interrupted_by) {
+  write_file_atomically(
+      file,
+      run_summary(scene, set, solver, options, result, haptics, interrupted_by).dump(2) + "\n");
+}
+
+std::string describe_stop(const Scene& scene, const RunResult& result) {
+  char text[8192];
+  const char* file = scene.file.c_str();
+  if (result.non_finite && result.non_finite_tool >= 0) {
+    std::snprintf(text, sizeof text,
+                  "%s: the simulation became non-finite by step %lld (phyxel %ld) while tool '%s' "
+                  "pressed on the tissue (up to %u phyxels in contact); stopped. A tool that "
+                  "deforms tissue past what this time step holds (tissue that cannot tear, "
+                  "stretched around a tool ploughing through it, or a tool too fast) does this: "
+                  "slow the tool, give the material a tear_stress so that it tears "
+                  "(docs/tearing.md), or lower simulation.courant",
+                  file, static_cast<long long>(result.non_finite_step), result.non_finite_phyxel,
+                  scene.tools[result.non_finite_tool].name.c_str(),
+                  result.non_finite_tool_contacts);
+  } else if (result.non_finite) {
+    std::snprintf(text, sizeof text,
+                  "%s: the simulation became non-finite by step %lld (phyxel %ld); stopped. Lower "
+                  "simulation.dt or simulation.courant, or check the material",
+                  file, static_cast<long long>(result.non_finite_step), result.non_finite_phyxel);
+  } else if (result.unstable && result.unstable_tool >= 0) {
+    std::snprintf(text, sizeof text,
+                  "%s: the simulation is unstable: at step %lld phyxel %ld, %.1f mm from tool "
+                  "'%s', moves at %.3g m/s, faster than sound in its material (%.3g m/s); stopped "
+                  "before it turned non-finite. The tool deforms the tissue there past what this "
+                  "time step holds (tissue that cannot tear, stretched around a tool ploughing "
+                  "through it, or a tool too fast): slow the tool, give the material a "
+                  "tear_stress so that it tears (docs/tearing.md), or lower simulation.courant",
+                  file, static_cast<long long>(result.unstable_step), result.unstable_phyxel,
+                  1e3 * std::max(result.unstable_tool_distance, 0.0),
+                  scene.tools[result.unstable_tool].name.c_str(), result.unstable_speed,
+                  result.unstable_wave_speed);
+  } else if (result.unstable) {
+    std::snprintf(text, sizeof text,
+                  "%s: the simulation is unstable: at step %lld phyxel %ld moves at %.3g m/s, "
+                  "faster than sound in its material (%.3g m/s), which no elastic tissue does; "
+                  "stopped before it turned non-finite. The time step is too large for the "
+                  "material or a load is far too strong: lower simulation.courant or "
+                  "simulation.dt, or the load",
+                  file, static_cast<long long>(result.unstable_step), result.unstable_phyxel,
+                  result.unstable_speed, result.unstable_wave_speed);
+  } else {
+    return "";
+  }
+  return text;
 }
 
 }  // namespace phyxel::app

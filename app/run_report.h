@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "engine/run/simulation.h"
 #include "engine/surgery/haptic_session.h"
@@ -13,9 +14,19 @@ namespace phyxel::app {
 // {"advance", "checks", "callbacks", "pacing", "outputs"}: seconds (RunResult::WallSplit).
 nlohmann::json wall_split_json(const RunResult::WallSplit& split);
 
+// The summary as JSON (what write_run_summary writes).
+nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                           const RunOptions& options, const RunResult& result,
+                           const HapticSession* haptics = nullptr,
+                           const char* interrupted_by = nullptr);
+
 void write_run_summary(const std::filesystem::path& file, const Scene& scene, const PhyxelSet& set,
                        Solver& solver, const RunOptions& options, const RunResult& result,
                        const HapticSession* haptics = nullptr,
                        const char* interrupted_by = nullptr);  // "SIGINT" when a signal stopped it
+
+// Why the state failed, one line naming the scene file and what to change (non-finite or
+// runaway, beside a tool or not); "" when it did not.
+std::string describe_stop(const Scene& scene, const RunResult& result);
 
 }  // namespace phyxel::app

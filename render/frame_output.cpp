@@ -126,6 +126,14 @@ RgbaImage FrameWriter::render(const RenderInputs& inputs) {
   return renderer_->render(inputs, setup_);
 }
 
+RgbaImage FrameWriter::render(const std::vector<Vec3>& displacement,
+                              const NeighbourLists& neighbours) {
+  queue_->drain();
+  if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, neighbours);
+  host_->set_displacement(displacement);
+  return render(host_->inputs());
+}
+
 void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
   queue_->drain();
   tools.insert(tools.end(), instruments_.begin(), instruments_.end());

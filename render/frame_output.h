@@ -68,6 +68,8 @@ class FrameWriter {
                     const NeighbourLists& neighbours);
   // Renders without writing (for the viewer and tests).
   RgbaImage render(const RenderInputs& inputs);
+  // The same for a state on the host (the Python module's frames), as write() uploads it.
+  RgbaImage render(const std::vector<Vec3>& displacement, const NeighbourLists& neighbours);
   // The scene's video texture (render.video_texture) at simulated time t from the next frame
   // on: the frame of t exactly (`exact`, waiting for the decoding thread; write() does this
   // with step x simulation.dt), or the newest one ready (the viewer). Returns whether the

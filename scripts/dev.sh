@@ -3,8 +3,10 @@
 #   scripts/dev.sh demo   install what is missing, build (Release), run the demo scene headless
 #                         and render it (a probe presses into a brain) to out/demo.mp4 and
 #                         out/demo.png (its last frame)
-#   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite,
-#                         then the sanitizer job (below)
+#   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite
+#                         (ctest: the GoogleTest areas and python_pytest, pytest over
+#                         python/tests, whose exit status fails ctest like any test's), then
+#                         the sanitizer job (below)
 # A CMAKE_CXX_COMPILER_LAUNCHER in the environment (ccache) is used; nothing needs it.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -24,6 +24,8 @@ packages=(
   libgtest-dev                         # tests
   calculix-ccx                         # FEM reference solutions for validation
   gnuplot-nox                          # run-time-vs-error plot of phyxel bench --accuracy
+  python3-dev pybind11-dev             # the phyxel Python module (python/, docs/python.md)
+  python3-numpy python3-pytest         # its arrays and its tests
 )
 
 missing=()

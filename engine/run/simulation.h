@@ -1,10 +1,12 @@
-// The run loop shared by every solver: time-step plan (stable step, substeps), stepping,
-// rest detection, non-finite detection and output scheduling.
+// The run shared by every solver: time-step plan (stable step, substeps), its options and
+// result, and run_simulation, which drives the run loop (run_loop.h: stepping, rest and
+// non-finite detection, output scheduling) to the end.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,6 +66,10 @@ struct RunOptions {
   // Continue from this checkpoint (read by read_checkpoint; run_simulation verifies that it
   // belongs to the scene, set and solver and throws CheckpointError otherwise).
   const Checkpoint* resume = nullptr;
+  std::filesystem::path resume_file;  // names it in errors (empty: out_dir/checkpoint.phx)
+  // The scene's identity in checkpoints; unset: file_hash(scene.file) (a scene from text: the
+  // hash of its text).
+  std::optional<uint64_t> scene_hash;
   // Called before each checkpoint is written: outputs the caller buffers (tools.csv) must hold
   // every step up to it.
   std::function<void()> before_checkpoint;
@@ -117,6 +123,7 @@ struct RunResult {
   AspirationTotals aspiration;
 };
 
+// RunLoop's steps to the end, then its finish().
 RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
                          const RunOptions& options);
 

@@ -2,6 +2,7 @@
 
 #include "engine/surgery/cutting.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -16,6 +17,7 @@ ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source)
     stats_.back().cuts = t.blade.cuts();
     stats_.back().grasps = t.grasp.grasps();
   }
+  commands_.resize(tools_.size());
   if (live() && !source_)
     throw std::invalid_argument("ToolTrack: a haptic tool needs a pose source");
 }
@@ -31,7 +33,11 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
   motions_.assign(static_cast<size_t>(count) * nt, {});
   for (size_t t = 0; t < nt; ++t) {
     const ToolDesc& tool = tools_[t];
-    const bool live_tool = tool.control == ToolDesc::Control::Haptic;
+    const bool live_tool = tool.control == ToolDesc::Control::Haptic && !commands_[t].active;
+    if (commands_[t].active && commands_[t].begin < 0) {
+      commands_[t].begin = first;
+      commands_[t].from = last_[t];
+    }
     const ToolPose start = last_[t];
     ToolPose target = live_tool ? source_(t, double(first + count) * dt) : ToolPose{};
     if (live_tool) {
@@ -45,7 +51,9 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
     ToolPose from = start;
     for (int64_t k = 0; k < count; ++k) {
       ToolPose to;
-      if (live_tool) {
+      if (commands_[t].active) {
+        to = commanded_pose(t, first + k + 1);
+      } else if (live_tool) {
         const double s = double(k + 1) / double(count);
         to.position = start.position + s * (target.position - start.position);
         to.axis = slerp_axis(start.axis, target.axis, s);
@@ -71,7 +79,9 @@ Bounds ToolTrack::swept_bounds(double from, double to) const {
   for (size_t t = 0; t < tools_.size(); ++t) {
     const ToolDesc& tool = tools_[t];
     Bounds swept = tool_bounds(tool.shape, last_[t]);
-    if (tool.control == ToolDesc::Control::Haptic) {
+    if (commands_[t].active) {
+      swept.extend(tool_bounds(tool.shape, commands_[t].to));
+    } else if (tool.control == ToolDesc::Control::Haptic) {
       swept.extend(tool_bounds(tool.shape, source_(t, to)));
     } else {
       swept.extend(tool_bounds(tool.shape, pose_at(tool.path, to)));
@@ -150,6 +160,24 @@ void ToolTrack::restore(const std::vector<ToolPose>& poses,
     stats_[t].cuts = tools_[t].blade.cuts();
     stats_[t].grasps = tools_[t].grasp.grasps();
   }
+}
+
+void ToolTrack::command(size_t tool, const ToolPose& pose, int64_t substeps) {
+  if (tool >= tools_.size()) throw std::out_of_range("ToolTrack::command: no such tool");
+  Command& c = commands_[tool];
+  c.active = true;
+  c.to = pose;
+  c.to.axis.normalize();
+  c.begin = -1;
+  c.substeps = std::max<int64_t>(1, substeps);
+}
+
+ToolPose ToolTrack::commanded_pose(size_t tool, int64_t substep) const {
+  const Command& c = commands_[tool];
+  const double s = double(substep - c.begin) / double(c.substeps);
+  if (s >= 1.0) return c.to;
+  return {c.from.position + s * (c.to.position - c.from.position),
+          slerp_axis(c.from.axis, c.to.axis, s)};
 }
 
 }  // namespace phyxel

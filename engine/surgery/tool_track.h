@@ -90,13 +90,26 @@ class ToolTrack {
   // Continues a checkpointed run: the poses the tools ended its last chunk at and its
   // statistics (one each per tool; throws std::invalid_argument otherwise).
   void restore(const std::vector<ToolPose>& poses, const std::vector<ToolRunStats>& stats);
+  // From the next advance on, `tool` leaves its path (or pose source): it moves from the pose
+  // it ended the last chunk at to `pose` over `substeps` substeps, linearly (the axis by
+  // slerp), then stays there (the Python module's set_tool_pose).
+  void command(size_t tool, const ToolPose& pose, int64_t substeps);
 
  private:
+  struct Command {
+    bool active = false;
+    ToolPose from, to;
+    int64_t begin = -1;  // the substep the move starts at (-1: the next advance's first)
+    int64_t substeps = 1;
+  };
+  ToolPose commanded_pose(size_t tool, int64_t substep) const;
+
   std::vector<ToolDesc> tools_;
   PoseSource source_;
   std::vector<ToolPose> last_;       // end pose of the last chunk
   std::vector<ToolMotion> motions_;  // of the last chunk
   std::vector<ToolRunStats> stats_;
+  std::vector<Command> commands_;  // per tool
 };
 
 }  // namespace phyxel
