@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "engine/run/long_step.h"
 #include "engine/run/run_schedule.h"
 #include "engine/run/vtp_writer.h"
 
@@ -218,6 +219,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
   // Advances without tools split exactly, so they can be cut short to see a stop promptly.
   const bool polled = options.stop_requested && tools.empty();
   int64_t poll_steps = 1;  // steps per advance while polled, from the measured rate
+  // Steps of many substeps are polled between substeps too (engine/run/long_step.h).
+  const bool long_steps = polled && !tearing && result.plan.substeps >= kLongStepSubsteps;
 
   int64_t step = 0;
   size_t next_event = 0;
@@ -336,8 +339,14 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
       mark = now;
     };
     const auto advance_start = mark;
-    const std::vector<ToolStepRecord> records = advance_with_tools(
-        solver, tools, step, next - step, result.plan.substeps, result.plan.dt_used);
+    std::vector<ToolStepRecord> records;
+    if (long_steps)  // a stop mid-step ends the run at the last whole step
+      next =
+          step + advance_long_steps(solver, next - step, result.plan.substeps, result.plan.dt_used,
+                                    options.stop_requested, options.stop_poll_seconds);
+    else
+      records = advance_with_tools(solver, tools, step, next - step, result.plan.substeps,
+                                   result.plan.dt_used);
     for (size_t r = 0; r < records.size(); ++r) {
       uint32_t& most = contacts_since_check[r % tools.size()];
       most = std::max(most, records[r].contacts);
