@@ -4,7 +4,7 @@
 #                         and render it (a probe presses into a brain) to out/demo.mp4 and
 #                         out/demo.png (its last frame)
 #   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite,
-#                         then the sanitizer job (below)
+#                         then the sanitizer job and a minute of fuzzing per reader (below)
 # A CMAKE_CXX_COMPILER_LAUNCHER in the environment (ccache) is used; nothing needs it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -61,4 +61,8 @@ else
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -L "$label" \
     -E "$san_slow"
+
+  # Fuzzing: the scene, OBJ and checkpoint readers and the haptic protocol's decoder, a minute
+  # each under ASan + UBSan (build-fuzz, clang); a new finding fails the run (scripts/fuzz.sh).
+  PHYXEL_FUZZ_FAIL=1 scripts/fuzz.sh 60
 fi

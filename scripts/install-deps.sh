@@ -19,6 +19,7 @@ packages=(
   libglfw3-dev                         # windowed viewer
   xvfb xauth xdotool                   # viewer test: virtual X server, key presses (docs/decisions.md)
   libgtest-dev                         # tests
+  clang libclang-rt-14-dev             # libFuzzer: readers fuzzed a minute each in CI
   calculix-ccx                         # FEM reference solutions for validation
   gnuplot-nox                          # run-time-vs-error plot of phyxel bench --accuracy
 )
