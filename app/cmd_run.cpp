@@ -1,4 +1,5 @@
 // phyxel run SCENE: simulate a scene file, write summary.json and .vtp point files.
+#include <arpa/inet.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -13,8 +14,10 @@
 #include "app/commands.h"
 #include "app/interrupt.h"
 #include "app/options.h"
+#include "app/run_folder.h"
 #include "app/run_report.h"
 #include "compute/gpu_solver.h"
+#include "engine/run/checkpoint_values.h"
 #include "engine/run/simulation.h"
 #include "engine/run/tool_trace.h"
 #include "engine/surgery/haptic_session.h"
@@ -60,7 +63,9 @@ constexpr const char* kRunHelp =
     "  --haptic-device D   the device of tools with \"control\": \"haptic\": scripted (their\n"
     "                      path, replayed on the wall clock; default), udp:PORT or\n"
     "                      udp:ADDRESS:PORT (an external device driver, docs/haptics.md); such\n"
-    "                      runs are paced to the wall clock and a 1 kHz haptic loop runs\n"
+    "                      runs are paced to the wall clock and a 1 kHz haptic loop runs;\n"
+    "                      the first sender is pinned for the run, others' poses are dropped\n"
+    "  --haptic-peer A     with udp: accept poses from IPv4 address A (default: loopback only)\n"
     "  --checkpoint-every N  write DIR/checkpoint.phx (atomically) every N steps and at the\n"
     "                      end, from which --resume continues\n"
     "  --resume DIR        continue the run checkpointed in DIR/checkpoint.phx (same scene,\n"
@@ -106,6 +111,38 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+// A bad --haptic-device or --haptic-peer is bad usage (exit 2) whether or not the scene has a
+// haptic tool.
+void check_haptic_device_options(const std::string& spec, const std::string& peer) {
+  HapticDeviceSpec parsed;
+  try {
+    parsed = parse_haptic_device_spec(spec);
+  } catch (const HapticError& e) {
+    throw UsageError(std::string("phyxel run: ") + e.what());
+  }
+  in_addr addr{};
+  if (!peer.empty() && (!parsed.udp || inet_pton(AF_INET, peer.c_str(), &addr) != 1))
+    throw UsageError("phyxel run: --haptic-peer " + peer +
+                     ": allowed the IPv4 address (a dotted quad) of the one machine whose "
+                     "driver may send poses to --haptic-device udp:ADDRESS:PORT");
+}
+
+// Poses the UDP haptic devices dropped: other senders while one was pinned, senders not allowed.
+void warn_dropped_senders(const HapticSession& haptics) {
+  for (const HapticSession::ToolLoop& l : haptics.loops()) {
+    const auto* udp = dynamic_cast<const UdpDevice*>(&l.loop->device());
+    if (udp == nullptr) continue;
+    const UdpDeviceStats u = udp->stats();
+    if (u.foreign > 0 || u.refused > 0)
+      std::fprintf(stderr,
+                   "phyxel run: tool '%s' (%s): dropped %llu poses of other senders while the "
+                   "first was pinned and %llu datagrams of senders not allowed (loopback only "
+                   "unless --haptic-peer ADDRESS)\n",
+                   l.name.c_str(), udp->name().c_str(), (unsigned long long)u.foreign,
+                   (unsigned long long)u.refused);
+  }
+}
+
 }  // namespace
 
 int run_command(const Args& args) {
@@ -131,9 +168,11 @@ int run_command(const Args& args) {
   const std::string video = opts.value("--video", "");
   const std::string render_device = opts.value("--render-device", "gpu");
   const std::string haptic_device = opts.value("--haptic-device", "scripted");
+  const std::string haptic_peer = opts.value("--haptic-peer", "");
   const int64_t steps_override = opts.integer("--steps", -1, 0, int64_t(1) << 40);
   const double refine = opts.number("--refine", 1, 1, kMaxRefine);
   const std::vector<std::string> positional = opts.finish();
+  check_haptic_device_options(haptic_device, haptic_peer);
   if (positional.size() != 1) {
     std::fprintf(stderr, "phyxel run: expected one SCENE file (see phyxel run --help)\n");
     return 1;
@@ -203,6 +242,13 @@ int run_command(const Args& args) {
                    ec.message().c_str());
       return 1;
     }
+    // One run at a time in a folder; released (the lock file removed) when the command returns.
+    const OutDirLock lock(out_dir);
+    if (lock.stale_pid() > 0)
+      std::fprintf(stderr,
+                   "phyxel run: %s: took over the lock of process %ld, which ended without "
+                   "releasing it\n",
+                   (out_dir / kLockFile).c_str(), lock.stale_pid());
     std::unique_ptr<Solver> solver;
     std::shared_ptr<const gpu::ValidationLog> validation;
     if (gpu) {
@@ -214,9 +260,11 @@ int run_command(const Args& args) {
     } else {
       solver = make_cpu_solver(set, scene.simulation.gravity, threads, precision == "float");
     }
-    if (checkpoint)  // before anything in the folder changes
-      check_checkpoint_matches(*checkpoint, std::filesystem::path(resume_dir) / kCheckpointFile,
-                               file_hash(scene.file), set, solver->device());
+    if (checkpoint) {  // before anything in the folder changes
+      const std::filesystem::path file = std::filesystem::path(resume_dir) / kCheckpointFile;
+      check_checkpoint_matches(*checkpoint, file, file_hash(scene.file), set, solver->device());
+      check_checkpoint_values(*checkpoint, file, scene, set);
+    }
     RunOptions options;
     options.steps = steps_override >= 0 ? steps_override : scene.simulation.steps;
     options.out_dir = out_dir;
@@ -230,6 +278,9 @@ int run_command(const Args& args) {
       std::fputs(explain_passes(scene, set, *solver, options).c_str(), stdout);
       return 0;
     }
+    // Said before the run, which may take long: how each step is split.
+    if (const TimeStepPlan plan = plan_time_step(scene, set); !plan.reason.empty())
+      std::fprintf(stderr, "phyxel run: %s\n", plan.reason.c_str());
     options.stop_requested = [] { return InterruptGuard::received() != 0; };
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) {
@@ -241,19 +292,12 @@ int run_command(const Args& args) {
     // end of the last step, for the frames.
     std::vector<render::ToolDrawable> tool_poses = render::tool_drawables(scene.tools, 0.0);
     std::unique_ptr<ToolTraceWriter> trace;
-    HapticSession haptics(scene, haptic_device);
-    if (!scene.tools.empty()) {
-      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools,
-                                                checkpoint ? checkpoint->step : -1,
-                                                options.checkpoint_every > 0);
-      options.before_checkpoint = [&trace] { trace->flush(); };
-      options.on_tool_step = [&](int64_t step, double t,
-                                 const std::vector<ToolStepRecord>& records) {
-        if (!haptics.empty()) haptics.publish(t, records);
-        trace->write(step, t, records);
-        for (size_t k = 0; k < records.size(); ++k) tool_poses[k].pose = records[k].pose;
-      };
-    }
+    HapticSession haptics(scene, haptic_device, haptic_peer);
+    if (haptics.empty() && haptic_device != "scripted")
+      std::fprintf(stderr,
+                   "phyxel run: --haptic-device %s: %s has no tool with \"control\": "
+                   "\"haptic\"; the device is not used\n",
+                   haptic_device.c_str(), scene.file.c_str());
     if (!haptics.empty()) {
       options.tool_pose = haptics.pose_source();
       options.real_time = true;
@@ -261,6 +305,7 @@ int run_command(const Args& args) {
     // Frames: from the GPU solver's buffers on its context, or from the CPU solver's state;
     // at step 0, then scheduled by the run loop every render.every steps and at the end.
     std::unique_ptr<render::FrameWriter> frames;
+    std::function<void()> write_first_frame;  // step 0's frame, once the run is set up
     if (scene.render.mode != RenderSettings::Mode::None) {
       auto* gpu_solver = dynamic_cast<gpu::GpuSolver*>(solver.get());
       render::FrameWriterOptions frame_options;
@@ -276,7 +321,9 @@ int run_command(const Args& args) {
                                                      gpu_solver ? &gpu_solver->context() : nullptr);
       std::function<render::RenderInputs()> buffers;
       if (gpu_solver) buffers = [gpu_solver] { return gpu_solver->buffers(); };
-      if (!checkpoint) render::write_solver_frame(*frames, *solver, 0, tool_poses, buffers);
+      write_first_frame = [&frames, &solver, &tool_poses, buffers] {
+        render::write_solver_frame(*frames, *solver, 0, tool_poses, buffers);
+      };
       options.frame_every = scene.render.every;
       options.on_frame = [&frames, &tool_poses, buffers](int64_t step, Solver& s) {
         render::write_solver_frame(*frames, s, step, tool_poses, buffers);
@@ -284,11 +331,33 @@ int run_command(const Args& args) {
       // Aspirated tissue leaves the frames; the crater's wall is drawn as fracture surface.
       options.on_aspiration = [&frames](const AspirationEvent& e) { frames->apply_aspiration(e); };
     }
+    // Everything that can refuse the run has been set up: from here on the folder changes.
+    const std::vector<std::string> stale = remove_stale_temp_files(out_dir);
+    if (!stale.empty())
+      std::fprintf(stderr,
+                   "phyxel run: removed %zu temporary file%s of an earlier run that was killed "
+                   "(%s%s)\n",
+                   stale.size(), stale.size() == 1 ? "" : "s", stale.front().c_str(),
+                   stale.size() > 1 ? ", ..." : "");
+    if (!scene.tools.empty()) {
+      trace = std::make_unique<ToolTraceWriter>(out_dir / "tools.csv", scene.tools,
+                                                checkpoint ? checkpoint->step : -1,
+                                                options.checkpoint_every > 0);
+      options.before_checkpoint = [&trace] { trace->flush(); };
+      options.on_tool_step = [&](int64_t step, double t,
+                                 const std::vector<ToolStepRecord>& records) {
+        if (!haptics.empty()) haptics.publish(t, records);
+        trace->write(step, t, records);
+        for (size_t k = 0; k < records.size(); ++k) tool_poses[k].pose = records[k].pose;
+      };
+    }
+    if (frames && !checkpoint) write_first_frame();
     haptics.start();
     step_reached = 0;
     steps_total = options.steps;
     RunResult result = run_simulation(scene, set, *solver, options);
     haptics.stop();
+    warn_dropped_senders(haptics);
     if (trace) {
       trace->close();
       result.outputs.push_back("tools.csv");
@@ -309,8 +378,6 @@ int run_command(const Args& args) {
                    "by up to %.3f s); haptic forces lagged accordingly. Use a coarser scene or "
                    "--device gpu\n",
                    result.real_time_factor, result.max_lag);
-    if (!result.plan.reason.empty())
-      std::fprintf(stderr, "phyxel run: %s\n", result.plan.reason.c_str());
     const std::string device_name = solver->device();
     solver.reset();  // the validation layer also checks the teardown
     if (validation != nullptr) {

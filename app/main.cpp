@@ -1,4 +1,5 @@
 // phyxel: command-line entry point. Dispatches to the subcommands in commands.h.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -23,6 +24,9 @@ void print_usage() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A write past the file size limit (ulimit -f) then fails with EFBIG, which the writers report
+  // naming the file, instead of SIGXFSZ killing the process without a word.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (argc < 2) {
     print_usage();
     return 2;

@@ -162,6 +162,16 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
                        {"max_hand_force", st.max_hand_force},
                        {"snapshots", st.snapshots},
                        {"realtime_priority", st.realtime_priority}});
+      if (const auto* udp = dynamic_cast<const UdpDevice*>(&l.loop->device())) {
+        // Who drove the tool: the pinned sender's poses; the others' dropped (UdpDevice).
+        const UdpDeviceStats u = udp->stats();
+        loops.back()["udp"] = {{"poses", u.poses},
+                               {"senders_pinned", u.pins},
+                               {"foreign_dropped", u.foreign},
+                               {"refused_dropped", u.refused},
+                               {"malformed", u.malformed},
+                               {"stale", u.stale}};
+      }
     }
     j["haptics"] = loops;
   }

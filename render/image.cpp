@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "engine/run/atomic_file.h"
+#include "engine/scene/file_kind.h"
 #include "engine/scene/scene.h"
 
 namespace phyxel::render {
@@ -58,10 +59,8 @@ double fbm(double x, double y, int octaves, uint32_t seed) {
 
 RgbaImage load_image(const std::filesystem::path& file, const std::string& context) {
   const std::string name = file.string();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) {
-    fail(context, "texture file \"" + name + "\" does not exist");
-  }
+  if (const std::string why = not_a_regular_file(file); !why.empty())
+    fail(context, "texture file \"" + name + "\" " + why);
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(context, "cannot open \"" + name + "\" (" + std::strerror(errno) + ")");
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),

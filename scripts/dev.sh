@@ -6,7 +6,7 @@
 #   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite
 #                         (ctest: the GoogleTest areas and python_pytest, pytest over
 #                         python/tests, whose exit status fails ctest like any test's), then
-#                         the sanitizer job (below)
+#                         the sanitizer job and a minute of fuzzing per reader (below)
 # A CMAKE_CXX_COMPILER_LAUNCHER in the environment (ccache) is used; nothing needs it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -63,4 +63,8 @@ else
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -L "$label" \
     -E "$san_slow"
+
+  # Fuzzing: the scene, OBJ and checkpoint readers and the haptic protocol's decoder, a minute
+  # each under ASan + UBSan (build-fuzz, clang); a new finding fails the run (scripts/fuzz.sh).
+  PHYXEL_FUZZ_FAIL=1 scripts/fuzz.sh 60
 fi

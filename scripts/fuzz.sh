@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Fuzzes the scene reader and the OBJ reader with libFuzzer for a bounded time each.
-# A benchmark script, not CI: CI replays what fuzzing found (tests/scene/fuzz_regressions_test.cpp).
-#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   default 300 s, fuzz_scene fuzz_obj
+# Fuzzes the scene, OBJ and checkpoint readers and the haptic protocol's decoder with libFuzzer
+# for a bounded time each. CI runs it for 60 s a target (scripts/dev.sh test) with
+# PHYXEL_FUZZ_FAIL=1: a finding then fails the run. Every run replays what fuzzing found before
+# (tests/scene/fuzz_regressions_test.cpp).
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
+#   default 300 s, fuzz_scene fuzz_obj fuzz_checkpoint fuzz_haptic
 # Needs clang and libclang-rt-14-dev (libFuzzer). Builds build-fuzz (clang, ASan + UBSan,
 # -fsanitize=fuzzer); a CMAKE_CXX_COMPILER_LAUNCHER from the environment (ccache) is used.
 # One fuzzing process at a time (-fork=1): the machine's cores are shared. Crashes do not stop
@@ -20,7 +23,8 @@ fi
 seconds="${1:-300}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_obj)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_obj fuzz_checkpoint fuzz_haptic)
+found=0
 
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DPHYXEL_FUZZ=ON -DPHYXEL_BUILD_TESTS=OFF -DPHYXEL_WITH_WINDOW=OFF >/dev/null
@@ -41,13 +45,23 @@ for target in "${targets[@]}"; do
       seeds=(tests/data/meshes tests/data/fuzz/fuzz_obj)
       options=(-dict=fuzz/obj.dict)
       ;;
+    fuzz_checkpoint)
+      seeds=(tests/data/fuzz/fuzz_checkpoint)
+      options=(-max_len=16384)
+      ;;
+    fuzz_haptic)
+      seeds=(tests/data/fuzz/fuzz_haptic)
+      options=(-max_len=128)
+      ;;
     *) seeds=() options=() ;;
   esac
   for dir in "${seeds[@]}"; do
     [ -d "$dir" ] || continue
-    find "$dir" -maxdepth 1 -type f \( -name '*.json' -o -name '*.obj' -o -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
+    find "$dir" -maxdepth 1 -type f \( -name '*.json' -o -name '*.obj' -o -name '*.phx' -o -name '*.bin' \
+      -o -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' \) \
       -exec cp -n {} "$corpus/" \;
   done
+  before="$(ls "$artifacts" | wc -l)"
   echo "fuzz: $target for ${seconds}s, corpus $corpus ($(ls "$corpus" | wc -l) files)"
   "build-fuzz/fuzz/$target" "$corpus" -artifact_prefix="$artifacts/" \
     -max_total_time="$seconds" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
@@ -57,4 +71,9 @@ for target in "${targets[@]}"; do
   time_s="${last#*time: }"
   echo "fuzz: $target done: executions ${last%%:*} in ${time_s%% *}, corpus $(ls "$corpus" | wc -l) files" \
     "($(du -sh "$corpus" | cut -f1)), findings $(ls "$artifacts" | wc -l) in $artifacts"
+  found=$((found + $(ls "$artifacts" | wc -l) - before))
 done
+if [ "${PHYXEL_FUZZ_FAIL:-0}" = 1 ] && [ "$found" -gt 0 ]; then
+  echo "fuzz: $found new findings (build-fuzz/artifacts/): fix them and add them to tests/data/fuzz/" >&2
+  exit 1
+fi

@@ -22,6 +22,7 @@ packages=(
   libglfw3-dev                         # windowed viewer
   xvfb xauth xdotool                   # viewer test: virtual X server, key presses (docs/decisions.md)
   libgtest-dev                         # tests
+  clang libclang-rt-14-dev             # libFuzzer: readers fuzzed a minute each in CI
   calculix-ccx                         # FEM reference solutions for validation
   gnuplot-nox                          # run-time-vs-error plot of phyxel bench --accuracy
   python3-dev pybind11-dev             # the phyxel Python module (python/, docs/python.md)

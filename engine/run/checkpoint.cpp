@@ -102,7 +102,7 @@ class Reader {
   }
   std::vector<Vec3> get_vec3s() {
     const uint64_t n = get<uint64_t>();
-    need(n * 3 * sizeof(double));
+    need_items(n, 3 * sizeof(double));
     std::vector<Vec3> v(n);
     for (Vec3& x : v) x = get_vec3();
     return v;
@@ -110,7 +110,7 @@ class Reader {
   template <class T>
   std::vector<T> get_array() {
     const uint64_t n = get<uint64_t>();
-    need(n * sizeof(T));
+    need_items(n, sizeof(T));
     std::vector<T> v(n);
     for (T& x : v) x = get<T>();
     return v;
@@ -119,6 +119,11 @@ class Reader {
   void seek(size_t at) { at_ = at; }
 
  private:
+  // n items of `each` bytes (a count read from the file: n * each may overflow).
+  void need_items(uint64_t n, uint64_t each) const {
+    if (n > (size_ - at_) / each)
+      throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
+  }
   void need(uint64_t n) const {
     if (n > size_ - at_)
       throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
@@ -423,7 +428,10 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   if (!in) throw CheckpointError(name + ": cannot read the checkpoint");
   std::stringstream ss;
   ss << in.rdbuf();
-  const std::string bytes = ss.str();
+  return parse_checkpoint(ss.str(), name);
+}
+
+Checkpoint parse_checkpoint(const std::string& bytes, const std::string& name) {
   if (bytes.size() >= 8 && std::memcmp(bytes.data(), kCheckpointMagic, 7) != 0)
     throw CheckpointError(name + ": not a phyxel checkpoint (bad magic number)");
   if (bytes.size() < kHeaderBytes + kChecksumBytes)

@@ -79,6 +79,8 @@ std::string solver_identity(const std::string& device);
 void write_checkpoint(const std::filesystem::path& file, const Checkpoint& checkpoint);
 // Reads and verifies (length, checksum, magic, version) `file`. Throws CheckpointError.
 Checkpoint read_checkpoint(const std::filesystem::path& file);
+// The checkpoint in `bytes` (a file's content; `name` for messages). Throws CheckpointError.
+Checkpoint parse_checkpoint(const std::string& bytes, const std::string& name);
 // Throws CheckpointError unless `checkpoint` (read from `file`) belongs to this scene file,
 // this sampled set and this solver.
 void check_checkpoint_matches(const Checkpoint& checkpoint, const std::filesystem::path& file,

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "engine/run/long_step.h"
 #include "engine/run/run_schedule.h"
 #include "engine/run/vtp_writer.h"
 
@@ -176,6 +177,8 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   else if (options.checkpoint_every > 0 || options.resume)
     scene_hash_ = scene.file.empty() ? 0 : file_hash(scene.file);
   polled_ = options.stop_requested && tools_.empty();
+  // Steps of many substeps are polled between substeps too (engine/run/long_step.h).
+  long_steps_ = polled_ && !tearing && result_.plan.substeps >= kLongStepSubsteps;
   if (options.resume) {
     resume(*options.resume);
     checkpointed_ = step_;
@@ -243,7 +246,7 @@ bool RunLoop::running() const {
 }
 
 void RunLoop::step() {
-  const int64_t next = next_stop();
+  int64_t next = next_stop();
   const std::vector<ToolStepRecord> records = advance(next);
   surgery_events(next, records);
   pacing(next);
@@ -286,14 +289,20 @@ int64_t RunLoop::next_stop() const {
   return next;
 }
 
-std::vector<ToolStepRecord> RunLoop::advance(int64_t next) {
+std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
   if (!tools_.empty())  // sleeping objects the tools are about to reach wake first
     wake_touched_objects(set_, tools_.swept_bounds(step_ * step_time_, next * step_time_), last_u_,
                          awake_, object_below_since_, solver_, result_);
   mark_ = std::chrono::steady_clock::now();
   const auto advance_start = mark_;
-  std::vector<ToolStepRecord> records = advance_with_tools(
-      solver_, tools_, step_, next - step_, result_.plan.substeps, result_.plan.dt_used);
+  std::vector<ToolStepRecord> records;
+  if (long_steps_)  // a stop mid-step ends the run at the last whole step
+    next = step_ + advance_long_steps(solver_, next - step_, result_.plan.substeps,
+                                      result_.plan.dt_used, options_.stop_requested,
+                                      options_.stop_poll_seconds);
+  else
+    records = advance_with_tools(solver_, tools_, step_, next - step_, result_.plan.substeps,
+                                 result_.plan.dt_used);
   for (size_t r = 0; r < records.size(); ++r) {
     uint32_t& most = contacts_since_check_[r % tools_.size()];
     most = std::max(most, records[r].contacts);

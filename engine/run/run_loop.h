@@ -49,7 +49,7 @@ class RunLoop {
  private:
   void resume(const Checkpoint& c);  // phase "resume"
   int64_t next_stop() const;         // phase "next stop"
-  std::vector<ToolStepRecord> advance(int64_t next);
+  std::vector<ToolStepRecord> advance(int64_t& next);
   void surgery_events(int64_t next, const std::vector<ToolStepRecord>& records);
   void pacing(int64_t next);
   void switch_loads(int64_t previous);
@@ -87,6 +87,7 @@ class RunLoop {
   std::optional<uint64_t> scene_hash_;
   // Advances without tools split exactly, so they can be cut short to see a stop promptly.
   bool polled_ = false;
+  bool long_steps_ = false;  // polled between substeps too (engine/run/long_step.h)
   int64_t poll_steps_ = 1;  // steps per advance while polled, from the measured rate
   int64_t step_ = 0;
   size_t next_event_ = 0;

@@ -49,23 +49,33 @@ uintmax_t kept_length(const std::filesystem::path& file, int64_t last_step) {
 ToolTraceWriter::ToolTraceWriter(const std::filesystem::path& file,
                                  const std::vector<ToolDesc>& tools, int64_t resume_after,
                                  bool in_place)
-    : file_(file) {
+    : file_(file), in_place_(in_place) {
   for (const ToolDesc& t : tools) names_.push_back(t.name);
+  // Checked now, applied at the first row: a run that fails before its first step leaves the
+  // earlier tools.csv as it was.
+  if (resume_after >= 0) kept_ = kept_length(file, resume_after);
+}
+
+ToolTraceWriter::~ToolTraceWriter() = default;
+
+void ToolTraceWriter::open() {
+  if (opened_) return;
+  opened_ = true;
   const char* header =
       "step,t,name,px,py,pz,ax,ay,az,fx,fy,fz,contacts,cut_force,theta,f_l,f_p,depth,f_cx,f_cy,"
       "f_cz\n";
-  if (resume_after >= 0) {
+  if (kept_) {
     // Appended to: cut back to the checkpoint's step, then the rows after it follow.
     std::error_code ec;
-    std::filesystem::resize_file(file, kept_length(file, resume_after), ec);
+    std::filesystem::resize_file(file_, *kept_, ec);
     if (ec)
       throw std::runtime_error("cannot continue " + file_.string() + " (" + ec.message() + ")");
-    out_.open(file, std::ios::app);
-  } else if (in_place) {
-    out_.open(file);
+    out_.open(file_, std::ios::app);
+  } else if (in_place_) {
+    out_.open(file_);
     out_ << header;
   } else {
-    atomic_.emplace(file);
+    atomic_.emplace(file_);
     atomic_->append(header);
     return;
   }
@@ -92,6 +102,7 @@ char* put(char* at, char* end, long long v) {
 }  // namespace
 
 void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRecord>& records) {
+  open();
   // At most 21 fields of at most 24 characters each, and the tool's name.
   std::string row;
   for (size_t k = 0; k < records.size() && k < names_.size(); ++k) {
@@ -123,6 +134,7 @@ void ToolTraceWriter::write(int64_t step, double t, const std::vector<ToolStepRe
 }
 
 void ToolTraceWriter::flush() {
+  open();
   if (atomic_) return;  // whole at close(); a checkpointed run writes in place
   out_.flush();
   if (!out_)
@@ -130,6 +142,7 @@ void ToolTraceWriter::flush() {
 }
 
 void ToolTraceWriter::close() {
+  open();
   if (atomic_) {
     atomic_->commit();
     return;

@@ -24,11 +24,13 @@ namespace phyxel {
 
 class ToolTraceWriter {
  public:
-  // Creates the file (tools.csv.tmp unless in_place) and writes the header. Throws
-  // std::runtime_error naming the file. resume_after >= 0 (a resumed run): keeps the header
-  // and the rows of steps up to resume_after of the existing file and appends after them.
+  // The file (tools.csv.tmp unless in_place) is created, with its header, at the first
+  // write(), flush() or close(): until then the folder is as it was. Throws std::runtime_error
+  // naming the file. resume_after >= 0 (a resumed run): keeps the header and the rows of steps
+  // up to resume_after of the existing file (checked here) and appends after them.
   ToolTraceWriter(const std::filesystem::path& file, const std::vector<ToolDesc>& tools,
                   int64_t resume_after = -1, bool in_place = false);
+  ~ToolTraceWriter();
   // One row per tool. Throws std::runtime_error naming the file when the write fails (a full
   // disk; tools.csv.tmp is removed).
   void write(int64_t step, double t, const std::vector<ToolStepRecord>& records);
@@ -39,7 +41,12 @@ class ToolTraceWriter {
   void close();
 
  private:
+  void open();
+
   std::filesystem::path file_;
+  bool in_place_ = false;
+  bool opened_ = false;
+  std::optional<uintmax_t> kept_;  // a resumed run: the bytes of the file it keeps
   std::vector<std::string> names_;
   std::optional<AtomicFileWriter> atomic_;
   std::ofstream out_;

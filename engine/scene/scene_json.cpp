@@ -12,9 +12,11 @@
 
 #include "engine/geometry/mesh.h"
 #include "engine/geometry/shape.h"
+#include "engine/scene/file_kind.h"
 #include "engine/scene/json_reader.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_json_tools.h"
+#include "engine/scene/scene_limits.h"
 
 namespace phyxel {
 namespace {
@@ -27,8 +29,24 @@ constexpr std::string_view kMaterialExpected =
     "a material object {\"young\": Pa, \"poisson\": 1, \"density\": kg/m^3, ...}";
 // A phyxel at a convex lattice corner needs this many neighbours for a usable MLS fit.
 constexpr int kMinCornerNeighbours = kMinMlsNeighbours;
-// Memory estimate per phyxel (state, neighbour lists, solver buffers), bytes.
-constexpr double kBytesPerPhyxel = 1024;
+// Memory per phyxel (state, neighbour lists, solver buffers), bytes: measured as the peak
+// resident size of `phyxel run` (CPU, double) on boxes of 69k and 227k phyxels at support
+// radius 2 and 3 x spacing: 1 590 B at 26 neighbours, 2 340 B at 92 (docs/decisions.md).
+constexpr double kBytesPerPhyxelBase = 1300;
+constexpr double kBytesPerNeighbour = 12;
+double bytes_per_phyxel(const ObjectDesc& o) {
+  const double ratio = o.support_radius / o.spacing;
+  return kBytesPerPhyxelBase + kBytesPerNeighbour * (4.18879 * ratio * ratio * ratio - 1);
+}
+// Materials from foam to steel (tissue: 1e2-1e7 Pa, cortical bone 2e10 Pa); values outside make
+// the stable step vanish or the p-wave speed overflow long before a run could use them.
+const Limits kYoungLimits = Limits::above_up_to(0, 1e12);
+const Limits kDensityLimits{1, 1e5, true, true};
+// Neighbours within support_radius grow with (support_radius / spacing)^3: 5 x spacing is
+// about 520 per phyxel, far past the 2 x (about 30) the model needs.
+constexpr double kMaxSupportFactor = 5;
+// Scene files are a few kilobytes; a larger one is not a scene (and would be read whole).
+constexpr uintmax_t kMaxSceneFileBytes = uintmax_t(64) << 20;
 
 void check_box(const Node& node, const Shape& s) {
   for (int axis = 0; axis < 3; ++axis) {
@@ -49,10 +67,8 @@ void read_mesh_file(const Node& path_node, Shape& s, const fs::path& folder) {
       "scene file's folder (";
   allowed += folder.empty() ? std::string("the working directory") : folder.string();
   allowed += ")";
-  std::error_code ec;
-  if (!fs::is_regular_file(s.path, ec)) {
-    path_node.fail("mesh file \"" + s.path.string() + "\" does not exist", allowed);
-  }
+  if (const std::string why = not_a_regular_file(s.path); !why.empty())
+    path_node.fail("mesh file \"" + s.path.string() + "\" " + why, allowed);
   try {
     s.mesh = std::make_shared<const TriangleMesh>(load_mesh(s.path, s.scale));
   } catch (const std::exception& e) {
@@ -107,9 +123,9 @@ Material read_material(const Node& node, const Material& defaults) {
   node.expect_object(kMaterialExpected, {"young", "poisson", "density", "damping",
                                          "volume_stiffness", "hourglass", "tear_stress"});
   Material m = defaults;
-  m.young = node.number("young", Limits::above(0), "Pa");
+  m.young = node.number("young", kYoungLimits, "Pa");
   m.poisson = node.number("poisson", Limits::open(-1, 0.5), "");
-  m.density = node.number("density", Limits::above(0), "kg/m^3");
+  m.density = node.number("density", kDensityLimits, "kg/m^3");
   m.damping = node.number_or("damping", m.damping, Limits::at_least(0), "1/s");
   m.hourglass = node.number_or("hourglass", m.hourglass, Limits::at_least(0), "");
   if (const auto kv = node.find("volume_stiffness")) {
@@ -174,7 +190,8 @@ ObjectDesc read_object(const Node& node, const fs::path& folder, ImageReads* ima
   o.name = node.at("name", "a non-empty string").text();
   o.shape = read_shape(node.at("shape", kShapeExpected), folder, images);
   o.spacing = node.number("spacing", Limits::above(0), "m");
-  o.support_radius = node.number_or("support_radius", 2 * o.spacing, Limits::above(0), "m");
+  o.support_radius = node.number_or("support_radius", 2 * o.spacing,
+                                    Limits::above_up_to(0, kMaxSupportFactor * o.spacing), "m");
   check_support_radius(node, o);
   o.material = read_material(node.at("material", kMaterialExpected), Material{});
   o.mirror = node.number_or("mirror", 0.0, kMirrorLimits, "");
@@ -260,19 +277,23 @@ double bounds_volume(const Shape& s) {
 // blaming the largest object's spacing, when the scene would not fit in physical memory.
 void check_memory(const std::string& file, const std::vector<ObjectDesc>& objects) {
   const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-  std::vector<double> phyxels;
+  std::vector<double> phyxels, bytes;
   for (const ObjectDesc& o : objects) {
     phyxels.push_back(bounds_volume(o.shape) / (o.spacing * o.spacing * o.spacing));
+    bytes.push_back(phyxels.back() * bytes_per_phyxel(o));
   }
-  double total = 0;
-  for (double n : phyxels) total += n;
-  if (!(total * kBytesPerPhyxel > memory)) return;
-  const size_t i = std::max_element(phyxels.begin(), phyxels.end()) - phyxels.begin();
-  const double others = (total - phyxels[i]) * kBytesPerPhyxel;
+  double total = 0, total_bytes = 0;
+  for (size_t k = 0; k < phyxels.size(); ++k) {
+    total += phyxels[k];
+    total_bytes += bytes[k];
+  }
+  if (!(total_bytes > memory)) return;
+  const size_t i = std::max_element(bytes.begin(), bytes.end()) - bytes.begin();
+  const double each = bytes_per_phyxel(objects[i]);
+  const double others = total_bytes - bytes[i];
   std::string allowed = "a larger spacing is needed";
   if (others < memory) {
-    const double needed =
-        std::cbrt(bounds_volume(objects[i].shape) * kBytesPerPhyxel / (memory - others));
+    const double needed = std::cbrt(bounds_volume(objects[i].shape) * each / (memory - others));
     allowed += ": spacing > " + json_reader::format_approx(needed) + " for this object";
   } else {
     allowed += " here and in the other objects";
@@ -282,7 +303,7 @@ void check_memory(const std::string& file, const std::vector<ObjectDesc>& object
       file, "objects[" + std::to_string(i) + "].spacing",
       json_reader::format_number(objects[i].spacing) + " gives about " + format_approx(phyxels[i]) +
           " phyxels (the scene about " + format_approx(total) + " phyxels, " +
-          format_approx(total * kBytesPerPhyxel) + " bytes at " + format_approx(kBytesPerPhyxel) +
+          format_approx(total_bytes) + " bytes at about " + format_approx(std::round(each)) +
           " bytes each), more than this machine's memory of " + format_approx(memory) + " bytes",
       allowed);
 }
@@ -319,10 +340,12 @@ Scene parse_scene(const std::string& json_text, const fs::path& file) {
     }
   }
   check_memory(name, scene.objects);
+  check_time_step(root, scene);
 
   if (const auto output = root.find("output")) scene.output = read_output(*output);
   read_view_settings(root, scene);
   read_tools(root, scene);
+  check_tool_sizes(root, scene);
   return scene;
 }
 
@@ -338,6 +361,13 @@ Scene load_scene(const fs::path& file) {
   if (fs::is_directory(file, ec)) {
     throw SceneError(name + ": is a directory, not a scene file; check the path");
   }
+  if (const std::string why = not_a_regular_file(file); !why.empty())
+    throw SceneError(name + ": " + why + "; a scene is a JSON text file, check the path");
+  if (fs::file_size(file, ec) > kMaxSceneFileBytes)
+    throw SceneError(name + ": " + json_reader::format_approx(double(fs::file_size(file, ec))) +
+                     " bytes, more than a scene file holds (at most " +
+                     json_reader::format_approx(double(kMaxSceneFileBytes)) +
+                     " bytes); check the path");
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     throw SceneError(name + ": cannot open the scene file (" + std::strerror(errno) +

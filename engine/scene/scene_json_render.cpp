@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "engine/scene/file_kind.h"
 #include "engine/scene/json_reader.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_json_tools.h"
@@ -90,12 +91,9 @@ fs::path read_image_path(const Node& node, const fs::path& folder, const std::st
   std::string allowed = "allowed " + what + ", relative to the scene file's folder (";
   allowed += folder.empty() ? std::string("the working directory") : folder.string();
   allowed += ")";
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    node.fail(
-        (noun.empty() ? node.leaf() : noun) + " file \"" + path.string() + "\" does not exist",
-        allowed);
-  }
+  if (const std::string why = not_a_regular_file(path); !why.empty())
+    node.fail((noun.empty() ? node.leaf() : noun) + " file \"" + path.string() + "\" " + why,
+              allowed);
   return path;
 }
 

@@ -101,8 +101,14 @@ std::string where(const std::string& address, uint16_t port) {
 
 }  // namespace
 
-UdpDevice::UdpDevice(uint16_t port, const std::string& bind_address, double timeout)
+UdpDevice::UdpDevice(uint16_t port, const std::string& bind_address, double timeout,
+                     const std::string& peer)
     : address_(bind_address), timeout_(timeout) {
+  in_addr allowed{};
+  if (!peer.empty() && inet_pton(AF_INET, peer.c_str(), &allowed) != 1)
+    throw HapticError("haptic UDP device: peer address '" + peer +
+                      "' is not an IPv4 address; use the dotted quad of the driver's machine");
+  peer_ = allowed.s_addr;
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(port);
@@ -171,6 +177,11 @@ HapticSample UdpDevice::read(double wall_time) {
       break;  // EAGAIN: drained (other errors, e.g. ICMP refusals, are not ours to act on)
     }
     ++stats_.datagrams;
+    const bool loopback = (ntohl(from.sin_addr.s_addr) >> 24) == 127;
+    if (peer_ != 0 ? from.sin_addr.s_addr != peer_ : !loopback) {
+      ++stats_.refused;
+      continue;
+    }
     // MSG_TRUNC: n is the datagram's real length, so an oversized one fails the size check.
     const size_t size = static_cast<size_t>(n);
     haptic::PoseMessage message;
@@ -182,10 +193,16 @@ HapticSample UdpDevice::read(double wall_time) {
       ++stats_.malformed_by[static_cast<size_t>(status)];
       continue;
     }
-    // A sender that went silent past the timeout may have restarted its count: take anything.
-    const bool same_sender = have_pose_ && wall_time - last_arrival_ <= timeout_ &&
-                             from_len == sender_len_ &&
-                             std::memcmp(&from, sender_.data(), from_len) == 0;
+    // The pinned sender, until it goes silent past the timeout (then the next one is pinned,
+    // and may have restarted its count: take anything).
+    const bool pinned = have_pose_ && wall_time - last_arrival_ <= timeout_;
+    const bool same_sender =
+        pinned && from_len == sender_len_ && std::memcmp(&from, sender_.data(), from_len) == 0;
+    if (pinned && !same_sender) {
+      ++stats_.foreign;
+      continue;
+    }
+    if (!same_sender) ++stats_.pins;
     const uint32_t behind = pose_.seq - message.seq;  // modulo 2^32
     if (same_sender && behind != 0 && behind <= 1024) {
       ++stats_.stale;

@@ -97,21 +97,27 @@ struct UdpDeviceStats {
   uint64_t stale = 0;      // valid poses older (by seq) than the newest, dropped
   uint64_t malformed = 0;  // refused by decode(), dropped
   std::array<uint64_t, haptic::kDecodeStatusCount> malformed_by{};  // by DecodeStatus
-  uint64_t forces_sent = 0;                                         // force messages sent
+  uint64_t foreign = 0;      // valid poses of another sender while one is pinned, dropped
+  uint64_t refused = 0;      // datagrams from a sender that is not allowed (peer), dropped
+  uint64_t pins = 0;         // senders pinned (the first, and one after each silence)
+  uint64_t forces_sent = 0;  // force messages sent
   uint64_t send_errors = 0;  // sendto() failures (the socket buffer full, unreachable)
 };
 
 // A non-blocking UDP socket bound to `bind_address`:`port` (port 0: the system picks one, see
-// port()). read() drains every datagram waiting, keeps the newest valid pose (by seq, per
-// sender: a pose whose seq equals the newest or is up to 1024 behind it is stale; a larger jump
-// back, another sender or a sender silent past the timeout is taken, as a restarted driver)
-// and drops malformed ones, counting them. The pose is
+// port()). read() drains every datagram waiting, keeps the newest valid pose (by seq: a pose
+// whose seq equals the newest or is up to 1024 behind it is stale; a larger jump back is taken,
+// as a restarted driver) and drops malformed ones, counting them. Who may drive the tool: the
+// first sender of a valid pose is pinned; poses of any other sender are dropped and counted
+// (`foreign`) until the pinned one has been silent past the timeout, when the next sender is
+// pinned. Senders must be on loopback (127.0.0.0/8) unless `peer` names the one IPv4 address
+// allowed; others are dropped and counted (`refused`). The pose is
 // valid until no pose arrived for `timeout` seconds. send() answers the sender of the newest
 // pose with a force message echoing that pose's seq; nothing is sent before a pose arrived.
 class UdpDevice : public HapticDevice {
  public:
   explicit UdpDevice(uint16_t port, const std::string& bind_address = "127.0.0.1",
-                     double timeout = 0.25);
+                     double timeout = 0.25, const std::string& peer = "");
   ~UdpDevice() override;
   UdpDevice(const UdpDevice&) = delete;
   UdpDevice& operator=(const UdpDevice&) = delete;
@@ -128,6 +134,7 @@ class UdpDevice : public HapticDevice {
   uint16_t port_ = 0;
   std::string address_;
   double timeout_;
+  uint32_t peer_ = 0;         // the allowed sender (network order), 0: loopback only
   mutable std::mutex mutex_;  // guards the state below: read/send from the loop, stats()
   UdpDeviceStats stats_;
   bool have_pose_ = false;

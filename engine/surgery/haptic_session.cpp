@@ -1,5 +1,7 @@
 #include "engine/surgery/haptic_session.h"
 
+#include <arpa/inet.h>
+
 #include <charconv>
 #include <stdexcept>
 
@@ -17,31 +19,44 @@ int parse_port(const std::string& text, const std::string& spec) {
 
 }  // namespace
 
-std::shared_ptr<HapticDevice> make_haptic_device(const std::string& spec, const ToolDesc& tool,
-                                                 int index) {
-  if (spec == "scripted") return std::make_shared<ScriptedDevice>(tool.path);
-  if (spec.rfind("udp:", 0) == 0) {
-    const std::string rest = spec.substr(4);
-    const size_t colon = rest.rfind(':');
-    const std::string address = colon == std::string::npos ? "127.0.0.1" : rest.substr(0, colon);
-    const int port = parse_port(colon == std::string::npos ? rest : rest.substr(colon + 1), spec);
-    if (port + index > 65535)
-      throw HapticError("--haptic-device " + spec + ": haptic tool " + std::to_string(index) +
-                        " would listen on port " + std::to_string(port + index) +
-                        "; use a lower port");
-    return std::make_shared<UdpDevice>(static_cast<uint16_t>(port + index), address);
-  }
-  throw HapticError("--haptic-device " + spec +
-                    ": unknown device; allowed scripted (the tool's path), udp:PORT or "
-                    "udp:ADDRESS:PORT (an external device driver, docs/haptics.md)");
+HapticDeviceSpec parse_haptic_device_spec(const std::string& spec) {
+  HapticDeviceSpec parsed;
+  if (spec == "scripted") return parsed;
+  if (spec.rfind("udp:", 0) != 0)
+    throw HapticError("--haptic-device " + spec +
+                      ": unknown device; allowed scripted (the tool's path), udp:PORT or "
+                      "udp:ADDRESS:PORT (an external device driver, docs/haptics.md)");
+  const std::string rest = spec.substr(4);
+  const size_t colon = rest.rfind(':');
+  parsed.udp = true;
+  parsed.address = colon == std::string::npos ? "127.0.0.1" : rest.substr(0, colon);
+  parsed.port = parse_port(colon == std::string::npos ? rest : rest.substr(colon + 1), spec);
+  in_addr addr{};
+  if (inet_pton(AF_INET, parsed.address.c_str(), &addr) != 1)
+    throw HapticError("--haptic-device " + spec + ": \"" + parsed.address +
+                      "\" is not an IPv4 address; allowed udp:PORT or udp:ADDRESS:PORT with a "
+                      "dotted quad such as 127.0.0.1 (this machine only) or 0.0.0.0");
+  return parsed;
 }
 
-HapticSession::HapticSession(const Scene& scene, const std::string& spec)
+std::shared_ptr<HapticDevice> make_haptic_device(const std::string& spec, const ToolDesc& tool,
+                                                 int index, const std::string& peer) {
+  const HapticDeviceSpec parsed = parse_haptic_device_spec(spec);
+  if (!parsed.udp) return std::make_shared<ScriptedDevice>(tool.path);
+  if (parsed.port + index > 65535)
+    throw HapticError("--haptic-device " + spec + ": haptic tool " + std::to_string(index) +
+                      " would listen on port " + std::to_string(parsed.port + index) +
+                      "; use a lower port");
+  return std::make_shared<UdpDevice>(static_cast<uint16_t>(parsed.port + index), parsed.address,
+                                     0.25, peer);
+}
+
+HapticSession::HapticSession(const Scene& scene, const std::string& spec, const std::string& peer)
     : loop_of_(scene.tools.size(), -1) {
   int index = 0;
   for (size_t t = 0; t < scene.tools.size(); ++t)
     if (scene.tools[t].control == ToolDesc::Control::Haptic)
-      add(scene, t, make_haptic_device(spec, scene.tools[t], index++));
+      add(scene, t, make_haptic_device(spec, scene.tools[t], index++, peer));
 }
 
 HapticSession::HapticSession(

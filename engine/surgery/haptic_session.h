@@ -16,17 +16,28 @@
 
 namespace phyxel {
 
+// A --haptic-device spec checked: "scripted", or "udp:PORT" / "udp:ADDRESS:PORT" with PORT
+// 1-65535 and ADDRESS an IPv4 dotted quad (default 127.0.0.1). Throws HapticError naming the
+// spec and what is allowed.
+struct HapticDeviceSpec {
+  bool udp = false;
+  std::string address;
+  int port = 0;
+};
+HapticDeviceSpec parse_haptic_device_spec(const std::string& spec);
+
 // A device from its command-line spec: "scripted" (the tool's own path, replayed on the wall
 // clock), "udp:PORT" or "udp:ADDRESS:PORT" (an external driver, docs/haptics.md). Throws
 // HapticError naming the spec and what is allowed.
+// `peer`: the one non-loopback sender a udp device accepts (UdpDevice), empty for loopback only.
 std::shared_ptr<HapticDevice> make_haptic_device(const std::string& spec, const ToolDesc& tool,
-                                                 int index);
+                                                 int index, const std::string& peer = "");
 
 class HapticSession {
  public:
   // Devices from `spec` (make_haptic_device; with udp and several haptic tools, the n-th
   // haptic tool listens on PORT + n). No haptic tool: an empty session.
-  HapticSession(const Scene& scene, const std::string& spec);
+  HapticSession(const Scene& scene, const std::string& spec, const std::string& peer = "");
   // A device per haptic tool from `device_of(tool)` (the viewer's mouse).
   HapticSession(const Scene& scene,
                 const std::function<std::shared_ptr<HapticDevice>(size_t tool)>& device_of);

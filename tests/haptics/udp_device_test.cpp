@@ -133,6 +133,58 @@ TEST(UdpDevice, KeepsTheNewestPoseAndAxisIsNormalized) {
   EXPECT_FALSE(device.read(1.0).valid);
 }
 
+// Who may drive the tool: the first sender is pinned; a second socket's poses are dropped and
+// counted while the first keeps sending, and taken only once it has been silent past the
+// timeout; forces go to the pinned sender.
+TEST(UdpDevice, TheFirstSenderIsPinnedAndAnotherIsIgnored) {
+  UdpDevice device(0, "127.0.0.1", 0.25);
+  Client first(device.port()), intruder(device.port());
+  first.send_pose(pose(1));
+  HapticSample s = read_until(device, 0.0, [&] { return device.stats().poses == 1; });
+  ASSERT_TRUE(s.valid);
+  for (uint32_t k = 0; k < 20; ++k) {
+    intruder.send_pose(pose(1000 + k));
+    const double t = 0.01 * k;
+    first.send_pose(pose(2 + k));
+    s = read_until(device, t, [&] { return device.stats().datagrams == 3 + 2 * k; });
+    ASSERT_TRUE(s.valid);
+    EXPECT_EQ(s.pose.position, pose(2 + k).position) << k;  // never the intruder's
+  }
+  UdpDeviceStats st = device.stats();
+  EXPECT_EQ(st.foreign, 20u);
+  EXPECT_EQ(st.poses, 21u);
+  EXPECT_EQ(st.pins, 1u);
+  device.send(Vec3(1, 2, 3), 0.2);
+  haptic::ForceMessage back;
+  ASSERT_TRUE(first.receive(back));
+  EXPECT_EQ(back.seq, 21u);
+  // The first silent past the timeout: the next sender is pinned.
+  intruder.send_pose(pose(5000));
+  s = read_until(device, 0.19 + 0.3, [&] { return device.stats().datagrams == 42; });
+  ASSERT_TRUE(s.valid);
+  EXPECT_EQ(s.pose.position, pose(5000).position);
+  st = device.stats();
+  EXPECT_EQ(st.pins, 2u);
+  EXPECT_EQ(st.foreign, 20u);
+}
+
+// A device that allows one peer address drops everyone else, loopback included.
+TEST(UdpDevice, OnlyTheAllowedPeerDrives) {
+  UdpDevice device(0, "127.0.0.1", 0.25, "192.0.2.7");
+  Client client(device.port());
+  client.send_pose(pose(1));
+  const HapticSample s = read_until(device, 0.0, [&] { return device.stats().datagrams == 1; });
+  EXPECT_FALSE(s.valid);
+  EXPECT_EQ(device.stats().refused, 1u);
+  EXPECT_EQ(device.stats().poses, 0u);
+  try {
+    UdpDevice bad(0, "127.0.0.1", 0.25, "nowhere");
+    ADD_FAILURE() << "took a peer that is not an address";
+  } catch (const HapticError& e) {
+    EXPECT_NE(std::string(e.what()).find("'nowhere'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(UdpDevice, MalformedDatagramsAreDroppedAndCounted) {
   UdpDevice device(0);
   Client client(device.port());

@@ -432,7 +432,7 @@ TEST(ToolsRun, BadHapticDevicesAreOneLineErrors) {
     const Ran r = phyxel("run " + scene.string() + " --steps 5 --haptic-device " + device +
                              " --out " + (dir / "out").string(),
                          dir);
-    EXPECT_EQ(r.code, 1) << device << ": " << r.err;
+    EXPECT_EQ(r.code, 2) << device << ": " << r.err;  // bad usage
     EXPECT_NE(r.err.find("--haptic-device " + device), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json")) << device;

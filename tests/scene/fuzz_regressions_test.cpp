@@ -9,6 +9,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -16,7 +17,9 @@
 #include <vector>
 
 #include "engine/geometry/mesh.h"
+#include "engine/run/checkpoint.h"
 #include "engine/scene/scene.h"
+#include "engine/surgery/haptic_protocol.h"
 
 namespace phyxel {
 namespace {
@@ -74,6 +77,50 @@ TEST(FuzzRegressions, ObjFilesAreReadOrRejectedWithRuntimeError) {
       ADD_FAILURE() << "not a std::runtime_error (" << type_of(e) << "): " << e.what();
     }
   }
+}
+
+TEST(FuzzRegressions, CheckpointsAreReadOrRejectedWithCheckpointError) {
+  const std::vector<fs::path> files = inputs("fuzz_checkpoint");
+  ASSERT_FALSE(files.empty());
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.filename().string());
+    try {
+      const Checkpoint c = parse_checkpoint(read_bytes(file), file.string());
+      EXPECT_EQ(c.velocity.size(), c.displacement.size());
+    } catch (const CheckpointError& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "not a CheckpointError (" << type_of(e) << "): " << e.what();
+    }
+  }
+}
+
+// As fuzz/fuzz_haptic.cpp checks: a datagram that decodes holds finite values and encodes
+// back to its own bytes.
+TEST(FuzzRegressions, HapticDatagramsDecodeExactlyOrAreRefused) {
+  const std::vector<fs::path> files = inputs("fuzz_haptic");
+  ASSERT_FALSE(files.empty());
+  int decoded = 0;
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.filename().string());
+    const std::string bytes = read_bytes(file);
+    const std::span data(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+    haptic::PoseMessage pose;
+    if (haptic::decode(data, pose) == haptic::DecodeStatus::Ok) {
+      ++decoded;
+      EXPECT_TRUE(pose.position.allFinite() && pose.axis.allFinite());
+      const auto again = haptic::encode(pose);
+      EXPECT_EQ(std::string(again.begin(), again.end()), bytes);
+    }
+    haptic::ForceMessage force;
+    if (haptic::decode(data, force) == haptic::DecodeStatus::Ok) {
+      ++decoded;
+      EXPECT_TRUE(force.force.allFinite());
+      const auto again = haptic::encode(force);
+      EXPECT_EQ(std::string(again.begin(), again.end()), bytes);
+    }
+  }
+  EXPECT_EQ(decoded, 2);  // pose.bin and force.bin
 }
 
 }  // namespace

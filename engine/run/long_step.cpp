@@ -1,0 +1,51 @@
+#include "engine/run/long_step.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace phyxel {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, double dt,
+                           const std::function<bool()>& stop, double poll_seconds) {
+  const auto stopped = [&] { return stop && stop(); };
+  int64_t chunk = 1;       // substeps per advance, from the rate measured so far
+  double per_substep = 0;  // wall seconds per substep, 0 until measured
+  for (int64_t s = 0; s < steps; ++s) {
+    // A step that takes well under a second goes in one advance, polled after it: the state at
+    // its start need not be read back (a GPU's download).
+    if (per_substep > 0 && per_substep * double(substeps) < 2.5 * poll_seconds) {
+      const auto t0 = std::chrono::steady_clock::now();
+      solver.advance(substeps, dt);
+      solver.finish();
+      per_substep = seconds_since(t0) / double(substeps);
+      if (s + 1 < steps && stopped()) return s + 1;
+      continue;
+    }
+    const PointState start = solver.read_state(false);
+    for (int64_t done = 0; done < substeps;) {
+      const int64_t n = std::min(chunk, substeps - done);
+      const auto t0 = std::chrono::steady_clock::now();
+      solver.advance(n, dt);
+      solver.finish();
+      done += n;
+      const double took = seconds_since(t0);
+      per_substep = std::max(took, 1e-12) / double(n);
+      chunk = std::clamp<int64_t>(static_cast<int64_t>(poll_seconds / per_substep), 1, 4 * n);
+      if (done < substeps && stopped()) {
+        solver.set_state(start.displacement, start.velocity);
+        return s;
+      }
+    }
+    if (s + 1 < steps && stopped()) return s + 1;
+  }
+  return steps;
+}
+
+}  // namespace phyxel

@@ -1,0 +1,26 @@
+// Steps of many substeps (a stiff material or a large dt: thousands to a million substeps per
+// step) advanced so that a stop is seen within a fraction of a second of wall time, not only
+// between steps.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "engine/solver/solver.h"
+
+namespace phyxel {
+
+// Steps with at least this many substeps are advanced in polled chunks.
+constexpr int64_t kLongStepSubsteps = 256;
+
+// Advances `steps` steps of `substeps` substeps of dt, calling `stop` after each step and, in a
+// step that takes about 2.5 x `poll_seconds` of wall time or more (the first is taken to), after
+// each chunk of about `poll_seconds`. A stop in the middle of a step puts the solver back to the
+// state at that step's start (read before it; Solver::set_state: the next advance continues
+// exactly) and returns the whole steps done; a stop after a step returns the steps done; else
+// `steps`. Chunks split the substeps of a solver without tools exactly (the same states bit for
+// bit as one advance).
+int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, double dt,
+                           const std::function<bool()>& stop, double poll_seconds);
+
+}  // namespace phyxel
