@@ -341,9 +341,9 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
     const auto advance_start = mark;
     std::vector<ToolStepRecord> records;
     if (long_steps)  // a stop mid-step ends the run at the last whole step
-      next =
-          step + advance_long_steps(solver, next - step, result.plan.substeps, result.plan.dt_used,
-                                    options.stop_requested, options.stop_poll_seconds);
+      next = step + advance_long_steps(solver, next - step, result.plan.substeps,
+                                       result.plan.dt_used, options.stop_requested,
+                                       options.stop_poll_seconds, options.on_substep_rate);
     else
       records = advance_with_tools(solver, tools, step, next - step, result.plan.substeps,
                                    result.plan.dt_used);
