@@ -279,8 +279,16 @@ int run_command(const Args& args) {
       return 0;
     }
     // Said before the run, which may take long: how each step is split.
-    if (const TimeStepPlan plan = plan_time_step(scene, set); !plan.reason.empty())
-      std::fprintf(stderr, "phyxel run: %s\n", plan.reason.c_str());
+    const TimeStepPlan plan = plan_time_step(scene, set);
+    if (!plan.reason.empty()) std::fprintf(stderr, "phyxel run: %s\n", plan.reason.c_str());
+    options.on_substep_rate = [&](double rate) {
+      const double substeps = double(options.steps) * double(plan.substeps);
+      std::fprintf(stderr,
+                   "phyxel run: about %.3g s of wall time for %lld steps (%.3g substeps per "
+                   "second, measured on the first); Ctrl-C stops it within a fraction of a "
+                   "second\n",
+                   substeps / rate, static_cast<long long>(options.steps), rate);
+    };
     options.stop_requested = [] { return InterruptGuard::received() != 0; };
     ProgressBar bar(!quiet);
     options.progress = [&](int64_t s, int64_t t) {

@@ -13,10 +13,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, double dt,
-                           const std::function<bool()>& stop, double poll_seconds) {
+                           const std::function<bool()>& stop, double poll_seconds,
+                           const std::function<void(double)>& on_rate) {
   const auto stopped = [&] { return stop && stop(); };
   int64_t chunk = 1;       // substeps per advance, from the rate measured so far
   double per_substep = 0;  // wall seconds per substep, 0 until measured
+  int64_t timed_chunks = 0, timed_substeps = 0;
+  double timed_seconds = 0;  // -1 once on_rate was called
   for (int64_t s = 0; s < steps; ++s) {
     // A step that takes well under a second goes in one advance, polled after it: the state at
     // its start need not be read back (a GPU's download).
@@ -37,6 +40,16 @@ int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, doub
       done += n;
       const double took = seconds_since(t0);
       per_substep = std::max(took, 1e-12) / double(n);
+      // The rate for on_rate: over the chunks after the first (which pays first-touch costs)
+      // until they add up to poll_seconds.
+      if (timed_chunks++ > 0 && timed_seconds >= 0) {
+        timed_seconds += took;
+        timed_substeps += n;
+        if (timed_seconds >= poll_seconds) {
+          if (on_rate) on_rate(double(timed_substeps) / timed_seconds);
+          timed_seconds = -1;
+        }
+      }
       chunk = std::clamp<int64_t>(static_cast<int64_t>(poll_seconds / per_substep), 1, 4 * n);
       if (done < substeps && stopped()) {
         solver.set_state(start.displacement, start.velocity);

@@ -20,7 +20,10 @@ constexpr int64_t kLongStepSubsteps = 256;
 // exactly) and returns the whole steps done; a stop after a step returns the steps done; else
 // `steps`. Chunks split the substeps of a solver without tools exactly (the same states bit for
 // bit as one advance).
+// `on_rate`, when set, is called once with the substeps per wall second measured over about
+// `poll_seconds` of chunks (the first chunk left out).
 int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, double dt,
-                           const std::function<bool()>& stop, double poll_seconds);
+                           const std::function<bool()>& stop, double poll_seconds,
+                           const std::function<void(double)>& on_rate = {});
 
 }  // namespace phyxel

@@ -299,7 +299,7 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
   if (long_steps_)  // a stop mid-step ends the run at the last whole step
     next = step_ + advance_long_steps(solver_, next - step_, result_.plan.substeps,
                                       result_.plan.dt_used, options_.stop_requested,
-                                      options_.stop_poll_seconds);
+                                      options_.stop_poll_seconds, options_.on_substep_rate);
   else
     records = advance_with_tools(solver_, tools_, step_, next - step_, result_.plan.substeps,
                                  result_.plan.dt_used);

@@ -58,6 +58,9 @@ struct RunOptions {
   // advance at most tool_chunk_substeps at a time.
   std::function<bool()> stop_requested;
   double stop_poll_seconds = 0.1;
+  // Steps of many substeps (engine/run/long_step.h): the substeps per wall second measured on
+  // the first ones, for an estimate of the run's wall time (may be empty).
+  std::function<void(double substeps_per_second)> on_substep_rate;
   // Checkpoints (engine/run/checkpoint.h): out_dir/checkpoint.phx every checkpoint_every steps
   // and at the end (0: never; needs out_dir). Advances end at those steps; the loop's checks
   // are unchanged. A run resumed from a checkpoint at step k is bit-identical to the run that

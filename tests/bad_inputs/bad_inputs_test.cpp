@@ -182,20 +182,23 @@ bool wait_for_text(const fs::path& file, const std::string& text) {
 }
 
 // A step of about 600 000 substeps (a minute or more of wall time): the split is said before
-// the run starts, and SIGTERM stops it in the middle of the first step, which it abandons.
+// the run starts and the estimated wall time once the first substeps are timed, and SIGTERM
+// stops it in the middle of the first step, which it abandons.
 TEST(BadInputs, ALongStepSaysSoAndStopsMidStep) {
   const fs::path dir = case_dir("long_step");
   const fs::path out = dir / "out";
   const fs::path scene_file = write_block_without_tools(dir, 200, 3);
   const pid_t run = start_run(scene_file, out, dir / "err.txt");
   ASSERT_GT(run, 0);
-  const bool said = wait_for_text(dir / "err.txt", "substeps of");
+  // The split, then the wall time it will take, measured on the first substeps.
+  const bool said = wait_for_text(dir / "err.txt", "s of wall time for 3 steps");
   if (said) std::this_thread::sleep_for(std::chrono::milliseconds(300));
   kill(run, SIGTERM);
   int status = 0;
   ASSERT_EQ(waitpid(run, &status, 0), run);
   const std::string err = read_text(dir / "err.txt");
   EXPECT_TRUE(said) << err;
+  EXPECT_LT(err.find("each step is split into"), err.find("s of wall time for 3 steps")) << err;
   ASSERT_TRUE(WIFEXITED(status)) << err;
   EXPECT_EQ(WEXITSTATUS(status), 143) << err;
   const nlohmann::json summary = nlohmann::json::parse(read_text(out / "summary.json"));
