@@ -88,7 +88,7 @@ class RunLoop {
   // Advances without tools split exactly, so they can be cut short to see a stop promptly.
   bool polled_ = false;
   bool long_steps_ = false;  // polled between substeps too (engine/run/long_step.h)
-  int64_t poll_steps_ = 1;  // steps per advance while polled, from the measured rate
+  int64_t poll_steps_ = 1;   // steps per advance while polled, from the measured rate
   int64_t step_ = 0;
   size_t next_event_ = 0;
   int64_t checkpointed_ = -1;  // the step of the last checkpoint
