@@ -347,7 +347,7 @@ struct ContactToolShape {
   vec4 shape;    // radius (m), length (m; 0 for a sphere), Coulomb friction mu, and for a blade
                  // the band around it whose phyxels span its axial range (m; 0: contacts only)
   uvec4 kind;    // kToolSphere or kToolCapsule, 0, 0, 0
-  vec4 suction;  // an aspirator's pull per unit volume in reach F / V_reach (N/m^3; 0: none),
+  vec4 suction;  // an aspirator's pull per unit volume in reach 2 F / V_reach (N/m^3; 0: none),
                  // its reach (m), 0, 0 (engine/surgery/suction.h)
 };
 PHYXEL_ASSERT_SIZE(ContactToolShape, 48);

@@ -7,13 +7,15 @@
 // mouth, the tip, and ahead of it ((x - tip) . axis <= 0: the axis runs up the shaft) is pulled
 // toward the tip by
 //
-//   f_i = F V_i / V_reach (tip - x_i) / |tip - x_i|,   F = pressure pi radius^2,
+//   f_i = 2 F V_i / V_reach (tip - x_i) / |tip - x_i|,   F = pressure pi radius^2,
 //   V_reach = 2/3 pi reach^3 (the half ball ahead of the mouth),
 //
 // after the substep's contact correction, as a velocity change dt f_i / m_i. With the half ball
-// full of tissue the pulls add up to F, the pressure on the mouth's area; with less tissue in
-// reach the tube pulls on what is there, so the force needs no sum over the phyxels (one pass, no
-// reduction) and does not grow on a few phyxels as the tissue thins. The tool feels -sum f_i.
+// full of tissue the pulls' vector sum is F along the axis, the pressure on the mouth's area
+// (the mean of cos theta over a half ball is 1/2, hence the 2; their magnitudes add to 2 F);
+// with less tissue in reach the tube pulls on what is there, so the force needs no sum over the
+// phyxels (one pass, no reduction) and does not grow on a few phyxels as the tissue thins. The
+// tool feels -sum f_i (docs/suction.md, "Why this law").
 #pragma once
 
 #include <Eigen/Core>
@@ -24,13 +26,13 @@
 
 namespace phyxel {
 
-// F / V_reach (N/m^3): the pull per unit volume of tissue in reach; 0 for a tool that does not
-// suck.
+// 2 F / V_reach (N/m^3): the pull per unit volume of tissue in reach, so that a full half ball's
+// pulls add up to F along the axis; 0 for a tool that does not suck.
 inline double suction_pull_density(const ContactTool& tool) {
   const Suction& s = tool.suction;
   if (!s.sucks() || !(s.reach > 0)) return 0;
   const double force = s.pressure * std::numbers::pi * tool.shape.radius * tool.shape.radius;
-  return force / (2.0 / 3.0 * std::numbers::pi * s.reach * s.reach * s.reach);
+  return 2 * force / (2.0 / 3.0 * std::numbers::pi * s.reach * s.reach * s.reach);
 }
 
 // Whether x is in the mouth's reach at `pose`: within `reach` of the tip and ahead of it.

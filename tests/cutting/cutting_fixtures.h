@@ -95,7 +95,8 @@ struct PulledBar {
 
 // A 2 x 2 x 1 cm block of brain-like tissue on a fixed base, an aspirator (20 kPa) on the middle
 // of its top, held there for 0.15 s, or (descending) sucking its way 6 mm down over 0.3 s.
-inline std::string suction_block_json(double tear_stress, bool descending = false) {
+inline std::string suction_block_json(double tear_stress, bool descending = false,
+                                      double pressure = 20000) {
   std::ostringstream j;
   j << R"({"simulation": {"dt": 1e-3, "steps": 300, "gravity": [0, 0, 0]},
   "objects": [{"name": "brain", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.02, 0.02, 0.01]},
@@ -109,8 +110,8 @@ inline std::string suction_block_json(double tear_stress, bool descending = fals
     "path": [{"t": 0, "position": [0.01, 0.01, 0.0117], "axis": [0, 0, 1]})"
     << (descending ? R"(, {"t": 0.3, "position": [0.01, 0.01, 0.0057], "axis": [0, 0, 1]})" : "")
     << R"(],
-    "suction": {"pressure": 20000, "reach": 0.005, "until": )"
-    << (descending ? 0.3 : 0.15) << R"(}}],
+    "suction": {"pressure": )"
+    << pressure << R"(, "reach": 0.005, "until": )" << (descending ? 0.3 : 0.15) << R"(}}],
   "output": {"every": 0}})";
   return j.str();
 }

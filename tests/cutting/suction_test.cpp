@@ -1,9 +1,9 @@
 // The aspirator (engine/surgery/suction.h, aspiration.h; docs/suction.md) on the CPU reference:
-// its pull law (toward the mouth, within reach ahead of it, F = pressure x mouth area over a full
-// half ball); the fracture sphere of the paper's hybrid tearing on a synthetic set; a block
-// under suction below its tear stress deforms and lets go without losing anything; above it,
-// pieces are aspirated, removed + remaining mass and volume equal the initial ones, and every
-// value stays finite through repeated aspiration.
+// its pull law (toward the mouth, within reach ahead of it, adding up to F = pressure x mouth
+// area along the axis over a full half ball); the fracture sphere of the paper's hybrid tearing
+// on a synthetic set; a block under suction below its tear stress deforms and lets go without
+// losing anything; above it, pieces are aspirated, removed + remaining mass and volume equal the
+// initial ones, and every value stays finite through repeated aspiration.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -45,15 +45,17 @@ TEST(SuctionPull, PullsTowardTheMouthWithinReachAheadOfIt) {
   ContactTool off = tool;
   off.suction.pressure = 0;
   EXPECT_EQ(suction_pull<double>(off, mouth, Vec3(0, 0, 0.008), v), Vec3::Zero());
-  // A half ball full of tissue: the pulls' magnitudes add up to pressure x mouth area.
+  // A half ball full of tissue: the pulls' vector sum is pressure x mouth area along the axis,
+  // the force on the mouth (until 2026-11-26 it was half that: their magnitudes added up to it).
   const double h = 2e-4;
-  double sum = 0;
+  Vec3 sum = Vec3::Zero();
   for (double x = -0.005; x <= 0.005; x += h)
     for (double y = -0.005; y <= 0.005; y += h)
       for (double z = 0.01 - 0.005; z <= 0.01; z += h)
-        sum += suction_pull<double>(tool, mouth, Vec3(x, y, z), h * h * h).norm();
+        sum += suction_pull<double>(tool, mouth, Vec3(x, y, z), h * h * h);
   const double force = 2e4 * std::numbers::pi * 0.002 * 0.002;
-  EXPECT_NEAR(sum, force, 0.03 * force);
+  EXPECT_NEAR(sum.z(), force, 0.03 * force);
+  EXPECT_NEAR(std::hypot(sum.x(), sum.y()), 0, 1e-3 * force);
 }
 
 TEST(Suction, BelowTheTearStressDeformsAndLetsGoWithoutRemovingAnything) {
