@@ -30,6 +30,7 @@ layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 
 layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
 
 const float kMaxCondition = 100.0;  // engine/solver/mls_model.h kMaxMomentCondition
+const float kDamageOnset = 0.5;     // engine/solver/mls_model.h kDamageOnset
 
 // One Jacobi rotation in the (a, b) plane that zeroes m[a][b]; q accumulates the eigenvectors.
 void rotate(inout mat3 m, inout mat3 q, int a, int b) {
@@ -105,14 +106,14 @@ void main() {
     if (regularised) residual = inv * a * inv - inv;
   }
   // Damage (engine/solver/mls_model.h damage_factor): the elastic volume and kappa scaled by
-  // lambda_min over the reference's; exactly 1, without a second eigen-decomposition, until a
+  // lambda_min over kDamageOnset times the reference's; exactly 1, without a second eigen-decomposition, until a
   // cut or a tear took one of its pairs.
   float damage = 1.0;
   if (damaged) {
     mat3 q_reference;
     const vec3 lr = jacobi_eigen(reference, q_reference);
     const float reference_lmin = min(lr.x, min(lr.y, lr.z));
-    damage = reference_lmin > 0.0 ? clamp(lmin / reference_lmin, 0.0, 1.0)
+    damage = reference_lmin > 0.0 ? clamp(lmin / (kDamageOnset * reference_lmin), 0.0, 1.0)
                                   : (lmin >= reference_lmin ? 1.0 : 0.0);
   }
   const float volume = damage * rest[i].w;
