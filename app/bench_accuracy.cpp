@@ -23,7 +23,8 @@ constexpr const char* kHelp =
     "reports run time against relative error.\n"
     "\n"
     "options:\n"
-    "  --cases LIST        cantilever_small,cantilever_large,uniaxial_bar,wave_bar (default all)\n"
+    "  --cases LIST        cantilever_small,cantilever_large,cantilever_slit,uniaxial_bar,\n"
+    "                      wave_bar (default all)\n"
     "  --spacings LIST     spacing scales relative to the scene's (default 2,1.333333,1)\n"
     "  --dt LIST           fractions of the stable step (default 1,0.5)\n"
     "  --device LIST       cpu and/or gpu, gpu:N or a GPU name (default cpu)\n"
@@ -102,8 +103,8 @@ int bench_accuracy(const Args& args, const DeviceSolverFactory& device_factory) 
     std::puts(kHelp);
     return 0;
   }
-  const auto wanted =
-      split(opts.value("--cases", "cantilever_small,cantilever_large,uniaxial_bar,wave_bar"));
+  const auto wanted = split(opts.value(
+      "--cases", "cantilever_small,cantilever_large,cantilever_slit,uniaxial_bar,wave_bar"));
   const auto spacings = numbers(opts.value("--spacings", "2,1.333333,1"), "--spacings");
   const auto fractions = numbers(opts.value("--dt", "1,0.5"), "--dt");
   const auto devices = split(opts.value("--device", "cpu"));

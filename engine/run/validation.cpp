@@ -8,17 +8,24 @@
 #include <stdexcept>
 
 #include "engine/run/simulation.h"
+#include "engine/surgery/tool_track.h"
 
 namespace phyxel {
 namespace {
 
-double calculix_tip(const std::filesystem::path& file, const char* which) {
+nlohmann::json calculix(const std::filesystem::path& file, const char* generator) {
   std::ifstream in(file);
   if (!in)
     throw std::runtime_error(file.string() +
                              ": cannot open the CalculiX reference; regenerate it with "
-                             "scenes/validation/ccx/make_cantilever_reference.sh");
-  return nlohmann::json::parse(in)["cases"][which]["results"]["tip_center_uz"].get<double>();
+                             "scenes/validation/ccx/" +
+                             generator);
+  return nlohmann::json::parse(in);
+}
+
+double calculix_tip(const std::filesystem::path& file, const char* which) {
+  return calculix(file, "make_cantilever_reference.sh")["cases"][which]["results"]["tip_center_uz"]
+      .get<double>();
 }
 
 // Indices of the phyxels whose rest position has coordinate `axis` within tol of `at`.
@@ -60,6 +67,40 @@ int64_t relax(Solver& solver, double dt, int64_t max_steps) {
   return max_steps;
 }
 
+// The mean u_z of the phyxels within 0.75 spacings of p: the four around the tip's centre
+// line when the lattice puts none on it (an odd number of spacings across the section).
+double mean_uz_around(const PhyxelSet& set, const PointState& s, const Vec3& p,
+                      const std::string& scene) {
+  const double radius = 0.75 * set.objects.at(0).spacing;
+  double sum = 0;
+  int count = 0;
+  for (size_t i = 0; i < set.size(); ++i)
+    if ((set.rest[i] - p).norm() < radius) sum += s.displacement[i].z(), ++count;
+  if (count == 0)
+    throw std::runtime_error(scene + ": no phyxel within 0.75 spacings of the tip's centre");
+  return sum / count;
+}
+
+// The slit case: the scene's scalpels cut the beam at rest (no gravity) along their paths, then
+// gravity is applied as a load and the beam relaxes.
+void cut_then_load(Solver& solver, const Scene& scene, const PhyxelSet& set, double dt) {
+  double duration = 0;
+  for (const ToolDesc& t : scene.tools) duration = std::max(duration, t.path.back().t);
+  const int64_t steps = static_cast<int64_t>(std::ceil(duration / dt)) + 1, chunk = 16;
+  ToolTrack track(scene.tools, {});
+  solver.set_tools(contact_tools(scene.tools));
+  for (int64_t s = 0; s < steps; s += chunk) {
+    const int64_t n = std::min(chunk, steps - s);
+    solver.set_tool_motion(track.motions(s, n, dt));
+    solver.advance(n, dt);
+  }
+  solver.set_tools({});
+  std::vector<Vec3> loads(set.size());
+  for (size_t i = 0; i < set.size(); ++i)
+    loads[i] = set.mass[i] * scene.simulation.gravity + set.external_force[i];
+  solver.set_external_forces(loads);
+}
+
 double mean_x_velocity(const PointState& s, const std::vector<size_t>& idx) {
   double sum = 0;
   for (size_t i : idx) sum += s.velocity[i].x();
@@ -76,6 +117,12 @@ std::vector<ValidationCase> validation_cases(const std::filesystem::path& source
                    calculix_tip(ccx, "A"), "CalculiX C3D20R 40x8x8, linear"});
   cases.push_back({"cantilever_large", dir / "cantilever_large.json", "tip u_z (m)",
                    calculix_tip(ccx, "C-nl"), "CalculiX C3D20R 40x8x8, NLGEOM"});
+  const nlohmann::json slit =
+      calculix(dir / "cantilever_slit_reference.json", "make_slit_reference.sh");
+  cases.push_back({"cantilever_slit", dir / "cantilever_slit.json", "tip u_z (m)",
+                   slit["results"]["slit"].get<double>(),
+                   "CalculiX C3D20R " + slit["convergence"].back()["mesh"].get<std::string>() +
+                       ", linear, slit as duplicated nodes"});
   const Scene bar = load_scene(dir / "uniaxial_bar.json");
   cases.push_back({"uniaxial_bar", bar.file, "Young's modulus (Pa)", bar.objects[0].material.young,
                    "closed form: E and nu of the material"});
@@ -103,11 +150,18 @@ ValidationRun run_validation(const ValidationCase& c, double spacing_scale, doub
   run.phyxels = set.size();
   run.reference = c.reference;
   const auto start = std::chrono::steady_clock::now();
-  std::unique_ptr<Solver> solver = make_solver(set, scene.simulation.gravity);
+  const bool slit = c.name == "cantilever_slit";  // loaded after the cut: no gravity until then
+  std::unique_ptr<Solver> solver = make_solver(set, slit ? Vec3::Zero() : scene.simulation.gravity);
   run.device = solver->device();
   const std::string name = c.scene.string();
 
-  if (c.name == "cantilever_small" || c.name == "cantilever_large") {
+  if (slit) {
+    cut_then_load(*solver, scene, set, dt);
+    run.steps = relax(*solver, dt, scene.simulation.steps * 10);
+    const double length = obj.shape.max.x() - obj.shape.min.x();
+    run.value = mean_uz_around(set, solver->read_state(false), Vec3(length, 0, 0), name);
+    run.error = std::abs(run.value / run.reference - 1);
+  } else if (c.name == "cantilever_small" || c.name == "cantilever_large") {
     const size_t tip = phyxel_at(set, Vec3(0.1, 0, 0), name);
     run.steps = relax(*solver, dt, scene.simulation.steps * 10);
     const Vec3 u = solver->read_state(false).displacement[tip];

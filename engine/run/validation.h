@@ -1,7 +1,7 @@
-// Validation cases with references that no part of Phyxel computed: the cantilever against
-// CalculiX, the uniaxial stretch and the bar wave speed against closed-form answers. Shared by
-// the tests (tests/validation) and `phyxel bench --accuracy`, which sweeps resolution, time
-// step and device.
+// Validation cases with references that no part of Phyxel computed: the cantilever, whole and
+// with a slit cut at rest, against CalculiX, the uniaxial stretch and the bar wave speed against
+// closed-form answers. Shared by the tests (tests/validation) and `phyxel bench --accuracy`, which
+// sweeps resolution, time step and device.
 #pragma once
 
 #include <filesystem>
@@ -15,7 +15,7 @@
 namespace phyxel {
 
 struct ValidationCase {
-  std::string name;             // cantilever_small, cantilever_large, uniaxial_bar, wave_bar
+  std::string name;  // cantilever_small, cantilever_large, cantilever_slit, uniaxial_bar, wave_bar
   std::filesystem::path scene;  // scenes/validation/<name>.json
   std::string quantity;         // what is measured
   double reference = 0;         // its reference value

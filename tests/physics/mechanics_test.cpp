@@ -3,6 +3,7 @@
 // CalculiX are in tests/validation.)
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
 #include "engine/run/simulation.h"
@@ -41,9 +42,20 @@ TEST(FreeVibration, UndampedMotionConservesTotalEnergy) {
   EXPECT_LT(min_strain, 0.3 * e0);
 }
 
-// Largest eigenvalue of M^-1 K at rest by power iteration on the linearised forces.
-double max_angular_frequency(const PhyxelSet& set) {
+// Largest eigenvalue of M^-1 K at rest by power iteration on the linearised forces, after
+// severing the pairs (i < j) for which `cut` says so.
+double max_angular_frequency(const PhyxelSet& set,
+                             const std::function<bool(const Vec3&, const Vec3&)>& cut = {}) {
   CpuSolver<double> solver(set, Vec3::Zero());
+  if (cut) {
+    std::vector<SeveredPair> pairs;
+    const NeighbourLists& nbr = solver.neighbours();
+    for (uint32_t i = 0; i < set.size(); ++i)
+      for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
+        if (nbr.index[k] > i && cut(set.rest[i], set.rest[nbr.index[k]]))
+          pairs.push_back({i, nbr.index[k], 0.5f});
+    solver.sever_pairs(pairs);
+  }
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> d(-1, 1);
   std::vector<Vec3> x(set.size());
@@ -81,6 +93,35 @@ TEST(StableStep, CourantRuleStaysBelowTheMeasuredLimit) {
       EXPECT_LT(rule, 0.9 * limit)
           << "nu " << poisson << " h " << h_factor << " s: rule " << rule << " limit " << limit;
     }
+  }
+}
+
+TEST(StableStep, CutsKeepTheMarginOfTheCourantRule) {
+  // Cut faces keep their whole elastic volume (damage sets in below half the intact lambda_min,
+  // mls_model.h kDamageOnset): like sampled surfaces they must stay within the measured limit,
+  // as must a one-layer sliver between two cuts and the corner where two cuts cross.
+  Scene scene =
+      test::box_scene(Vec3(0, 0, 0), Vec3(0.015, 0.015, 0.015), 0.0025, test::tissue(1e6, 0.3));
+  const PhyxelSet set = sample_scene(scene);
+  const double rule = plan_time_step(scene, set).dt_stable;
+  auto across = [](double plane, int axis) {
+    return [=](const Vec3& a, const Vec3& b) { return (a[axis] - plane) * (b[axis] - plane) < 0; };
+  };
+  const auto plane = across(0.00625, 0);
+  const auto sliver = [&](const Vec3& a, const Vec3& b) {
+    return plane(a, b) || across(0.00875, 0)(a, b);
+  };
+  const auto crossing = [&](const Vec3& a, const Vec3& b) {
+    return plane(a, b) || across(0.00625, 1)(a, b);
+  };
+  const double intact = 2 / max_angular_frequency(set);
+  for (const auto& [name, cut] :
+       {std::pair<const char*, std::function<bool(const Vec3&, const Vec3&)>>{"plane", plane},
+        {"sliver", sliver},
+        {"crossing", crossing}}) {
+    const double limit = 2 / max_angular_frequency(set, cut);
+    EXPECT_LT(rule, 0.9 * limit) << name << ": rule " << rule << " limit " << limit;
+    EXPECT_GT(limit, 0.9 * intact) << name << ": limit " << limit << " intact " << intact;
   }
 }
 

@@ -35,86 +35,15 @@ G_A=9.81                          # cases A, B
 G_C=${G_C:-78.48}
 REL_TOL=0.003                     # required change between the last two meshes
 
-die() { echo "make_cantilever_reference.sh: error: $*" >&2; exit 1; }
+NAME=make_cantilever_reference.sh WORK_PREFIX=phyxel-ccx
+. "$here/ccx_setup.sh"
 
-command -v ccx >/dev/null 2>&1 || die "CalculiX 'ccx' not found in PATH - install calculix-ccx (Debian/Ubuntu: apt-get install calculix-ccx)"
-[ -r "$TEMPLATE" ] || die "template $TEMPLATE missing"
-case $ELTYPE in C3D20R|C3D20) ;; *) die "ELTYPE must be C3D20R or C3D20" ;; esac
-
-CCX_VERSION=$(ccx -v 2>&1 | awk '/Version/ { print $NF; exit }')
-[ -n "$CCX_VERSION" ] || CCX_VERSION=unknown
-DATE=$(date -u +%Y-%m-%d)
-
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/phyxel-ccx.XXXXXX")
-if [ "${KEEP_WORK:-0}" = 1 ]; then
-    echo "work dir kept: $WORK" >&2
-else
-    trap 'rm -rf "$WORK"' EXIT
-fi
-trap 'exit 130' INT TERM
-
-# Keep the runs light on shared machines.
-export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
-export CCX_NPROC_EQUATION_SOLVER=${CCX_NPROC_EQUATION_SOLVER:-1}
-
-# ---- structured 20-node hex mesh ----------------------------------------
-# Nodes live on the half-step lattice (I,J,K), I = 0..2nx etc.; a lattice
-# point is a node of the C3D20 mesh iff at most one of I,J,K is odd.
-# Writes mesh.inp (ccx) and nodes.txt ("id I J K x y z") in directory $1.
+# ---- structured 20-node hex mesh (box_mesh.awk) ---------------------------
+# Writes mesh.inp (ccx) and nodes.txt ("id I J K x y z twin") in directory $1.
 gen_mesh() { # dir nx ny nz
     awk -v nx="$2" -v ny="$3" -v nz="$4" -v L="$L" -v B="$B" -v H="$H" \
-        -v eltype="$ELTYPE" -v mesh="$1/mesh.inp" -v tab="$1/nodes.txt" '
-    function odd(a) { return a % 2 }
-    function nid(I, J, K) { return id[I "," J "," K] }
-    function flush_set(name, list, n,   i, line) {
-        print "*NSET,NSET=" name > mesh
-        line = ""
-        for (i = 1; i <= n; i++) {
-            line = line list[i] ","
-            if (i % 16 == 0 || i == n) { print line > mesh; line = "" }
-        }
-    }
-    BEGIN {
-        NI = 2 * nx; NJ = 2 * ny; NK = 2 * nz
-        print "** structured " nx "x" ny "x" nz " " eltype " mesh, generated" > mesh
-        print "*NODE,NSET=NALL" > mesh
-        n = 0; nfix = 0; ntip = 0
-        for (K = 0; K <= NK; K++) for (J = 0; J <= NJ; J++) for (I = 0; I <= NI; I++) {
-            if (odd(I) + odd(J) + odd(K) > 1) continue
-            n++
-            id[I "," J "," K] = n
-            x = L * I / NI; y = -B / 2 + B * J / NJ; z = -H / 2 + H * K / NK
-            printf "%d,%.12g,%.12g,%.12g\n", n, x, y, z > mesh
-            printf "%d %d %d %d %.12g %.12g %.12g\n", n, I, J, K, x, y, z > tab
-            if (I == 0)  fix[++nfix] = n
-            if (I == NI) tip[++ntip] = n
-        }
-        print "*ELEMENT,TYPE=" eltype ",ELSET=EALL" > mesh
-        e = 0
-        for (k = 0; k < nz; k++) for (j = 0; j < ny; j++) for (i = 0; i < nx; i++) {
-            I = 2 * i; J = 2 * j; K = 2 * k
-            # corners (bottom z-, then top z+), counter-clockwise seen from +z
-            c[1] = nid(I, J, K);     c[2] = nid(I+2, J, K)
-            c[3] = nid(I+2, J+2, K); c[4] = nid(I, J+2, K)
-            c[5] = nid(I, J, K+2);     c[6] = nid(I+2, J, K+2)
-            c[7] = nid(I+2, J+2, K+2); c[8] = nid(I, J+2, K+2)
-            # mid-edges: 9-12 bottom, 13-16 top, 17-20 vertical
-            c[9]  = nid(I+1, J, K);   c[10] = nid(I+2, J+1, K)
-            c[11] = nid(I+1, J+2, K); c[12] = nid(I, J+1, K)
-            c[13] = nid(I+1, J, K+2);   c[14] = nid(I+2, J+1, K+2)
-            c[15] = nid(I+1, J+2, K+2); c[16] = nid(I, J+1, K+2)
-            c[17] = nid(I, J, K+1);     c[18] = nid(I+2, J, K+1)
-            c[19] = nid(I+2, J+2, K+1); c[20] = nid(I, J+2, K+1)
-            e++
-            line = e
-            for (m = 1; m <= 15; m++) line = line "," c[m]
-            print line "," > mesh
-            print c[16] "," c[17] "," c[18] "," c[19] "," c[20] > mesh
-        }
-        flush_set("NFIX", fix, nfix)
-        flush_set("NTIP", tip, ntip)
-        printf "%d %d\n", n, e
-    }'
+        -v eltype="$ELTYPE" -v mesh="$1/mesh.inp" -v tab="$1/nodes.txt" \
+        -f "$here/box_mesh.awk"
 }
 
 # ---- one ccx job ----------------------------------------------------------
