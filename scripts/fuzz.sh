@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes the scene, OBJ and checkpoint readers and the haptic protocol's decoder with libFuzzer
 # for a bounded time each. CI runs it for 60 s a target (scripts/dev.sh test) with
-# PHYXEL_FUZZ_FAIL=1: a finding then fails the run. Every run replays what fuzzing found before
+# PHYXEL_FUZZ_FAIL=1: a finding then fails the run. PHYXEL_FUZZ_SEED fixes libFuzzer's seed
+# (CI: 1, so a run explores the same inputs each time; unset or 0: a new seed every run). Every run replays what fuzzing found before
 # (tests/scene/fuzz_regressions_test.cpp).
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #   default 300 s, fuzz_scene fuzz_obj fuzz_checkpoint fuzz_haptic
@@ -65,7 +66,8 @@ for target in "${targets[@]}"; do
   echo "fuzz: $target for ${seconds}s, corpus $corpus ($(ls "$corpus" | wc -l) files)"
   "build-fuzz/fuzz/$target" "$corpus" -artifact_prefix="$artifacts/" \
     -max_total_time="$seconds" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
-    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "${options[@]}" 2>&1 | tee "build-fuzz/$target.log" |
+    -timeout=10 -rss_limit_mb=2048 -seed="${PHYXEL_FUZZ_SEED:-0}" -print_final_stats=1 \
+    "${options[@]}" 2>&1 | tee "build-fuzz/$target.log" |
     grep -E '^#|INFO: fork|crash|ERROR|SUMMARY|stat::' || true
   last="$(grep -E '^#[0-9]+:' "build-fuzz/$target.log" | tail -1)"
   time_s="${last#*time: }"
