@@ -31,8 +31,6 @@ layout(std430, binding = kPrecomputeBindingAinv) writeonly buffer Ainv { vec4 ai
 layout(std430, binding = kPrecomputeBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kPrecomputeBindingList) readonly buffer List { uint list[]; };
 
-const float kDamageOnset = 0.5;  // engine/solver/mls_model.h kDamageOnset
-
 void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const bool cut_list = p.indexed == kPrecomputeCutList;
@@ -62,14 +60,14 @@ void main() {
   const mat3 residual = moment.residual;
   const bool regularised = moment.regularised;
   // Damage (engine/solver/mls_model.h damage_factor): the elastic volume and kappa scaled by
-  // lambda_min over kDamageOnset times the reference's; exactly 1, without a second
-  // eigen-decomposition, until a cut or a tear took one of its pairs.
+  // lambda_min over the reference's; exactly 1, without a second eigen-decomposition, until a
+  // cut or a tear took one of its pairs.
   float damage = 1.0;
   if (damaged) {
     mat3 q_reference;
     const vec3 lr = jacobi_eigen(reference, q_reference);
     const float reference_lmin = min(lr.x, min(lr.y, lr.z));
-    damage = reference_lmin > 0.0 ? clamp(lmin / (kDamageOnset * reference_lmin), 0.0, 1.0)
+    damage = reference_lmin > 0.0 ? clamp(lmin / reference_lmin, 0.0, 1.0)
                                   : (lmin >= reference_lmin ? 1.0 : 0.0);
   }
   const float volume = damage * rest[i].w;

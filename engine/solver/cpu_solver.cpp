@@ -106,8 +106,8 @@ void CpuSolver<Real>::precompute(size_t i) {
   regularised_[i] = inv.regularised;
   // Damage: once pairs are cut or torn, the smallest eigenvalue of A_i falls and the
   // gradient's stiffest mode grows as 1/lambda_min, beyond what the stable step allows. The
-  // phyxel's elastic response is scaled by lambda_min over half the reference's (kDamageOnset),
-  // so no mode gets stiffer than at a sampled surface (docs/tearing.md, "Damaged phyxels").
+  // phyxel's elastic response is scaled by lambda_min over the reference's, so no mode gets
+  // stiffer (docs/tearing.md, "Damaged phyxels").
   const double damage =
       damaged ? damage_factor(min_moment_eigenvalue(a), min_moment_eigenvalue(reference)) : 1.0;
   elastic_volume_[i] = Real(damage * double(volume_[i]));

@@ -60,18 +60,12 @@ inline double min_moment_eigenvalue(const Eigen::Matrix3d& a) {
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(a, Eigen::EigenvaluesOnly).eigenvalues()[0];
 }
 
-// Where damage sets in: a phyxel keeps its whole elastic volume while lambda_min of its live
-// pairs is at least this share of its reference's. One plane cut anywhere through a symmetric
-// neighbourhood leaves at least half of it (of each pair x, -x one side stays), so the faces of
-// a cut are as stiff as sampled surfaces (docs/decisions.md, "A cut body's stiffness").
-inline constexpr double kDamageOnset = 0.5;
-
 // A phyxel's damage factor in [0, 1] (docs/tearing.md, "Damaged phyxels"): lambda_min of its
-// moment matrix over the pairs still alive, over kDamageOnset times lambda_min with every pair
-// to a phyxel not removed (cut and torn pairs included); 1 while nothing was cut or torn.
+// moment matrix over the pairs still alive, over lambda_min with every pair to a phyxel not
+// removed (cut and torn pairs included); 1 while nothing was cut or torn.
 inline double damage_factor(double lmin, double reference_lmin) {
   if (!(reference_lmin > 0)) return lmin >= reference_lmin ? 1.0 : 0.0;
-  return std::clamp(lmin / (kDamageOnset * reference_lmin), 0.0, 1.0);
+  return std::clamp(lmin / reference_lmin, 0.0, 1.0);
 }
 
 // Cofactor matrix of F (= det F * F^-T where F is invertible), defined for every F.

@@ -132,9 +132,7 @@ TEST(CutFeedback, ARunRecordsTheDepthAndTheDragOfABladeCuttingABeam) {
                 r.force.squaredNorm(), 1e-9 * r.force.squaredNorm() + 1e-30);
   }
   EXPECT_GT(in_tissue, 50);
-  // Substeps in which some phyxel touched the thin blade: 23 since the faces beside a cut keep
-  // their whole elastic volume (kDamageOnset) and spring back into it less.
-  EXPECT_GT(dragged, 20);
+  EXPECT_GT(dragged, 25);  // substeps in which some phyxel touched the thin blade
   const ToolRunStats& st = track.stats()[0];
   EXPECT_NEAR(st.max_depth, 0.006, 0.002);
   EXPECT_GT(st.max_friction, 0.0);

@@ -97,9 +97,8 @@ TEST(StableStep, CourantRuleStaysBelowTheMeasuredLimit) {
 }
 
 TEST(StableStep, CutsKeepTheMarginOfTheCourantRule) {
-  // Cut faces keep their whole elastic volume (damage sets in below half the intact lambda_min,
-  // mls_model.h kDamageOnset): like sampled surfaces they must stay within the measured limit,
-  // as must a one-layer sliver between two cuts and the corner where two cuts cross.
+  // Cut faces, like sampled surfaces, must stay within the measured limit, as must a one-layer
+  // sliver between two cuts and the corner where two cuts cross.
   Scene scene =
       test::box_scene(Vec3(0, 0, 0), Vec3(0.015, 0.015, 0.015), 0.0025, test::tissue(1e6, 0.3));
   const PhyxelSet set = sample_scene(scene);

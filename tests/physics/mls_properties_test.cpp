@@ -168,10 +168,9 @@ void crack(Solver& solver, const PhyxelSet& set, double x_cut, uint32_t lone) {
   solver.sever_pairs(pairs);
 }
 
-TEST(DamageFactor, IsOneDownToHalfTheEigenvalueZeroForAFragmentAndTheRatioBetween) {
+TEST(DamageFactor, IsOneIntactZeroForAFragmentAndTheEigenvalueRatioBetween) {
   EXPECT_EQ(damage_factor(2.0, 2.0), 1.0);
-  EXPECT_EQ(damage_factor(1.0, 2.0), 1.0);  // a plane cut leaves at least half: undamaged
-  EXPECT_EQ(damage_factor(0.5, 2.0), 0.5);
+  EXPECT_EQ(damage_factor(0.5, 2.0), 0.25);
   EXPECT_EQ(damage_factor(0.0, 2.0), 0.0);
   EXPECT_EQ(damage_factor(-1e-18, 2.0), 0.0);  // round-off of a singular matrix
   EXPECT_EQ(damage_factor(0.0, 0.0), 1.0);     // singular from the start (a one-layer plate)
