@@ -12,14 +12,6 @@
 
 namespace phyxel::app {
 
-nlohmann::json wall_split_json(const RunResult::WallSplit& split) {
-  return {{"advance", split.advance},
-          {"checks", split.checks},
-          {"callbacks", split.callbacks},
-          {"pacing", split.pacing},
-          {"outputs", split.outputs}};
-}
-
 nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& solver,
                            const RunOptions& options, const RunResult& result,
                            const HapticSession* haptics, const char* interrupted_by) {

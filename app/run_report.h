@@ -12,7 +12,14 @@
 namespace phyxel::app {
 
 // {"advance", "checks", "callbacks", "pacing", "outputs"}: seconds (RunResult::WallSplit).
-nlohmann::json wall_split_json(const RunResult::WallSplit& split);
+// Inline: bench/ uses it without linking app/.
+inline nlohmann::json wall_split_json(const RunResult::WallSplit& split) {
+  return {{"advance", split.advance},
+          {"checks", split.checks},
+          {"callbacks", split.callbacks},
+          {"pacing", split.pacing},
+          {"outputs", split.outputs}};
+}
 
 // The summary as JSON (what write_run_summary writes).
 nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& solver,

@@ -6,10 +6,10 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "bench/render_bench.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "render/frame_output.h"
-#include "render/render_bench.h"
 #include "render/sample_shapes.h"
 #include "render/viewer.h"
 #include "tests/render/render_test_util.h"
@@ -209,13 +209,13 @@ TEST_F(RenderFrames, ASolverWithItsPairsInTwoPartsRendersTheOneBindingFrame) {
 }
 
 TEST_F(RenderFrames, BenchEntryPointMeasuresAStereoFrame) {
-  RenderBenchOptions options;
+  bench::RenderBenchOptions options;
   options.surfels = 1500;
   options.eye_width = 64;
   options.height = 48;
   options.frames = 2;
   options.with_solver = true;
-  const RenderBenchResult r = bench_render(ctx(), options);
+  const bench::RenderBenchResult r = bench::bench_render(ctx(), options);
   EXPECT_GT(r.surfels, 1000u);
   EXPECT_LT(r.surfels, 3000u);
   EXPECT_GT(r.phyxels, r.surfels);

@@ -10,9 +10,9 @@
 #include <fstream>
 #include <string>
 
+#include "bench/render_bench.h"
 #include "engine/sampling/phyxel_set.h"
 #include "render/frame_output.h"
-#include "render/render_bench.h"
 #include "render/sample_shapes.h"
 #include "render/video_clip.h"
 #include "render/video_decoder.h"
@@ -200,13 +200,13 @@ TEST_F(VideoTextureRender, VideoTexturedSphereAtTwoSimulatedTimes) {
 }
 
 TEST_F(VideoTextureRender, BenchRowWithTheVideoTextureAndTheEnvironment) {
-  RenderBenchOptions options;
+  bench::RenderBenchOptions options;
   options.surfels = 1500;
   options.eye_width = 64;
   options.height = 48;
   options.frames = 2;
   options.video_texture = true;
-  const RenderBenchResult r = bench_render(ctx(), options);
+  const bench::RenderBenchResult r = bench::bench_render(ctx(), options);
   EXPECT_GT(r.median_frame_s, 0.0);
   EXPECT_GT(r.video_decode_s, 0.0);
   EXPECT_GT(r.video_process_s, 0.0);

@@ -13,11 +13,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/bench_extras.h"
-#include "app/bench_tools.h"
-#include "app/options.h"
+#include "bench/bench_tools.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 constexpr const char* kTearingHelp =
@@ -56,17 +56,12 @@ nlohmann::json tearing_row(const std::string& device, int threads, int64_t size,
                            int64_t steps, int64_t repeats) {
   ToolBenchCase intact(device, threads, tearing_scene(size, std::nullopt)),
       tearing(device, threads, tearing_scene(size, tear_stress));
-  // Warm-up: the probe enters the box (1 cm of travel).
-  const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kCrossingSpeed / tearing.dt));
+  // Warm-up: the probe enters the box.
+  const int64_t enter = crossing_entry_steps(tearing.dt);
   intact.run(enter);
   tearing.run(enter);
   const size_t torn_before = tearing.solver->severed_pairs();
-  std::vector<double> t_intact, t_tearing;
-  for (int64_t r = 0; r < repeats; ++r) {
-    t_intact.push_back(intact.run(steps) / double(steps));
-    t_tearing.push_back(tearing.run(steps) / double(steps));
-  }
-  const double s_intact = median_of(t_intact), s_tearing = median_of(t_tearing);
+  const auto [s_intact, s_tearing] = interleaved_step_seconds(intact, tearing, steps, repeats);
   const double torn_per_step =
       double(tearing.solver->severed_pairs() - torn_before) / double(steps * repeats);
   nlohmann::json row = {
@@ -161,14 +156,9 @@ int bench_tearing(const Args& args) {
       "principal-stress and tear passes per step, timestamps; step us, tearing: all the GPU's "
       "passes of a step without and with tear_stress)\n",
       static_cast<long long>(repeats), static_cast<long long>(steps));
-  if (!out_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    std::ofstream json(std::filesystem::path(out_dir) / "tearing.json");
-    json << nlohmann::json{{"tearing", rows}}.dump(2) << "\n";
-    if (!json) throw std::runtime_error("cannot write " + out_dir + "/tearing.json");
-  }
+  if (!out_dir.empty())
+    write_json_file(std::filesystem::path(out_dir) / "tearing.json", {{"tearing", rows}});
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

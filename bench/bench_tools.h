@@ -1,10 +1,9 @@
 // Pieces the benches with tools share (bench_haptics.cpp, bench_cutting.cpp,
-// bench_tearing.cpp; make_bench_solver
-// also bench_skips.cpp): a solver by device name, a box scene with its tools stepped as the
-// run loop steps them, per-pass GPU timestamps, and small helpers.
+// bench_tearing.cpp, bench_surgery.cpp; make_bench_solver also bench_skips.cpp): a solver by
+// device name, a box scene with its tools stepped as the run loop steps them, per-pass GPU
+// timestamps, and small helpers.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -13,15 +12,13 @@
 #include "compute/timing.h"
 #include "engine/run/simulation.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 
 // "cpu": the CPU reference with `threads` (0: all cores); anything else: the GPU solver on
 // that device (validation off).
 std::unique_ptr<Solver> make_bench_solver(const std::string& device, const PhyxelSet& set,
                                           const Vec3& gravity, int threads);
 
-double seconds_since(std::chrono::steady_clock::time_point t0);
-double median_of(std::vector<double> v);  // the upper median; 0 when empty
 // A comma-separated list of phyxel counts, each at least `least` (UsageError otherwise).
 std::vector<int64_t> parse_phyxel_sizes(const std::string& text, int64_t least);
 // The time of the pass `name` (ns), 0 when absent.
@@ -39,7 +36,7 @@ Scene crossing_blade_scene(int64_t size, bool blade);
 // per chunk, as a run that is not paced to the wall clock does.
 struct ToolBenchCase {
   ToolBenchCase(const std::string& device, int threads, Scene scene);
-  double run(int64_t steps);  // wall seconds
+  void run(int64_t steps);
   // GPU only: the per-pass timestamps of `steps` steps in one submit (empty on the CPU).
   std::vector<gpu::PassTime> profile(int64_t steps);
 
@@ -51,4 +48,14 @@ struct ToolBenchCase {
   int64_t done = 0;
 };
 
-}  // namespace phyxel::app
+// Wall seconds per step of `a` and of `b`, `steps` steps per timed repeat, the two interleaved
+// (time_interleaved: a busy machine slows both alike); the medians of the repeats.
+struct StepSeconds {
+  double a, b;
+};
+StepSeconds interleaved_step_seconds(ToolBenchCase& a, ToolBenchCase& b, int64_t steps,
+                                     int64_t repeats);
+// Steps for the blade of crossing_blade_scene to enter its box (1 cm of travel).
+int64_t crossing_entry_steps(double dt);
+
+}  // namespace phyxel::bench

@@ -15,7 +15,7 @@
 #include "compute/context.h"
 #include "compute/timing.h"
 
-namespace phyxel::render {
+namespace phyxel::bench {
 
 struct RenderBenchOptions {
   uint32_t surfels = 100000;  // approximate
@@ -51,4 +51,4 @@ struct RenderBenchResult {
 
 RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& options = {});
 
-}  // namespace phyxel::render
+}  // namespace phyxel::bench

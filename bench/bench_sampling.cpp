@@ -11,24 +11,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/bench_extras.h"
-#include "app/options.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 #include "engine/geometry/image_volume.h"
 #include "engine/sampling/phyxel_set.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 // Label 1 in an ellipsoid of semi-axes (0.45, 0.42, 0.40) N voxels, label 2 in the same shape
 // at 0.6 of that size inside it: about a brain's proportions.
@@ -85,58 +74,54 @@ int bench_sampling(const Args& args) {
     std::filesystem::create_directories(dir);
     const auto file = dir / ("labels_" + std::to_string(size) + ".nii.gz");
     write_nifti_volume(file, brain_like_volume(size));
-    std::vector<double> read, mask, sample;
+    // Each repeat reads, masks and samples in turn: three phases timed apart.
+    std::optional<ImageVolume> volume;
+    Shape shape;
+    shape.type = Shape::Type::Image;
     size_t phyxels = 0;
-    for (int64_t r = 0; r < repeats; ++r) {
-      auto t0 = Clock::now();
-      const ImageVolume volume = read_image_volume(file, std::nullopt);
-      read.push_back(seconds_since(t0));
-      t0 = Clock::now();
-      Shape shape;
-      shape.type = Shape::Type::Image;
-      shape.image = std::make_shared<const LabelMask>(volume, VoxelSelection{{1, 2}, std::nullopt});
-      mask.push_back(seconds_since(t0));
-      const double spacing = std::cbrt(shape.image->labelled_volume() / double(target));
-      t0 = Clock::now();
-      phyxels = sample_scene(image_scene(shape, spacing)).size();
-      sample.push_back(seconds_since(t0));
-    }
+    const std::vector<Timing> t = time_interleaved(
+        {[&] { volume = read_image_volume(file, std::nullopt); },
+         [&] {
+           shape.image =
+               std::make_shared<const LabelMask>(*volume, VoxelSelection{{1, 2}, std::nullopt});
+         },
+         [&] {
+           const double spacing = std::cbrt(shape.image->labelled_volume() / double(target));
+           phyxels = sample_scene(image_scene(shape, spacing)).size();
+         }},
+        repeats);
+    const double read = t[0].median, mask = t[1].median, sample = t[2].median;
     const std::string input = std::to_string(size) + "^3 uint8 .nii.gz";
-    const double total = median(read) + median(mask) + median(sample);
-    std::printf("%-34s %10zu %9.3f %9.3f %9.3f %9.3f\n", input.c_str(), phyxels, median(read),
-                median(mask), median(sample), total);
+    const double total = read + mask + sample;
+    std::printf("%-34s %10zu %9.3f %9.3f %9.3f %9.3f\n", input.c_str(), phyxels, read, mask, sample,
+                total);
     rows.push_back({{"input", input},
                     {"phyxels", phyxels},
-                    {"read_s", median(read)},
-                    {"mask_s", median(mask)},
-                    {"sample_s", median(sample)},
+                    {"read_s", read},
+                    {"mask_s", mask},
+                    {"sample_s", sample},
                     {"total_s", total},
                     {"repeats", repeats},
                     {"threads", omp_get_max_threads()}});
   } else {
-    std::vector<double> load, sample;
+    std::optional<Scene> scene;
     size_t phyxels = 0;
-    for (int64_t r = 0; r < repeats; ++r) {
-      auto t0 = Clock::now();
-      const Scene scene = load_scene(scene_file);
-      load.push_back(seconds_since(t0));
-      t0 = Clock::now();
-      phyxels = sample_scene(scene).size();
-      sample.push_back(seconds_since(t0));
-    }
-    const double total = median(load) + median(sample);
+    const std::vector<Timing> t = time_interleaved(
+        {[&] { scene = load_scene(scene_file); }, [&] { phyxels = sample_scene(*scene).size(); }},
+        repeats);
+    const double load = t[0].median, sample = t[1].median, total = load + sample;
     std::printf("%-34s %10zu %19.3f %9.3f %9.3f   (read s: the scene's loading)\n",
-                scene_file.c_str(), phyxels, median(load), median(sample), total);
+                scene_file.c_str(), phyxels, load, sample, total);
     rows.push_back({{"input", scene_file},
                     {"phyxels", phyxels},
-                    {"load_s", median(load)},
-                    {"sample_s", median(sample)},
+                    {"load_s", load},
+                    {"sample_s", sample},
                     {"total_s", total},
                     {"repeats", repeats},
                     {"threads", omp_get_max_threads()}});
   }
-  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  write_json_file(json_file, rows);
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

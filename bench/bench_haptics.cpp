@@ -15,15 +15,15 @@
 #include <sstream>
 #include <thread>
 
-#include "app/bench_extras.h"
-#include "app/bench_tools.h"
-#include "app/options.h"
 #include "app/run_report.h"
+#include "bench/bench_tools.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/surgery/haptic_session.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 constexpr const char* kHapticsHelp =
@@ -203,7 +203,7 @@ nlohmann::json solver_loop(Scene scene, const PhyxelSet& set, const std::string&
   row["steps"] = result.steps_done;
   row["max_contacts"] = max_contacts;
   row["finite"] = !result.non_finite && !result.unstable;
-  row["wall_split_s"] = wall_split_json(result.split);
+  row["wall_split_s"] = app::wall_split_json(result.split);
   return row;
 }
 
@@ -251,17 +251,12 @@ nlohmann::json contact_row(const std::string& device, int threads, int64_t size,
   const int64_t press = static_cast<int64_t>(std::ceil(kProbeDepth / kProbeSpeed / tool.dt));
   plain.run(press);
   tool.run(press);
-  const double ten = tool.run(10);
+  const double ten = time_repeats([&] { tool.run(10); }, 1).median;
   const int64_t steps =
       fixed_steps > 0
           ? fixed_steps
           : std::clamp<int64_t>(static_cast<int64_t>(0.3 / std::max(ten / 10, 1e-9)), 3, 100000);
-  std::vector<double> t_plain, t_tool;
-  for (int64_t r = 0; r < repeats; ++r) {
-    t_plain.push_back(plain.run(steps) / double(steps));
-    t_tool.push_back(tool.run(steps) / double(steps));
-  }
-  const double s_plain = median_of(t_plain), s_tool = median_of(t_tool);
+  const auto [s_plain, s_tool] = interleaved_step_seconds(plain, tool, steps, repeats);
   nlohmann::json row = {
       {"part", "contact"},
       {"device", tool.solver->device()},
@@ -421,4 +416,4 @@ int bench_haptics(const Args& args) {
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

@@ -1,10 +1,11 @@
-#include "render/render_bench.h"
+#include "bench/render_bench.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
 
+#include "bench/timing.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/solver/neighbours.h"
@@ -14,19 +15,9 @@
 #include "render/video_clip.h"
 #include "render/video_texture.h"
 
-namespace phyxel::render {
+namespace phyxel::bench {
+using namespace phyxel::render;  // the renderer's API throughout
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The GPU solver on the shell: steps/s alone, then with a frame rendered from its buffers every
 // 1/60 s worth of steps, each frame read back into an image.
@@ -44,21 +35,13 @@ void bench_with_solver(gpu::Context& ctx, const PhyxelSet& shell, const SurfelTa
   SplatRenderer renderer(ctx, table, procedural_tissue_texture());
   solver.advance(gpu::GpuSolver::kStepsPerSubmit, dt);  // warm-up
   int64_t steps = gpu::GpuSolver::kStepsPerSubmit;
-  while (true) {  // about 0.3 s of stepping per timed repeat
-    const auto start = std::chrono::steady_clock::now();
+  const auto advance = [&] {
     solver.advance(steps, dt);
     solver.finish();
-    if (seconds_since(start) > 0.3 || steps >= (int64_t{1} << 24)) break;
-    steps *= 2;
-  }
-  std::vector<double> rates;
-  for (int r = 0; r < 3; ++r) {
-    const auto start = std::chrono::steady_clock::now();
-    solver.advance(steps, dt);
-    solver.finish();
-    rates.push_back(double(steps) / seconds_since(start));
-  }
-  result.solver_steps_per_s = median(rates);
+  };
+  // About 0.3 s of stepping per timed repeat.
+  while (time_repeats(advance, 1).median <= 0.3 && steps < (int64_t{1} << 24)) steps *= 2;
+  result.solver_steps_per_s = double(steps) / time_repeats(advance, 3).median;
   result.steps_per_frame = std::max<int64_t>(1, std::llround(result.solver_steps_per_s / 60));
   renderer.render(solver.buffers(), setup);  // warm-up
   {
@@ -91,7 +74,7 @@ void bench_with_solver(gpu::Context& ctx, const PhyxelSet& shell, const SurfelTa
       if (p.name != "render readback") ns += p.ns;
     gpu_s.push_back(ns * 1e-9);
   }
-  result.solver_frame_gpu_s = median(gpu_s);
+  result.solver_frame_gpu_s = median_of(gpu_s);
 }
 
 }  // namespace
@@ -188,20 +171,17 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   }
   // Host time: one frame at a time, recorded, submitted, waited for and read back into an
   // image, as a caller that writes frames sees it.
-  std::vector<double> frame_s;
-  for (int f = 0; f < result.frames; ++f) {
-    const auto start = std::chrono::steady_clock::now();
+  const auto host_frame = [&] {
     next_video_frame();
     renderer.render(inputs.inputs(), setup);
-    frame_s.push_back(seconds_since(start));
-  }
-  result.median_frame_s = median(frame_s);
-  result.median_gpu_s = median(gpu_s);
-  result.median_readback_s = median(readback_s);
+  };
+  result.median_frame_s = time_repeats(host_frame, result.frames).median;
+  result.median_gpu_s = median_of(gpu_s);
+  result.median_readback_s = median_of(readback_s);
   const double per_frame = result.median_gpu_s > 0 ? result.median_gpu_s : result.median_frame_s;
   result.splats_per_s = per_frame > 0 ? double(result.surfels) * result.eyes / per_frame : 0;
   for (size_t p = 0; p < names.size(); ++p) {
-    result.median_passes.push_back({names[p], median(pass_ns[p])});
+    result.median_passes.push_back({names[p], median_of(pass_ns[p])});
   }
   if (video) {
     const VideoTexture::Timing t = video->timing();
@@ -212,4 +192,4 @@ RenderBenchResult bench_render(gpu::Context& ctx, const RenderBenchOptions& opti
   return result;
 }
 
-}  // namespace phyxel::render
+}  // namespace phyxel::bench

@@ -5,7 +5,6 @@
 // cost, and on a GPU the per-pass timestamps give the cut pass alone. Writes a table on stdout
 // and, with --out DIR, DIR/cutting.json.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,11 +12,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/bench_extras.h"
-#include "app/bench_tools.h"
-#include "app/options.h"
+#include "bench/bench_tools.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 constexpr const char* kCuttingHelp =
@@ -42,17 +41,12 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
                            int64_t repeats) {
   ToolBenchCase probe(device, threads, crossing_blade_scene(size, false)),
       scalpel(device, threads, crossing_blade_scene(size, true));
-  // Warm-up: the blade enters the box (1 cm of travel).
-  const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kCrossingSpeed / scalpel.dt));
+  // Warm-up: the blade enters the box.
+  const int64_t enter = crossing_entry_steps(scalpel.dt);
   probe.run(enter);
   scalpel.run(enter);
   const size_t severed_before = scalpel.solver->severed_pairs();
-  std::vector<double> t_probe, t_scalpel;
-  for (int64_t r = 0; r < repeats; ++r) {
-    t_probe.push_back(probe.run(steps) / double(steps));
-    t_scalpel.push_back(scalpel.run(steps) / double(steps));
-  }
-  const double s_probe = median_of(t_probe), s_scalpel = median_of(t_scalpel);
+  const auto [s_probe, s_scalpel] = interleaved_step_seconds(probe, scalpel, steps, repeats);
   const double severed_per_step =
       double(scalpel.solver->severed_pairs() - severed_before) / double(steps * repeats);
   nlohmann::json row = {
@@ -127,14 +121,9 @@ int bench_cutting(const Args& args) {
       "as a scalpel; cut ms: the difference; severed: pairs per step; cut us: the GPU's cut "
       "pass per step, timestamps)\n",
       static_cast<long long>(repeats), static_cast<long long>(steps));
-  if (!out_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    std::ofstream json(std::filesystem::path(out_dir) / "cutting.json");
-    json << nlohmann::json{{"cutting", rows}}.dump(2) << "\n";
-    if (!json) throw std::runtime_error("cannot write " + out_dir + "/cutting.json");
-  }
+  if (!out_dir.empty())
+    write_json_file(std::filesystem::path(out_dir) / "cutting.json", {{"cutting", rows}});
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

@@ -10,13 +10,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/bench_extras.h"
-#include "app/options.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 #include "compute/gpu_solver.h"
 #include "engine/geometry/shape.h"
 #include "engine/run/simulation.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 struct Soak {
@@ -95,7 +95,7 @@ SoakResult soak(const Soak& c, bool single, int64_t steps, int threads) {
       r.energy_drift = e0 != 0 ? std::max(r.energy_drift, std::abs(energy() - e0) / std::abs(e0))
                                : std::abs(energy());
   }
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.seconds = seconds_since(t0);
   r.final_u.resize(set.size());
   for (size_t i = 0; i < set.size(); ++i)
     r.final_u[i] = single ? Vec3(f->displacement()[i].cast<double>()) : d->displacement()[i];
@@ -198,7 +198,7 @@ SoakResult soak_solver(Solver& solver, const PhyxelSet& set, double dt, int64_t 
                                : std::max(r.energy_drift, std::abs(e));
     }
   }
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.seconds = seconds_since(t0);
   r.final_u = solver.read_state(false).displacement;
   return r;
 }
@@ -240,7 +240,7 @@ int bench_stability_gpu(const std::string& device, int64_t steps, int threads,
     rows[rows.size() - 2]["gpu_vs_double_max_u"] = diff;
     std::fflush(stdout);
   }
-  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  write_json_file(json_file, rows);
   return 0;
 }
 
@@ -279,8 +279,8 @@ int bench_stability(const Args& args) {
         static_cast<long long>(steps), diff, diff / extent);
     rows.back()["float_vs_double_max_u"] = diff;
   }
-  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  write_json_file(json_file, rows);
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

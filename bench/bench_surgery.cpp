@@ -12,15 +12,15 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/bench_extras.h"
-#include "app/bench_tools.h"
-#include "app/options.h"
 #include "app/run_report.h"
+#include "bench/bench_tools.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 #include "compute/gpu_solver.h"
 #include "engine/surgery/resection.h"
 #include "render/frame_output.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 constexpr const char* kSurgeryHelp =
@@ -84,7 +84,7 @@ nlohmann::json run_json(const Scene& scene, const PhyxelSet& set, Solver& solver
                       {"wall_seconds", r.wall_seconds},
                       {"substeps_per_second", r.wall_seconds > 0 ? substeps / r.wall_seconds : 0.0},
                       {"real_time_factor", r.real_time_factor},
-                      {"host_seconds", wall_split_json(r.split)},
+                      {"host_seconds", app::wall_split_json(r.split)},
                       {"finite", !r.non_finite && !r.unstable}};
   nlohmann::json outcome = nlohmann::json::object();
   if (solver.supports_cutting() && solver.severed_pairs() > 0)
@@ -165,9 +165,7 @@ nlohmann::json timed_run(const Scene& scene, const PhyxelSet& set, const Surgery
 double bare_substep_seconds(size_t phyxels, const SurgeryOptions& o) {
   ToolBenchCase bare(o.device, o.threads, bench_scene(int64_t(phyxels)));
   bare.run(8);  // warm-up
-  std::vector<double> t;
-  for (int r = 0; r < 3; ++r) t.push_back(bare.run(o.bare_steps) / double(o.bare_steps));
-  return median_of(t);
+  return time_repeats([&] { bare.run(o.bare_steps); }, 3).median / double(o.bare_steps);
 }
 
 nlohmann::json surgery_row(const std::string& file, double k, const SurgeryOptions& o) {
@@ -265,14 +263,9 @@ int bench_surgery(const Args& args) {
       "loop's host seconds advancing, checking and in callbacks (aspiration, tools); sub us: "
       "wall time per substep of the run without frames; box us: the bare elastic step of a box "
       "of as many phyxels; ratio: sub over box)\n");
-  if (!out_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    std::ofstream json(std::filesystem::path(out_dir) / "surgery.json");
-    json << nlohmann::json{{"surgery", rows}}.dump(2) << "\n";
-    if (!json) throw std::runtime_error("cannot write " + out_dir + "/surgery.json");
-  }
+  if (!out_dir.empty())
+    write_json_file(std::filesystem::path(out_dir) / "surgery.json", {{"surgery", rows}});
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

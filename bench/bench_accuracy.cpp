@@ -8,11 +8,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/bench_accuracy.h"
-#include "app/options.h"
+#include "bench/benches.h"
+#include "compute/gpu_solver.h"
 #include "engine/run/validation.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 constexpr const char* kHelp =
@@ -94,9 +94,22 @@ void write_plot(const std::filesystem::path& dir, const std::vector<ValidationRu
                  (dir / "accuracy.dat").c_str());
 }
 
+// The solver factory for a device name: the CPU reference with `threads`, or (gpu, gpu:N, a
+// name) the float32 GPU solver, one context per run.
+SolverFactory device_factory(const std::string& device, int threads) {
+  if (device == "cpu")
+    return
+        [threads](const PhyxelSet& set, const Vec3& g) { return make_cpu_solver(set, g, threads); };
+  return [device](const PhyxelSet& set, const Vec3& g) {
+    gpu::ContextOptions context;
+    context.device = device;
+    return make_gpu_solver(set, g, context);
+  };
+}
+
 }  // namespace
 
-int bench_accuracy(const Args& args, const DeviceSolverFactory& device_factory) {
+int bench_accuracy(const Args& args) {
   OptionParser opts("bench", args);
   opts.flag("--accuracy");
   if (opts.flag("--help")) {
@@ -177,4 +190,4 @@ int bench_accuracy(const Args& args, const DeviceSolverFactory& device_factory) 
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

@@ -1,14 +1,15 @@
-#include "app/bench_tools.h"
+#include "bench/bench_tools.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 
-#include "app/bench_extras.h"
-#include "app/options.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 #include "compute/gpu_solver.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 
 std::unique_ptr<Solver> make_bench_solver(const std::string& device, const PhyxelSet& set,
                                           const Vec3& gravity, int threads) {
@@ -17,16 +18,6 @@ std::unique_ptr<Solver> make_bench_solver(const std::string& device, const Phyxe
   context.device = device;
   context.validation = false;
   return make_gpu_solver(set, gravity, context);
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 std::vector<int64_t> parse_phyxel_sizes(const std::string& text, int64_t least) {
@@ -86,8 +77,7 @@ ToolBenchCase::ToolBenchCase(const std::string& device, int threads, Scene scene
   }
 }
 
-double ToolBenchCase::run(int64_t steps) {
-  const auto t0 = std::chrono::steady_clock::now();
+void ToolBenchCase::run(int64_t steps) {
   const int64_t chunk = RunOptions{}.tool_chunk_substeps;
   for (int64_t left = steps; left > 0;) {
     const int64_t n = std::min(left, chunk);
@@ -95,7 +85,6 @@ double ToolBenchCase::run(int64_t steps) {
     done += n;
     left -= n;
   }
-  return seconds_since(t0);
 }
 
 std::vector<gpu::PassTime> ToolBenchCase::profile(int64_t steps) {
@@ -108,4 +97,15 @@ std::vector<gpu::PassTime> ToolBenchCase::profile(int64_t steps) {
   return passes;
 }
 
-}  // namespace phyxel::app
+StepSeconds interleaved_step_seconds(ToolBenchCase& a, ToolBenchCase& b, int64_t steps,
+                                     int64_t repeats) {
+  const std::vector<Timing> t =
+      time_interleaved({[&] { a.run(steps); }, [&] { b.run(steps); }}, repeats);
+  return {t[0].median / double(steps), t[1].median / double(steps)};
+}
+
+int64_t crossing_entry_steps(double dt) {
+  return static_cast<int64_t>(std::ceil(0.015 / kCrossingSpeed / dt));
+}
+
+}  // namespace phyxel::bench

@@ -1,18 +1,16 @@
-#include "compute/gpu_solver_bench.h"
+#include "bench/gpu_solver_bench.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <limits>
 
-namespace phyxel::gpu {
-namespace {
+#include "bench/timing.h"
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+namespace phyxel::bench {
 
-}  // namespace
+using gpu::Context;
+using gpu::GpuSolver;
+using gpu::GpuSolverOptions;
 
 GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& gravity, double dt,
                                 double copy_gb_per_s, const GpuBenchOptions& options) {
@@ -36,23 +34,21 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
 
     // Warm-up (pipelines, clocks, caches) and the probe that sizes a repeat.
     solver.advance(20, dt);
-    auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = std::chrono::steady_clock::now();
     solver.advance(50, dt);
     solver.finish();
     const double probe = seconds_since(t0) / 50;
     r.steps_per_repeat =
         options.steps > 0 ? options.steps : std::clamp<int64_t>(int64_t(0.5 / probe), 50, 200000);
     r.repeats = options.repeats;
-    std::vector<double> per_step;
-    for (int64_t k = 0; k < options.repeats; ++k) {
-      t0 = std::chrono::steady_clock::now();
-      solver.advance(r.steps_per_repeat, dt);
-      solver.finish();
-      per_step.push_back(seconds_since(t0) / double(r.steps_per_repeat));
-    }
-    r.seconds_per_step = per_step;
-    std::sort(per_step.begin(), per_step.end());
-    r.median_seconds_per_step = per_step[per_step.size() / 2];
+    const Timing t = time_repeats(
+        [&] {
+          solver.advance(r.steps_per_repeat, dt);
+          solver.finish();
+        },
+        options.repeats);
+    for (const double s : t.seconds) r.seconds_per_step.push_back(s / double(r.steps_per_repeat));
+    r.median_seconds_per_step = t.median / double(r.steps_per_repeat);
     r.phyxel_steps_per_second = double(set.size()) / r.median_seconds_per_step;
     const double bandwidth = copy_gb_per_s * 1e9;
     r.roofline_phyxel_steps_per_second = bandwidth / r.bytes_per_phyxel_step;
@@ -88,4 +84,4 @@ GpuBenchResult bench_gpu_solver(Context& ctx, const PhyxelSet& set, const Vec3& 
   return r;
 }
 
-}  // namespace phyxel::gpu
+}  // namespace phyxel::bench

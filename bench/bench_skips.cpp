@@ -8,26 +8,21 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/bench_extras.h"
-#include "app/bench_tools.h"
-#include "app/options.h"
+#include "bench/bench_tools.h"
+#include "bench/benches.h"
+#include "bench/timing.h"
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 namespace {
 
 double median_step_seconds(Solver& solver, double dt, int64_t steps, int repeats) {
-  std::vector<double> t;
-  for (int r = 0; r < repeats; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
+  const auto work = [&] {
     solver.advance(steps, dt);
     solver.finish();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() /
-                double(steps));
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  };
+  return time_repeats(work, repeats).median / double(steps);
 }
 
 }  // namespace
@@ -83,8 +78,8 @@ int bench_skips(const Args& args) {
                     {"steps", steps},
                     {"repeats", 5}});
   }
-  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  write_json_file(json_file, rows);
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench

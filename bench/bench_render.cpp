@@ -14,29 +14,20 @@
 #include <numbers>
 #include <sstream>
 
-#include "app/bench_extras.h"
-#include "app/options.h"
+#include "bench/benches.h"
+#include "bench/render_bench.h"
+#include "bench/timing.h"
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/neighbours.h"
 #include "render/frame_output.h"
-#include "render/render_bench.h"
 #include "render/video_clip.h"
 #include "render/video_writer.h"
 #include "render/viewer_controls.h"
 #include "render/yuv_convert.h"
 
-namespace phyxel::app {
+namespace phyxel::bench {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 // phyxel bench --render --scene FILE: the frames of a scene's rest state, as `phyxel run`
 // renders them, with the scene's backdrop and without it: the renderer's start-up (surfel
@@ -71,27 +62,18 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
     const auto t1 = std::chrono::steady_clock::now();
     writer.render(host.inputs());  // the first frame draws the backdrop's layer too
     const double first = seconds_since(t1);
-    std::vector<double> times;
-    for (int64_t f = 0; f < frames; ++f) {
-      const auto t = std::chrono::steady_clock::now();
-      writer.render(host.inputs());
-      times.push_back(seconds_since(t));
-    }
-    const double frame = median(times);
+    const auto render_frame = [&] { writer.render(host.inputs()); };
+    const double frame = time_repeats(render_frame, frames).median;
     // As the viewer while its camera is dragged round: a new view every frame (0.5 degrees of
-    // yaw), so the backdrop's layer is drawn anew each time.
+    // yaw), so the backdrop's layer is drawn anew each time (the turn timed apart).
     render::Orbit orbit(writer.camera());
-    times.clear();
-    for (int64_t f = 0; f < frames; ++f) {
+    const auto turn = [&] {
       orbit.yaw += 0.5 * std::numbers::pi / 180;
       writer.set_setup(render::make_frame_setup(
           orbit.camera(writer.camera()), scene.render,
           mono ? RenderSettings::Mode::Mono : RenderSettings::Mode::Stereo));
-      const auto t = std::chrono::steady_clock::now();
-      writer.render(host.inputs());
-      times.push_back(seconds_since(t));
-    }
-    const double orbiting = median(times);
+    };
+    const double orbiting = time_interleaved({turn, render_frame}, frames)[1].median;
     std::printf("%10s %9u %9.3f %12.1f %12.1f %12.1f\n", with ? "yes" : "no",
                 writer.renderer().backdrop_count(), start, first * 1e3, frame * 1e3,
                 orbiting * 1e3);
@@ -107,7 +89,7 @@ int bench_render_scene(const std::string& file, const std::string& device, int64
                     {"median_orbit_frame_ms", orbiting * 1e3},
                     {"frames", frames}});
   }
-  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  write_json_file(json_file, rows);
   return 0;
 }
 
@@ -135,9 +117,7 @@ EncodeRate bench_video_encode(uint32_t width, uint32_t height, int frames,
         {y.data(), u.data(), v.data()}, {int(w), int(w / 2), int(w / 2)}, w, h};
     const auto start = std::chrono::steady_clock::now();
     for (const render::RgbaImage& image : images) render::rgba_to_yuv420(image, planes);
-    rate.convert_ms =
-        1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
-        double(images.size());
+    rate.convert_ms = 1e3 * seconds_since(start) / double(images.size());
   }
   const auto start = std::chrono::steady_clock::now();
   {
@@ -145,8 +125,7 @@ EncodeRate bench_video_encode(uint32_t width, uint32_t height, int frames,
     for (int k = 0; k < frames; ++k) video.add(images[size_t(k) % images.size()], k);
     video.finish();
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = seconds_since(start);
   std::error_code ec;
   std::filesystem::remove(file, ec);
   rate.frames_per_s = frames / std::max(seconds, 1e-30);
@@ -183,7 +162,7 @@ int bench_render_command(const Args& args) {
               "GPU passes (ms)");
   // One row: `item` surfels, with the video texture and the environment when `video`.
   auto bench_one = [&](const std::string& item, bool video) {
-    render::RenderBenchOptions o;
+    RenderBenchOptions o;
     o.surfels = static_cast<uint32_t>(std::stoul(item));
     o.eye_width = static_cast<uint32_t>(width);
     o.height = static_cast<uint32_t>(height);
@@ -191,7 +170,7 @@ int bench_render_command(const Args& args) {
     o.frames = static_cast<int>(frames);
     o.with_solver = with_solver && !video;
     o.video_texture = video;
-    const render::RenderBenchResult r = render::bench_render(ctx, o);
+    const RenderBenchResult r = bench_render(ctx, o);
     std::string passes;
     nlohmann::json pass_json = nlohmann::json::object();
     for (const gpu::PassTime& p : r.median_passes) {
@@ -262,8 +241,8 @@ int bench_render_command(const Args& args) {
                     {"video_encode_frames_per_s", rate.frames_per_s},
                     {"video_convert_ms", rate.convert_ms}});
   }
-  if (!json_file.empty()) std::ofstream(json_file) << rows.dump(2) << "\n";
+  write_json_file(json_file, rows);
   return 0;
 }
 
-}  // namespace phyxel::app
+}  // namespace phyxel::bench
