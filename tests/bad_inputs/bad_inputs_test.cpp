@@ -20,20 +20,16 @@
 #include <vector>
 
 #include "engine/run/checkpoint.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
 namespace fs = std::filesystem;
 const fs::path kData = fs::path(PHYXEL_SOURCE_DIR) / "tests/data/bad_inputs";
-const std::string kPhyxel = PHYXEL_BINARY_DIR "/app/phyxel";
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::kPhyxel;
+using phyxel::test::read_text;
 
 void write_text(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;

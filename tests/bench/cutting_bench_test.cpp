@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
@@ -21,8 +22,7 @@ TEST(BenchCutting, WritesARowPerSizeWithFiniteFigures) {
                               "--threads 1 --out " +
                               dir.string() + " > " + (dir / "stdout.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
-  std::ifstream in(dir / "cutting.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j = test::read_json(dir / "cutting.json");
   ASSERT_EQ(j["cutting"].size(), 1u);
   const nlohmann::json& row = j["cutting"][0];
   for (const char* key : {"step_ms_probe", "step_ms_scalpel", "cut_ms_per_step",

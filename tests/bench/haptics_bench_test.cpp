@@ -12,16 +12,12 @@
 #include <vector>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::read_text;
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;
@@ -33,7 +29,7 @@ std::vector<std::string> split(const std::string& line) {
 
 // The CSV's rows as column -> cell.
 std::vector<std::map<std::string, std::string>> read_csv(const std::filesystem::path& p) {
-  std::stringstream in(read_file(p));
+  std::stringstream in(read_text(p));
   std::string line;
   std::getline(in, line);
   const std::vector<std::string> header = split(line);
@@ -69,7 +65,7 @@ TEST(BenchHaptics, ShortCpuRunWritesFiniteCsvAndJson) {
                           std::string(PHYXEL_SOURCE_DIR) + "/scenes/probe_indent.json --out " +
                           dir.string() + " >/dev/null 2>" + err.string();
   const int status = std::system(cmd.c_str());
-  ASSERT_EQ(WEXITSTATUS(status), 0) << read_file(err);
+  ASSERT_EQ(WEXITSTATUS(status), 0) << read_text(err);
 
   const auto rows = read_csv(dir / "haptics.csv");
   ASSERT_EQ(rows.size(), 3u);  // idle loop, loop with the solver, one contact size
@@ -91,7 +87,7 @@ TEST(BenchHaptics, ShortCpuRunWritesFiniteCsvAndJson) {
   EXPECT_GT(finite_number(rows[2], "candidates"), 0);
   EXPECT_EQ(rows[2].at("finite"), "true");
 
-  const nlohmann::json json = nlohmann::json::parse(read_file(dir / "haptics.json"));
+  const nlohmann::json json = test::read_json(dir / "haptics.json");
   ASSERT_EQ(json.at("haptic_loop").size(), 2u);
   ASSERT_EQ(json.at("contact").size(), 1u);
   for (const nlohmann::json& row : json.at("haptic_loop")) {

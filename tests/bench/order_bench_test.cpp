@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
@@ -23,8 +24,7 @@ TEST(BenchOrder, LatticeAndMortonRowsAgreeWithTheCpu) {
       "--order lattice,morton --json " +
       (dir / "bench.json").string() + " > " + (dir / "stdout.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
-  std::ifstream in(dir / "bench.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j = test::read_json(dir / "bench.json");
   std::vector<nlohmann::json> gpu_rows;
   for (const nlohmann::json& row : j)
     if (row.value("backend", "") == "gpu") gpu_rows.push_back(row);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
@@ -28,8 +29,7 @@ TEST(BenchSurgery, WritesARowPerSceneAndRefinement) {
       "--width 64 --height 48 --fps 1000 --bare-steps 2 --threads 1 --out " + dir.string() + " > " +
       (dir / "stdout.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
-  std::ifstream in(dir / "surgery.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j = test::read_json(dir / "surgery.json");
   ASSERT_EQ(j["surgery"].size(), 2u);
   for (size_t r = 0; r < 2; ++r) {
     const nlohmann::json& row = j["surgery"][r];

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
@@ -22,8 +23,7 @@ TEST(BenchTearing, WritesARowPerSizeWithFiniteFiguresAndTears) {
       "--threads 1 --out " +
       dir.string() + " > " + (dir / "stdout.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
-  std::ifstream in(dir / "tearing.json");
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j = test::read_json(dir / "tearing.json");
   ASSERT_EQ(j["tearing"].size(), 1u);
   const nlohmann::json& row = j["tearing"][0];
   for (const char* key : {"step_ms_intact", "step_ms_tearing", "tear_ms_per_step",
@@ -47,8 +47,7 @@ TEST(BenchTearing, WeakTissueTearsWithoutCrumbling) {
                               "--steps 200 --repeats 1 --threads 1 --out " +
                               dir.string() + " > " + (dir / "stdout.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
-  std::ifstream in(dir / "tearing.json");
-  const nlohmann::json row = nlohmann::json::parse(in)["tearing"][0];
+  const nlohmann::json row = test::read_json(dir / "tearing.json")["tearing"][0];
   EXPECT_TRUE(row["finite_tearing"].get<bool>());
   EXPECT_GT(row["torn_total"].get<int>(), 100);
   EXPECT_LT(row["torn_total"].get<int>(), 8000);

@@ -5,6 +5,7 @@
 
 #include "app/commands.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
+#include "tests/support/support.h"
 
 namespace phyxel::gpu::test {
 namespace {
@@ -21,10 +22,7 @@ class InSourceDir {
   std::filesystem::path old_;
 };
 
-nlohmann::json read_json(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return nlohmann::json::parse(in);
-}
+using phyxel::test::read_json;
 
 TEST_F(GpuSolverTest, BenchSkipsOnTheGpuSkipsWhatTheCpuSkips) {
   const auto json = phyxel::test::test_output_dir("gpu_bench_skips") / "skips.json";

@@ -8,7 +8,8 @@
 
 #include "app/commands.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
-#include "tests/scoped_env.h"
+#include "tests/support/scoped_env.h"
+#include "tests/support/support.h"
 
 namespace phyxel::gpu::test {
 namespace {
@@ -21,10 +22,7 @@ std::filesystem::path out_dir(const std::string& name) {
   return dir;
 }
 
-nlohmann::json read_json(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  return nlohmann::json::parse(in);
-}
+using phyxel::test::read_json;
 
 using phyxel::test::ScopedEnv;
 

@@ -20,9 +20,12 @@
 #include <vector>
 
 #include "engine/surgery/haptic_loop.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
+
+using phyxel::test::exit_status;
 
 // A loopback UDP client with a receive timeout (so a lost packet fails the test, never hangs).
 class Client {
@@ -255,7 +258,7 @@ int run_command(const std::string& command, std::string& out) {
   char buffer[512];
   while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
   const int status = ::pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return exit_status(status);
 }
 
 std::filesystem::path out_dir() {

@@ -23,24 +23,19 @@
 #include "engine/scene/scene.h"
 #include "engine/solver/solver.h"
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kPhyxel = PHYXEL_BINARY_DIR "/app/phyxel";
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::exit_status;
+using phyxel::test::kPhyxel;
+using phyxel::test::read_json;
+using phyxel::test::read_text;
 void write_bytes(const fs::path& p, const std::string& bytes) {
   std::ofstream(p, std::ios::binary) << bytes;
-}
-nlohmann::json read_json(const fs::path& p) {
-  return nlohmann::json::parse(read_bytes(p));
 }
 
 struct Ran {
@@ -53,7 +48,7 @@ Ran run(const fs::path& scene, const std::string& args, const fs::path& dir) {
   const std::string command = "timeout 300 " + kPhyxel + " run " + scene.string() + " " + args +
                               " --quiet >/dev/null 2>" + err.string();
   const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_bytes(err)};
+  return {exit_status(status), read_text(err)};
 }
 
 // Two objects, no gravity: a cantilever whose tip load acts from step 100 to step 200 (before
@@ -115,7 +110,7 @@ fs::path write_scene(const fs::path& dir, const std::string& name, const std::st
 void expect_same_file(const fs::path& a, const fs::path& b) {
   ASSERT_TRUE(fs::exists(a)) << a;
   ASSERT_TRUE(fs::exists(b)) << b;
-  EXPECT_TRUE(read_bytes(a) == read_bytes(b)) << a << " and " << b << " differ";
+  EXPECT_TRUE(read_text(a) == read_text(b)) << a << " and " << b << " differ";
 }
 
 // Runs the scene uninterrupted without checkpoints (plain), with them (full), and cut at
@@ -348,7 +343,7 @@ TEST(Checkpoint, CorruptFilesAreRefused) {
   const fs::path dir = test::test_output_dir("checkpoint_refused");
   fs::path scene;
   const fs::path ok = good_checkpoint(dir, scene);
-  const std::string bytes = read_bytes(ok / kCheckpointFile);
+  const std::string bytes = read_text(ok / kCheckpointFile);
   ASSERT_GT(bytes.size(), 100u);
 
   // Truncated: anywhere, including inside the header.
@@ -369,7 +364,7 @@ TEST(Checkpoint, CorruptFilesAreRefused) {
   {
     Checkpoint c = read_checkpoint(ok / kCheckpointFile);
     write_checkpoint(dir / "v.phx", c);
-    std::string v = read_bytes(dir / "v.phx");
+    std::string v = read_text(dir / "v.phx");
     const uint32_t version = kCheckpointVersion + 1;
     std::memcpy(v.data() + 8, &version, sizeof version);
     const uint64_t sum = fnv1a64(v.data(), v.size() - 8);
@@ -447,13 +442,13 @@ TEST(Checkpoint, AnotherSceneIsRefused) {
   std::string changed = kProbe;
   changed.replace(changed.find("\"young\": 1e4"), 12, "\"young\": 2e4");
   const fs::path other = write_scene(dir, "changed.json", changed);
-  const std::string before = read_bytes(ok / "tools.csv");
+  const std::string before = read_text(ok / "tools.csv");
   for (const fs::path& s : {other, write_scene(dir, "beams.json", kBeams)}) {
     const Ran r = run(s, "--resume " + ok.string(), dir);
     EXPECT_EQ(r.code, 1) << s;
     EXPECT_NE(r.err.find("written for another scene file"), std::string::npos) << r.err;
   }
-  EXPECT_EQ(read_bytes(ok / "tools.csv"), before);  // refused before touching the folder
+  EXPECT_EQ(read_text(ok / "tools.csv"), before);  // refused before touching the folder
 }
 
 }  // namespace

@@ -17,18 +17,14 @@
 #include "engine/run/vtp_writer.h"
 #include "render/image.h"
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::read_text;
 
 std::vector<std::string> temp_files(const fs::path& dir) {
   std::vector<std::string> out;

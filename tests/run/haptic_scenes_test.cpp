@@ -17,20 +17,16 @@
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kPhyxel = PHYXEL_BINARY_DIR "/app/phyxel";
 const std::string kClient = PHYXEL_BINARY_DIR "/tools/haptic_udp_client";
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::kPhyxel;
+using phyxel::test::read_text;
 
 // A UDP port on 127.0.0.1 free a moment ago: bound to port 0, read back, closed.
 int free_udp_port() {

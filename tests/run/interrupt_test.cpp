@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 extern char** environ;
 
@@ -30,19 +31,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::read_text;
 
 // scenes/NAME as a run that never comes to rest early and writes ASCII points every `every`
 // steps: the first points file says the run loop is going.
 std::filesystem::path long_scene(const std::filesystem::path& dir, const std::string& name,
                                  int every) {
   nlohmann::json scene =
-      nlohmann::json::parse(read_file(std::string(PHYXEL_SOURCE_DIR) + "/scenes/" + name));
+      nlohmann::json::parse(read_text(std::string(PHYXEL_SOURCE_DIR) + "/scenes/" + name));
   scene["simulation"].erase("until_rest");
   scene["output"]["every"] = every;
   scene["output"]["format"] = "ascii";
@@ -113,7 +109,7 @@ class Child {
     return true;
   }
   int status() const { return status_; }
-  std::string log() const { return read_file(log_); }
+  std::string log() const { return read_text(log_); }
 
  private:
   pid_t pid_ = -1;
@@ -165,7 +161,7 @@ std::string attribute(const std::string& tag, const std::string& name) {
 // the point count, every DataArray with points x components finite values (Verts: 0..n-1 and
 // 1..n), the arrays the format documents, and positions = rest_position + displacement.
 void expect_whole_vtp(const std::filesystem::path& file, size_t points) {
-  const std::string text = read_file(file);
+  const std::string text = read_text(file);
   ASSERT_EQ(text.rfind("<?xml", 0), 0u) << file;
   const std::string end = "</VTKFile>\n";
   ASSERT_GE(text.size(), end.size()) << file;
@@ -248,7 +244,7 @@ Interrupted interrupt_once(const std::string& name, int sig, int expected_status
   EXPECT_EQ(WEXITSTATUS(child.status()), expected_status) << child.log();
   EXPECT_NE(child.log().find("stopped by"), std::string::npos) << child.log();
   expect_no_temporary_files(out);
-  const nlohmann::json s = nlohmann::json::parse(read_file(out / "summary.json"));
+  const nlohmann::json s = nlohmann::json::parse(read_text(out / "summary.json"));
   EXPECT_EQ(s["interrupted"], true);
   EXPECT_EQ(s["non_finite"], false);
   const int64_t steps = s["steps_done"].get<int64_t>();
@@ -285,7 +281,7 @@ TEST(PhyxelRunInterrupt, RenderingRunWritesTheLastFrame) {
                 static_cast<long long>(r.summary["steps_done"].get<int64_t>()));
   EXPECT_TRUE(std::filesystem::exists(r.out / frame)) << frame;
   EXPECT_TRUE(std::filesystem::exists(r.out / "frame_000000.png"));
-  const std::string png = read_file(r.out / frame);
+  const std::string png = read_text(r.out / frame);
   ASSERT_GE(png.size(), 8u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
 }
@@ -294,7 +290,7 @@ TEST(PhyxelRunInterrupt, ToolsCsvIsCompleteUpToTheLastStep) {
   const Interrupted r = interrupt_once("interrupt_tools", SIGINT, 130, {}, "probe_indent.json");
   ASSERT_TRUE(r.summary.contains("steps_done"));
   EXPECT_TRUE(r.summary.contains("tools"));
-  const std::string csv = read_file(r.out / "tools.csv");
+  const std::string csv = read_text(r.out / "tools.csv");
   ASSERT_FALSE(csv.empty());
   EXPECT_EQ(csv.back(), '\n');
   std::istringstream lines(csv);

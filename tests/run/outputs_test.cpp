@@ -11,16 +11,12 @@
 
 #include "engine/run/vtp_writer.h"
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::read_text;
 
 struct Written {
   PhyxelSet set;
@@ -43,7 +39,7 @@ TEST(VtpWriter, AsciiFileHasPointsAndEveryArray) {
   const Written w = sample_state();
   const auto file = test::test_output_dir("vtp_ascii") / "points.vtp";
   write_points_vtp(file, w.set, w.state, false);
-  const std::string text = read_file(file);
+  const std::string text = read_text(file);
   EXPECT_NE(text.find("NumberOfPoints=\"" + std::to_string(w.set.size()) + "\""),
             std::string::npos);
   for (const char* name : {"rest_position", "displacement", "velocity", "von_mises", "flags",
@@ -73,7 +69,7 @@ TEST(VtpWriter, AsciiValuesAreTheStreamsDigitsAndReadBackExactly) {
         Vec3(awkward[(3 * i) % 9], awkward[(3 * i + 1) % 9], awkward[(3 * i + 2) % 9]);
   const auto file = test::test_output_dir("vtp_ascii_exact") / "points.vtp";
   write_points_vtp(file, w.set, w.state, false);
-  const std::string text = read_file(file);
+  const std::string text = read_text(file);
   const size_t array = text.find("Name=\"displacement\"");
   ASSERT_NE(array, std::string::npos);
   const size_t values = text.find('>', array) + 1;
@@ -95,7 +91,7 @@ TEST(VtpWriter, BinaryFileHasAppendedBlocksOfTheRightSize) {
   const Written w = sample_state();
   const auto file = test::test_output_dir("vtp_binary") / "points.vtp";
   write_points_vtp(file, w.set, w.state, true);
-  const std::string text = read_file(file);
+  const std::string text = read_text(file);
   const size_t start = text.find("<AppendedData encoding=\"raw\">\n_");
   ASSERT_NE(start, std::string::npos);
   // First block: the points, n * 3 doubles, preceded by its UInt64 byte count.
@@ -110,7 +106,7 @@ TEST(VtpWriter, BinaryFileHasEveryBlockWhereItsOffsetSaysWithContact) {
   for (size_t i = 0; i < n; ++i) w.state.contact.push_back(i % 3 == 0 ? 1 : 0);
   const auto file = test::test_output_dir("vtp_binary_contact") / "points.vtp";
   write_points_vtp(file, w.set, w.state, true);
-  const std::string text = read_file(file);
+  const std::string text = read_text(file);
   const size_t data = text.find('_', text.find("<AppendedData encoding=\"raw\">")) + 1;
   ASSERT_NE(data, std::string::npos + 1);
   size_t blocks = 0, end = 0;
@@ -158,10 +154,8 @@ std::pair<int, std::string> phyxel(const std::string& args) {
       test::test_output_dir(std::string("stderr_") +
                             ::testing::UnitTest::GetInstance()->current_test_info()->name()) /
       "stderr.txt";
-  const std::string cmd = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel " + args + " --quiet 2>" +
-                          err.string() + " >/dev/null";
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), read_file(err)};
+  const test::Ran ran = test::run_phyxel(args, err);
+  return {ran.status, ran.err};
 }
 
 TEST(PhyxelRun, DemoSceneWritesSummaryAndPoints) {
@@ -169,7 +163,7 @@ TEST(PhyxelRun, DemoSceneWritesSummaryAndPoints) {
   const auto [code, err] = phyxel("run " + std::string(PHYXEL_SOURCE_DIR) +
                                   "/scenes/beam.json --steps 20 --threads 1 --out " + dir.string());
   ASSERT_EQ(code, 0) << err;
-  const nlohmann::json s = nlohmann::json::parse(read_file(dir / "summary.json"));
+  const nlohmann::json s = nlohmann::json::parse(read_text(dir / "summary.json"));
   EXPECT_EQ(s["phyxels"], 41 * 9 * 9);
   EXPECT_EQ(s["steps_done"], 20);
   EXPECT_EQ(s["non_finite"], false);
@@ -193,7 +187,7 @@ TEST(PhyxelRun, MissingSceneIsOneClearLine) {
 
 TEST(PhyxelRun, BadMaterialExitsNonZeroNamingTheJsonPath) {
   const auto dir = test::test_output_dir("cli_bad_material");
-  std::string scene = read_file(std::string(PHYXEL_SOURCE_DIR) + "/scenes/beam.json");
+  std::string scene = read_text(std::string(PHYXEL_SOURCE_DIR) + "/scenes/beam.json");
   const size_t at = scene.find("\"poisson\"");
   ASSERT_NE(at, std::string::npos);
   scene.replace(at, scene.find(',', at) - at, "\"poisson\": 0.7");

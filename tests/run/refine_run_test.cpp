@@ -8,24 +8,18 @@
 #include <sstream>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::read_text;
 
 // Runs the phyxel binary; returns the exit status and its stderr.
 std::pair<int, std::string> run_phyxel(const std::string& args, const std::string& tag) {
   const std::filesystem::path err = test::test_output_dir("refine_stderr_" + tag) / "stderr.txt";
-  const std::string cmd = std::string(PHYXEL_BINARY_DIR) + "/app/phyxel " + args + " --quiet 2>" +
-                          err.string() + " >/dev/null";
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), read_text(err)};
+  const test::Ran ran = test::run_phyxel(args, err);
+  return {ran.status, ran.err};
 }
 
 const std::string kBeam = std::string(PHYXEL_SOURCE_DIR) + "/scenes/beam.json";

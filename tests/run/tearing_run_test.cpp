@@ -14,6 +14,7 @@
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 #include "tests/vulkan/vulkan_test.h"
 
 namespace phyxel {
@@ -42,12 +43,8 @@ std::filesystem::path write_scene(const std::filesystem::path& dir, bool tear) {
   return file;
 }
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::exit_status;
+using phyxel::test::read_text;
 
 // The values of an ASCII data array of a .vtp file (empty when there is no such array).
 std::vector<double> ascii_array(const std::string& text, const std::string& name) {
@@ -70,7 +67,7 @@ std::pair<int, std::string> explain(const std::filesystem::path& scene) {
   char buffer[512];
   while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
   const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return {exit_status(status), out};
 }
 
 TEST(TearingRun, ExplainRunsThePrincipalAndTearPassesOnlyWithTearStress) {

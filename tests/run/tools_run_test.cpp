@@ -24,29 +24,23 @@
 
 #include "compute/test_env.h"
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
-const std::string kPhyxel = PHYXEL_BINARY_DIR "/app/phyxel";
 const std::string kClient = PHYXEL_BINARY_DIR "/tools/haptic_udp_client";
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-nlohmann::json read_json(const std::filesystem::path& p) {
-  return nlohmann::json::parse(read_text(p));
-}
+using phyxel::test::exit_status;
+using phyxel::test::kPhyxel;
+using phyxel::test::read_json;
+using phyxel::test::read_text;
 
 // Runs a shell command under `timeout` (nothing hangs); returns its exit status.
 int shell(const std::string& command, int seconds = 60) {
   const int status =
       std::system(("timeout " + std::to_string(seconds) + " sh -c '" + command + "'").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return exit_status(status);
 }
 
 // Runs `phyxel ARGS --quiet` with stdout and stderr in DIR; returns the exit status.

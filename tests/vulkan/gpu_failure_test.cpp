@@ -13,7 +13,8 @@
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "tests/physics/physics_fixtures.h"
-#include "tests/scoped_env.h"
+#include "tests/support/scoped_env.h"
+#include "tests/support/support.h"
 #include "vulkan_test.h"
 
 namespace phyxel::gpu {
@@ -22,12 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using GpuFailureTest = VulkanTest;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using phyxel::test::exit_status;
+using phyxel::test::read_text;
 
 // A whole points file: it ends with the closing tag.
 void expect_whole_points_file(const fs::path& file) {
@@ -156,7 +153,7 @@ std::pair<int, std::string> phyxel_run(const fs::path& dir, const std::string& e
                           (dir / "block.json").string() + " --device " + device +
                           " --quiet --out " + dir.string() + " 2>" + (dir / "err.txt").string();
   const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "err.txt")};
+  return {exit_status(status), read_text(dir / "err.txt")};
 }
 
 TEST(GpuFailureCli, DeviceLostIsOneLineWithTheStepReached) {

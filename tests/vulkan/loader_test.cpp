@@ -8,7 +8,7 @@
 
 #include "app/commands.h"
 #include "compute/instance.h"
-#include "tests/scoped_env.h"
+#include "tests/support/scoped_env.h"
 #include "vulkan_test.h"
 
 namespace phyxel::gpu {
