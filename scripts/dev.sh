@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's quick start:
 #   scripts/dev.sh demo   install what is missing, build (Release), run the demo scene headless
-#                         and render it (a probe presses into a brain) to out/demo.mp4 and
+#                         and render it (an aspirator takes a glioma's top layer) to out/demo.mp4 and
 #                         out/demo.png (its last frame)
 #   scripts/dev.sh test   install what is missing, build (Release), run the whole test suite
 #                         (ctest: the GoogleTest areas and python_pytest, pytest over
@@ -27,7 +27,7 @@ cmake --build build -j"$jobs"
 
 if [ "$what" = demo ]; then
   # Frames are drawn by Vulkan: on the GPU where there is one, else by Mesa's lavapipe on the
-  # CPU (about 20 s of simulation and drawing on a 2-core machine).
+  # CPU (README.md says how long on a 2-core machine).
   rm -f out/frame_*.png
   build/app/phyxel run scenes/demo.json --out out --video out/demo.mp4
   last="$(ls out/frame_*.png | tail -1)"

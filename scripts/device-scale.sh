@@ -34,11 +34,11 @@ else
     --sizes "${SIZES:-10000000,50000000,75000000,100000000}" --no-check --repeats 3 \
     --json "$out/scale.json" 2>&1 | tee -a "$log"
   # The bench cannot tell wrong pairs from right ones; a brain whose pairs are in two parts
-  # (scenes/demo.json at spacing 0.141 mm: 45M phyxels, 1.16e9 pairs) must have no
+  # (scenes/probe_indent.json at spacing 0.141 mm: 45M phyxels, 1.16e9 pairs) must have no
   # ill-conditioned moment matrix, as it has with one part at 30M and 40M.
   python3 - <<'PY'
 import json
-s = json.load(open("scenes/demo.json"))
+s = json.load(open("scenes/probe_indent.json"))
 s["objects"][0]["spacing"] = 0.0001408
 s["simulation"]["steps"] = 1
 json.dump(s, open("scenes/.split_check.json", "w"))

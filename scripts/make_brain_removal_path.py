@@ -5,7 +5,10 @@ each depth `inset` inside the tumour's margin, the shaft pivoting about a point 
 opening; the brain farther than `box` from the tumour's axis, or below `zfix`, is held (the
 far field barely moves and costs nothing). docs/suction.md ("Not yet") says what it gave.
 Usage: make_brain_removal_path.py --out FILE.json [--spacing S --dt DT ...]. Write FILE.json
-into scenes/ (the render keys name files relative to it)."""
+into scenes/ (the render keys name files relative to it). The shipped scene is the defaults;
+scenes/demo.json (the README's demo: the first layer, 3 mm, mono) is
+  --spacing 0.003 --dt 2.5e-4 --every 400 --layers 1 --mode mono --size 960x540 --no_video
+  --points_at_end --out scenes/demo.json"""
 import argparse
 import json
 import math
@@ -27,6 +30,11 @@ ap.add_argument('--zfix', type=float, default=0.025)
 ap.add_argument('--brain_tear', type=float, default=2500)
 ap.add_argument('--glioma_tear', type=float, default=900)
 ap.add_argument('--every', type=int, default=208)
+ap.add_argument('--layers', type=int, default=0, help='stop after this many layers (0: all)')
+ap.add_argument('--mode', default=None, help='render mode (default: the base scene\'s)')
+ap.add_argument('--size', default=None, help='frame size WxH (default: the base scene\'s)')
+ap.add_argument('--points_at_end', action='store_true', help='write the points (.vtp) at the end')
+ap.add_argument('--no_video', action='store_true', help='drop the video texture')
 ap.add_argument('--base', default='scenes/brain_tumour_removal.json')
 ap.add_argument('--out', required=True)
 a = ap.parse_args()
@@ -50,7 +58,7 @@ def ring(rr, z, start):
         add((rr * math.cos(ang), rr * math.sin(ang), z))
 add((0.0, 0.0, 0.0555))
 z = a.ztop; layer = 0
-while z >= a.zbot - 1e-9:
+while z >= a.zbot - 1e-9 and (a.layers == 0 or layer < a.layers):
     add((0.0, 0.0, z))
     rmax = math.sqrt(max(R * R - (z - C[2]) ** 2, 0.0)) - a.inset
     if rmax > 0.001:
@@ -86,5 +94,9 @@ scene = {
   "render": src['render'],
   "output": {"every": 0, "format": "binary"}}
 scene['render']['every'] = a.every
+if a.mode: scene['render']['mode'] = a.mode
+if a.size: scene['render']['width'], scene['render']['height'] = map(int, a.size.split('x'))
+if a.points_at_end: scene['output']['every'] = steps
+if a.no_video: scene['render'].pop('video_texture', None)
 json.dump(scene, open(a.out, 'w'), indent=1)
 print(f"{len(keys)} keys, {T:.2f} s, {steps} steps", file=sys.stderr)

@@ -235,12 +235,12 @@ TEST(VideoCommand, UnwritableVideoPathIsRefusedBeforeTheRun) {
   EXPECT_FALSE(std::filesystem::exists(dir / "summary.json")) << "the run started";
 }
 
-// The README's demo (scripts/dev.sh demo): scenes/demo.json with --video, its first 100 steps
-// (frames at steps 0, 50 and 100 of 5e-4 s: 40 frames per simulated second at 960 x 540).
+// The README's demo (scripts/dev.sh demo): scenes/demo.json with --video, its first 800 steps
+// (frames at steps 0, 400 and 800 of 2.5e-4 s: 10 frames per simulated second at 960 x 540).
 TEST(VideoCommand, TheReadmeDemoWritesItsVideoAndFrames) {
   const std::filesystem::path dir = test::test_out_dir() / "video_demo";
   std::filesystem::remove_all(dir);
-  const int status = run(std::string(PHYXEL_SOURCE_DIR) + "/scenes/demo.json --steps 100 --quiet" +
+  const int status = run(std::string(PHYXEL_SOURCE_DIR) + "/scenes/demo.json --steps 800 --quiet" +
                          " --out " + dir.string() + " --video " + (dir / "demo.mp4").string() +
                          " 2> " + (dir.string() + ".err"));
   ASSERT_EQ(status, 0);
@@ -248,8 +248,8 @@ TEST(VideoCommand, TheReadmeDemoWritesItsVideoAndFrames) {
   EXPECT_EQ(d.frames, 3);
   EXPECT_EQ(d.width, 960);
   EXPECT_EQ(d.height, 540);
-  EXPECT_NEAR(d.rate, 40, 1e-6);
-  EXPECT_TRUE(std::filesystem::exists(dir / "frame_000100.png"));
+  EXPECT_NEAR(d.rate, 10, 1e-6);
+  EXPECT_TRUE(std::filesystem::exists(dir / "frame_000800.png"));
 }
 
 // `phyxel bench --render` ends with the encoder's rate at the frames' size (the 1080p-per-eye
