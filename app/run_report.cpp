@@ -92,7 +92,7 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
         tool["max_friction_force"] = t.max_friction;
         tool["max_penetration_depth"] = t.max_depth;
       }
-      if (t.grasps) {  // engine/surgery/grasper.h
+      if (t.grasps) {  // engine/solver/grasper.h
         tool["held"] = t.held;
         tool["max_held"] = t.max_held;
         tool["max_pull_force"] = t.max_pull_force;

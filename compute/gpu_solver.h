@@ -145,7 +145,7 @@ class GpuSolver final : public Solver {
   // forces recomputed for the current u.
   bool supports_load_changes() const override { return true; }
   void set_external_forces(const std::vector<Vec3>& loads) override;
-  // Tools, with CpuSolver's semantics (engine/solver/cpu_solver.h, engine/surgery/contact.h):
+  // Tools, with CpuSolver's semantics (engine/solver/cpu_solver.h, engine/solver/contact.h):
   // contact runs after every drift on the phyxels the broad phase found for the chunk of
   // substeps whose motions set_tool_motion gave (kept for the next advance; a step past them
   // keeps the last end pose). At the start of an advance with new motions: max |u| and |v| by a
@@ -159,7 +159,7 @@ class GpuSolver final : public Solver {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
   size_t contact_candidates() const override { return candidates_; }
-  // Graspers, with CpuSolver's semantics (engine/surgery/grasper.h): after each substep's
+  // Graspers, with CpuSolver's semantics (engine/solver/grasper.h): after each substep's
   // contact reduction, tool_grasp captures (in the substep the jaws close), holds and reduces
   // the grip's force into the sample (gpu_solver_grasp.cpp); nothing is read back during the
   // advance. held_phyxels downloads the grip.
@@ -171,7 +171,7 @@ class GpuSolver final : public Solver {
   bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override;
   bool principal_stress() const { return principal_; }
-  // Tearing, with CpuSolver's semantics (engine/surgery/tearing.h): while on, the principal
+  // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the principal
   // pass also keeps each phyxel's Cauchy tensor, and solver_tear follows every substep's force
   // pass over the stress list (on the u that pass read), then solver_precompute over the
   // phyxels it touched (indirect, as the cut): nothing is read back during the advance; the

@@ -1,5 +1,5 @@
 // GpuSolver: tool-tissue contact with CpuSolver's semantics (engine/solver/cpu_solver.cpp:
-// set_tools, set_tool_motion, apply_contacts; engine/surgery/contact.h for the response).
+// set_tools, set_tool_motion, apply_contacts; engine/solver/contact.h for the response).
 //
 // At the start of an advance with new motions (begin_contact), all on the GPU and recorded
 // into the advance's first command buffer (nothing read back): max |u| and |v| by a reduction
@@ -19,7 +19,7 @@
 
 #include "compute/gpu_solver.h"
 #include "compute/gpu_solver_kernels.h"
-#include "engine/surgery/suction.h"
+#include "engine/solver/suction.h"
 
 namespace phyxel::gpu {
 

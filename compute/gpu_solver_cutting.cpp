@@ -1,5 +1,5 @@
 // GpuSolver: cutting with CpuSolver's semantics (engine/solver/cpu_solver_cutting.cpp,
-// engine/surgery/cutting.h). Per substep, after the contact reduction and in the same command
+// engine/solver/cutting.h). Per substep, after the contact reduction and in the same command
 // buffer: the dirty list's header reset, tool_sever over the candidates (indirect), and
 // solver_precompute over the phyxels it put in the dirty list (indirect, from the group count
 // tool_sever grew). Severed pairs keep their CSR slots with weight 0, which the step passes

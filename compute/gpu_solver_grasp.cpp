@@ -1,5 +1,5 @@
 // GpuSolver: the graspers with CpuSolver's semantics (engine/solver/cpu_solver_grasp.cpp,
-// engine/surgery/grasper.h). Which substeps close, hold or open a tool's jaws follows from the
+// engine/solver/grasper.h). Which substeps close, hold or open a tool's jaws follows from the
 // motion table alone, so the host decides while recording: in the substep the jaws close it
 // records tool_grasp's capture (one workgroup over the contact candidates, ascending, into the
 // tool's region of the grip buffer, with the count and indirect dispatch of the hold), and in

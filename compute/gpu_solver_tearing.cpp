@@ -1,5 +1,5 @@
 // GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
-// engine/surgery/tearing.h). Per substep, after the force pass and in the same command buffer:
+// engine/solver/tearing.h). Per substep, after the force pass and in the same command buffer:
 // the dirty list's header reset, solver_tear over the stress list (on the u the stress pass
 // read), and solver_precompute over the phyxels it put in the dirty list (indirect). The torn
 // pairs join the cut log, read back once per advance (finish_cutting).

@@ -1,14 +1,14 @@
 // Tools as the renderer sees them: a shape at a pose per frame (render::ToolDrawable), and the
 // CPU twin of the tool pass's ray cast (render/shaders/tool_common.glsl, tool_visibility.comp):
 // the nearest entry of a ray into a ball or a capsule (the segment from the tip along the
-// axis, swept by the radius, engine/surgery/tool.h), and per pixel of an eye the nearest tool,
+// axis, swept by the radius, engine/geometry/tool.h), and per pixel of an eye the nearest tool,
 // its linear depth and eye-space normal, exactly as the shader casts it (in double).
 #pragma once
 
 #include <cstddef>
 #include <vector>
 
-#include "engine/surgery/tool.h"
+#include "engine/scene/tool_desc.h"
 #include "render/camera.h"
 
 namespace phyxel::render {

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/surgery/tool.h"
+#include "engine/scene/tool_desc.h"
 #include "render/camera.h"
 #include "render/tool_raycast.h"
 

@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "engine/scene/scene.h"
+#include "engine/scene/tool_desc.h"
 #include "engine/surgery/haptic_protocol.h"
-#include "engine/surgery/tool.h"
 
 namespace {
 

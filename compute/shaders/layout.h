@@ -291,7 +291,7 @@ PHYXEL_CONST uint kPrincipalBindingIndexHi = 11;
 PHYXEL_CONST uint kPrincipalBindingWeightHi = 12;
 PHYXEL_CONST uint kPrincipalWithTensor = 1u;  // StepPush.mode
 
-// solver_tear (engine/surgery/tearing.h), over the stress pass list after the force pass of a
+// solver_tear (engine/solver/tearing.h), over the stress pass list after the force pass of a
 // substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices
 // (each pair has one owner: no atomics on the weights); a pair whose mean normal stress
 // reaches the mean of the two classes' tear_stress gets weight 0 in both slots, is logged as
@@ -338,7 +338,8 @@ PHYXEL_ASSERT_SIZE(CheckPush, 8);
 
 // ---------------------------------------------------------------------------------------
 // Tool contact (compute/gpu_solver_contact.cpp; shaders/tool_contact*.comp, solver_max_norm.comp;
-// the math in shaders/tool_contact.glsl mirrors engine/surgery/tool.cpp and contact.cpp).
+// the math in shaders/tool_contact.glsl mirrors engine/geometry/tool.cpp and
+// engine/solver/contact.cpp).
 
 // A tool's shape and friction (engine ContactTool), one per tool.
 PHYXEL_CONST uint kToolSphere = 0u;
@@ -348,7 +349,7 @@ struct ContactToolShape {
                  // the band around it whose phyxels span its axial range (m; 0: contacts only)
   uvec4 kind;    // kToolSphere or kToolCapsule, 0, 0, 0
   vec4 suction;  // an aspirator's pull per unit volume in reach 2 F / V_reach (N/m^3; 0: none),
-                 // its reach (m), 0, 0 (engine/surgery/suction.h)
+                 // its reach (m), 0, 0 (engine/solver/suction.h)
 };
 PHYXEL_ASSERT_SIZE(ContactToolShape, 48);
 // The axial range a (candidate, tool) without contact contributes (engine ToolContactSample).
@@ -413,7 +414,7 @@ PHYXEL_CONST uint kContactReduceBindingCount = 2;
 // The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
 // of the force list (moving phyxels of awake objects) that are not fixed or removed and whose
 // current position rest + u lies inside the tools' swept bounds grown by the margin
-// 2 duration max(max|v|, tool speed) + spacing (contact_margin in engine/surgery/contact.h;
+// 2 duration max(max|v|, tool speed) + spacing (contact_margin in engine/solver/contact.h;
 // max|v| from the solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0
 // counts each workgroup's hits into group[g]; tool_broad_scan turns the counts into exclusive
 // offsets (one workgroup), the total and the indirect dispatch of tool_contact; mode 1 writes the
@@ -448,7 +449,7 @@ PHYXEL_ASSERT_SIZE(ContactCount, 16);
 
 // ---------------------------------------------------------------------------------------
 // Graspers (compute/gpu_solver_grasp.cpp; shaders/tool_grasp.comp mirrors
-// engine/solver/cpu_solver_grasp.cpp and engine/surgery/grasper.h).
+// engine/solver/cpu_solver_grasp.cpp and engine/solver/grasper.h).
 
 // A held phyxel: its offset from the tip in the tool's frame (m; grip_offset), and its index.
 // Per grasper a region of `capacity` entries of the grip buffer.
@@ -501,7 +502,7 @@ PHYXEL_CONST uint kGraspBindingSamples = 11;
 
 // ---------------------------------------------------------------------------------------
 // Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors
-// engine/solver/cpu_solver_cutting.cpp and engine/surgery/cutting.cpp).
+// engine/solver/cpu_solver_cutting.cpp and engine/solver/cutting.cpp).
 
 // The quad one tool's blade swept in one substep (engine swept_quad), relative to the contact
 // origin, row-major [row][tool]; rows are the chunk's substeps then one for holding the last

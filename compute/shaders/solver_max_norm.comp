@@ -1,5 +1,5 @@
 // The largest |u| and |v| over all phyxels (the contact broad phase's reach, contact_reach in
-// engine/surgery/contact.h), one level of a reduction by kScanBlock: level 0 reads u and v,
+// engine/solver/contact.h), one level of a reduction by kScanBlock: level 0 reads u and v,
 // later levels the partials of the one before. A maximum does not depend on the order.
 #version 450
 #extension GL_GOOGLE_include_directive : require

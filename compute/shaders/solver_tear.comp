@@ -1,6 +1,6 @@
 // Tearing after a substep's force pass (TearPush in layout.h; the CPU twin is
 // CpuSolver::apply_tears in engine/solver/cpu_solver_tearing.cpp, the criterion
-// engine/surgery/tearing.h): each phyxel of the stress pass tests its live pairs to higher
+// engine/solver/tearing.h): each phyxel of the stress pass tests its live pairs to higher
 // indices; a pair whose mean normal stress reaches the mean of the two strengths is severed on
 // both sides, logged (i, j, 0.5, torn) and both phyxels go to the dirty list.
 #version 450
@@ -27,7 +27,7 @@ layout(std430, binding = kTearBindingCauchy) readonly buffer Cauchy { vec4 cauch
 layout(std430, binding = kTearBindingDirty) buffer Dirty { uint dirty[]; };
 layout(std430, binding = kTearBindingLog) buffer Log { uvec4 cut_log[]; };
 
-// pair_tear_threshold of engine/surgery/tearing.h.
+// pair_tear_threshold of engine/solver/tearing.h.
 float pair_threshold(float ti, float tj) {
   const bool holds_i = ti > 0.0 && !isinf(ti);
   const bool holds_j = tj > 0.0 && !isinf(tj);

@@ -66,7 +66,7 @@ void main() {
                tools[t].shape.w;
     }
     if (around) along.xy = vec2(dot(x0 + u - m.to_position.xyz, m.to_axis.xyz));
-    // The aspirator's pull after the contact (engine/surgery/suction.h suction_pull).
+    // The aspirator's pull after the contact (engine/solver/suction.h suction_pull).
     const vec4 suction = tools[t].suction;
     if (takes && suction.x > 0.0 && m.to_position.w > 0.0) {
       const vec3 r = x0 + u - m.to_position.xyz;

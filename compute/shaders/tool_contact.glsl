@@ -1,6 +1,6 @@
-// Tool-tissue contact of one phyxel in float: the GLSL twin of engine/surgery/tool.cpp
+// Tool-tissue contact of one phyxel in float: the GLSL twin of engine/geometry/tool.cpp
 // (perpendicular, rotation_between, tool_distance, carry_point) and of contact_correction in
-// engine/surgery/contact.cpp (see contact.h for the response). Positions are relative to the
+// engine/solver/contact.cpp (see contact.h for the response). Positions are relative to the
 // chunk's origin (ContactPush.origin), which the caller subtracts from the phyxel's position.
 // Include after layout.h.
 #ifndef PHYXEL_TOOL_CONTACT_GLSL

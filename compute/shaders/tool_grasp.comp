@@ -1,5 +1,5 @@
 // A grasper's jaws in a substep where they are closed (engine/solver/cpu_solver_grasp.cpp is the
-// twin; engine/surgery/grasper.h the semantics), after tool_contact_reduce. Three modes
+// twin; engine/solver/grasper.h the semantics), after tool_contact_reduce. Three modes
 // (layout.h GraspPush): capture the candidates within reach when the jaws close (one
 // workgroup, in ascending order), hold what the grip has (over its entries, indirect), and
 // reduce the grip's forces into the tool's sample (one workgroup, fixed order).

@@ -1,7 +1,7 @@
 // Cutting after a substep's contacts (SeverPush in layout.h; the CPU twin is
 // CpuSolver::apply_cuts in engine/solver/cpu_solver_cutting.cpp): each candidate tests its live
 // pairs against the quad each cutting blade swept, in the canonical order (lower index first)
-// with the tie rule of engine/surgery/cutting.cpp (an endpoint on the plane is on the positive
+// with the tie rule of engine/solver/cutting.cpp (an endpoint on the plane is on the positive
 // side; a segment through an edge crosses). Positions relative to the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -27,7 +27,7 @@ layout(std430, binding = kSeverBindingDirty) buffer Dirty { uint dirty[]; };
 layout(std430, binding = kSeverBindingLog) buffer Log { uvec4 cut_log[]; };
 layout(std430, binding = kSeverBindingCount) readonly buffer Count { ContactCount count; };
 
-// segment_crosses_triangle of engine/surgery/cutting.cpp, in float.
+// segment_crosses_triangle of engine/solver/cutting.cpp, in float.
 bool crosses_triangle(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, out float t) {
   t = 0.0;
   const vec3 pa = p - a, qa = q - a, ba = b - a, ca = c - a;
@@ -78,7 +78,7 @@ void main() {
     const float threshold = quad.edge.w;
     if (threshold < 0.0) continue;  // no blade
     const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
-    // cut_force of engine/surgery/cutting.cpp: the edge pressed in, or the point (a stab).
+    // cut_force of engine/solver/cutting.cpp: the edge pressed in, or the point (a stab).
     const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
     if (max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) < threshold) continue;
     for (uint k = offset[i]; k < offset[i + 1u]; ++k) {

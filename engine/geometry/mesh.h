@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene/scene.h"
+#include "engine/geometry/vec3.h"
 
 namespace phyxel {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 #include "engine/surgery/tool_track.h"
 
 namespace phyxel {

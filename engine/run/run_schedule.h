@@ -13,7 +13,7 @@ namespace phyxel {
 // Steps (of the requested size) at which some load switches on or off, inside (0, total).
 std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, int64_t total);
 
-// Whether a tool grasps (engine/surgery/grasper.h): the grasp passes run only then.
+// Whether a tool grasps (engine/solver/grasper.h): the grasp passes run only then.
 bool has_grasper(const Scene& scene);
 
 // Steps between the run loop's checks (rest, sleep, runaway): options.check_every when set,

@@ -13,36 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "engine/surgery/tool.h"
+#include "engine/geometry/shape.h"
+#include "engine/scene/tool_desc.h"
 
 namespace phyxel {
 
 // Every error about user input. what() is one line: "FILE: JSON.PATH: problem; allowed ...".
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
-};
-
-// A closed triangle surface (from an OBJ, STL or PLY file), already scaled. See
-// engine/geometry/mesh.h.
-struct TriangleMesh;
-// The voxels of a NIfTI image selected by labels or a threshold, placed in world space. See
-// engine/geometry/image_volume.h.
-class LabelMask;
-
-struct Shape {
-  enum class Type { Box, Sphere, Ellipsoid, Mesh, Image };
-  Type type = Type::Box;
-  Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // box
-  Vec3 center = Vec3::Zero();                   // sphere, ellipsoid
-  double radius = 0;                            // sphere
-  Vec3 radii = Vec3::Zero();                    // ellipsoid
-  std::filesystem::path path;                   // mesh, image: resolved against the scene's folder
-  double scale = 1;                             // mesh
-  std::shared_ptr<const TriangleMesh> mesh;     // mesh: loaded while the scene is read
-  std::vector<int64_t> labels;                  // image: voxel values inside (or threshold)
-  std::optional<double> threshold;              // image: scaled values >= this are inside
-  std::optional<int64_t> frame;                 // image: the frame of a 4D file
-  std::shared_ptr<const LabelMask> image;       // image: built while the scene is read
 };
 
 struct Material {
@@ -200,7 +178,7 @@ struct Scene {
   OutputSettings output;
   CameraSettings camera;
   RenderSettings render;
-  std::vector<ToolDesc> tools;  // `tools`: instruments (engine/surgery/tool.h)
+  std::vector<ToolDesc> tools;  // `tools`: instruments (engine/scene/tool_desc.h)
   double refine = 1;            // K of refine_scene (1: as the file says)
 
   // Whether anything can tear, so that the solvers compute the largest principal stress of

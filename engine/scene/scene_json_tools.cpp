@@ -1,5 +1,5 @@
 // Scene files: the `tools` key (docs/scene-format.md, "tools"): surgical instruments with their
-// rigid shape, path of keyframes, friction and control (engine/surgery/tool.h).
+// rigid shape, path of keyframes, friction and control (engine/scene/tool_desc.h).
 #include "engine/scene/scene_json_tools.h"
 
 #include <algorithm>

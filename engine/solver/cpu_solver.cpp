@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "engine/solver/kernel.h"
-#include "engine/surgery/suction.h"
+#include "engine/solver/suction.h"
 
 namespace phyxel {
 

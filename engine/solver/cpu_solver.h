@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
+#include "engine/solver/contact.h"
+#include "engine/solver/cutting.h"
+#include "engine/solver/grasper.h"
 #include "engine/solver/mls_model.h"
 #include "engine/solver/neighbours.h"
-#include "engine/surgery/contact.h"
-#include "engine/surgery/cutting.h"
-#include "engine/surgery/grasper.h"
 
 namespace phyxel {
 
@@ -64,7 +64,7 @@ class CpuSolver {
   size_t stress_pass_size() const { return stress_list_.size(); }
   size_t force_pass_size() const { return force_list_.size(); }
 
-  // Tools (engine/surgery/contact.h): contact runs after every drift, on the phyxels the broad
+  // Tools (engine/solver/contact.h): contact runs after every drift, on the phyxels the broad
   // phase found for the chunk of substeps whose motions set_tool_motion gave (substeps x
   // tools, consumed one substep per step(); a step past them keeps the last end pose). The
   // broad phase runs again when an object falls asleep or wakes.
@@ -77,12 +77,12 @@ class CpuSolver {
   // The contact force on each phyxel in the last step (N; zero where there was no contact).
   const std::vector<V3>& contact_force() const { return contact_force_; }
   size_t contact_candidates() const { return candidates_.size(); }
-  // Graspers (engine/surgery/grasper.h): after the contacts of every step, each grasper whose
+  // Graspers (engine/solver/grasper.h): after the contacts of every step, each grasper whose
   // jaws close in the step captures the candidates within its reach, and each closed grasper
   // carries what it holds (cpu_solver_grasp.cpp). The grip of tool t (empty for other tools).
   const Grip& grip(size_t tool) const { return grips_.at(tool); }
 
-  // Cutting (engine/surgery/cutting.h, docs/cutting.md): after the contacts of every step, each
+  // Cutting (engine/solver/cutting.h, docs/cutting.md): after the contacts of every step, each
   // scalpel whose edge force reached its threshold severs the pairs that cross the quad its
   // blade swept (tested from the broad phase's candidates, whose margin grows by the support
   // radius when a tool cuts). A severed pair gets weight 0 on both sides, for good; the moment
@@ -126,7 +126,7 @@ class CpuSolver {
   bool principal_stress() const { return principal_; }
   // Pa per phyxel; empty while off.
   const std::vector<Real>& max_principal_stress() const { return max_principal_; }
-  // Tearing (engine/surgery/tearing.h, docs/tearing.md; off by default): while on, every step
+  // Tearing (engine/solver/tearing.h, docs/tearing.md; off by default): while on, every step
   // ends by severing the live pairs whose material is overstressed (pair_tears on the Cauchy
   // stress the stress pass keeps per phyxel), logged with `torn` set in severed_log(). Turning
   // it on turns the principal stress on; phyxels whose material has no tear_stress never tear.

@@ -1,4 +1,4 @@
-// CpuSolver: cutting (engine/surgery/cutting.h; the GPU twin is compute/shaders/tool_sever.comp).
+// CpuSolver: cutting (engine/solver/cutting.h; the GPU twin is compute/shaders/tool_sever.comp).
 // After the contacts of a step, each blade whose edge force reached its threshold tests the
 // rows of the broad phase's candidates against the quad it swept in the step; a crossing pair
 // gets weight 0 on both sides, and the precompute reruns for the phyxels whose rows changed.

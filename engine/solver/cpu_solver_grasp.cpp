@@ -1,4 +1,4 @@
-// CpuSolver: the graspers (engine/surgery/grasper.h; the GPU twin is compute/gpu_solver_grasp.cpp
+// CpuSolver: the graspers (engine/solver/grasper.h; the GPU twin is compute/gpu_solver_grasp.cpp
 // with compute/shaders/tool_grasp.comp). Called by apply_contacts after the contacts of a step,
 // tool by tool: jaws that close capture the candidates within reach (ascending), closed jaws put
 // what they hold where the tool carries it with the tool's velocity there and feel minus the

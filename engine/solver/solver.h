@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
+#include "engine/solver/contact.h"
 #include "engine/solver/cpu_solver.h"
-#include "engine/surgery/contact.h"
 
 namespace phyxel {
 
@@ -92,7 +92,7 @@ class Solver {
   // Loads that switch on or off during the run (scene loads with from/until).
   virtual bool supports_load_changes() const { return false; }
   virtual void set_external_forces(const std::vector<Vec3>&) {}
-  // Tools (engine/surgery/contact.h): their shapes and friction, set once; then before each
+  // Tools (engine/solver/contact.h): their shapes and friction, set once; then before each
   // advance(n, dt) the motion of every tool over each of the n substeps (n x tools, row-major
   // by substep), and after it what each tool felt in each substep (n x tools).
   virtual bool supports_tools() const { return false; }
@@ -100,7 +100,7 @@ class Solver {
   virtual void set_tool_motion(const std::vector<ToolMotion>&) {}
   virtual std::vector<ToolContactSample> tool_samples() { return {}; }
   // The phyxels a grasper's jaws hold now (ascending; empty for other tools and open jaws;
-  // engine/surgery/grasper.h).
+  // engine/solver/grasper.h).
   virtual std::vector<uint32_t> held_phyxels(size_t tool) {
     (void)tool;
     return {};
@@ -115,7 +115,7 @@ class Solver {
   virtual void set_principal_stress(bool on) {
     if (on) throw std::logic_error(device() + " cannot compute principal stresses");
   }
-  // Tearing (engine/surgery/tearing.h, docs/tearing.md): while on, every substep ends by
+  // Tearing (engine/solver/tearing.h, docs/tearing.md): while on, every substep ends by
   // severing the live pairs whose material is overstressed, logged like cuts (below) with
   // `torn` set. Turning it on turns the principal stress on.
   virtual bool supports_tearing() const { return false; }
@@ -142,7 +142,7 @@ class Solver {
     displacement = std::move(s.displacement);
     principal = std::move(s.max_principal_stress);
   }
-  // Cutting (engine/surgery/cutting.h, docs/cutting.md): tools with a blade sever neighbour
+  // Cutting (engine/solver/cutting.h, docs/cutting.md): tools with a blade sever neighbour
   // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
   // pairs ascending by (i, j), appended in order): severed_pairs() is its length and
   // severed_since(k) its entries from k on, so each reader keeps its own cursor. pair_alive: 1

@@ -5,7 +5,7 @@
 
 #include "engine/solver/mls_gradient.h"
 #include "engine/solver/solver.h"
-#include "engine/surgery/suction.h"
+#include "engine/solver/suction.h"
 
 namespace phyxel {
 namespace {

@@ -1,9 +1,9 @@
 // The paper's hybrid tearing at an aspirator's mouth (section V.A, docs/suction.md), applied by
 // the run loop between advances while a suction tool is on in a scene that can tear:
 //
-//  1. F: the phyxels in the mouth's reach (suction.h in_suction_reach) that are neither fixed
-//     nor removed, whose material has a tear_stress, and that have failed: their largest
-//     principal stress reaches it (the paper's step 1), or a pair of theirs has torn
+//  1. F: the phyxels in the mouth's reach (solver/suction.h in_suction_reach) that are
+//     neither fixed nor removed, whose material has a tear_stress, and that have failed: their
+//     largest principal stress reaches it (the paper's step 1), or a pair of theirs has torn
 //     (docs/tearing.md: tearing runs every substep, so the tissue the pull overloads
 //     has often torn, relieving its stress, by the end of the advance).
 //  2. The phyxels of F on the tissue's surface (the outer surface, a fracture surface an
@@ -31,9 +31,9 @@
 #include <unordered_set>
 #include <vector>
 
+#include "engine/geometry/tool.h"
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/neighbours.h"
-#include "engine/surgery/tool.h"
 
 namespace phyxel {
 

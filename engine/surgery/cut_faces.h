@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 
 namespace phyxel {
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 
 namespace phyxel {
 

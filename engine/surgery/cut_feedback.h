@@ -22,13 +22,13 @@
 
 #include <cstdint>
 
-#include "engine/surgery/contact.h"
-#include "engine/surgery/tool.h"
+#include "engine/scene/tool_desc.h"
+#include "engine/solver/contact.h"
 
 namespace phyxel {
 
 struct CutFeedback {
-  double cut_force = 0;          // N, compared with the threshold (cutting.h, cut_force)
+  double cut_force = 0;          // N, compared with the threshold (solver/cutting.h, cut_force)
   double theta = 0;              // rad, the contact angle between F_x and the plane's normal
   double in_plane = 0;           // N, |F_l|
   double normal = 0;             // N, |F_p|

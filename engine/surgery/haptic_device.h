@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/geometry/tool.h"
 #include "engine/surgery/haptic_protocol.h"
-#include "engine/surgery/tool.h"
 
 namespace phyxel {
 

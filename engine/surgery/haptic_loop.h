@@ -38,9 +38,9 @@
 #include <string>
 #include <thread>
 
+#include "engine/scene/tool_desc.h"
 #include "engine/surgery/haptic_device.h"
 #include "engine/surgery/seqlock.h"
-#include "engine/surgery/tool.h"
 
 namespace phyxel {
 

@@ -19,7 +19,7 @@
 #include <span>
 #include <string_view>
 
-#include "engine/surgery/tool.h"
+#include "engine/geometry/tool.h"
 
 namespace phyxel::haptic {
 

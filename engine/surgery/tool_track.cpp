@@ -1,6 +1,6 @@
 #include "engine/surgery/tool_track.h"
 
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/scene/scene.h"
-#include "engine/surgery/contact.h"
+#include "engine/solver/contact.h"
 #include "engine/surgery/cut_feedback.h"
 
 namespace phyxel {
@@ -23,7 +23,7 @@ struct ToolRunStats {
   uint32_t max_contacts = 0;
   int64_t steps_in_contact = 0;
   // Scalpels: the largest cutting force of any substep (N; cut_force in
-  // engine/surgery/cutting.h: the edge or the point pressed into the tissue), and the substeps
+  // engine/solver/cutting.h: the edge or the point pressed into the tissue), and the substeps
   // at or above the threshold (cutting).
   bool cuts = false;
   double max_cut_force = 0;
@@ -33,7 +33,7 @@ struct ToolRunStats {
   double max_feedback = 0;
   double max_friction = 0;
   double max_depth = 0;
-  // Graspers (engine/surgery/grasper.h): the phyxels the jaws hold at the last substep, the
+  // Graspers (engine/solver/grasper.h): the phyxels the jaws hold at the last substep, the
   // most they held at a step's end, and the largest |force| of a step in which they held any
   // (N: the tissue pulling on the jaws).
   bool grasps = false;

@@ -140,7 +140,7 @@ PHYXEL_ASSERT_SIZE(RasterPush, 112);
 PHYXEL_CONST uint kToolBindingTools = 0;  // RenderTool[]
 PHYXEL_CONST uint kToolBindingDepth = 1;  // as kRasterBindingDepth
 PHYXEL_CONST uint kToolBindingAccum = 2;  // as kRasterBindingAccum
-// One tool (render/tool_raycast.h, engine/surgery/tool.h): a sphere of radius r around the
+// One tool (render/tool_raycast.h, engine/geometry/tool.h): a sphere of radius r around the
 // tip, or a capsule, the segment from the tip along the axis swept by r.
 struct RenderTool {
   vec4 tip;   // xyz: the tip, world, m; w: radius, m

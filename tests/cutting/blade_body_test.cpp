@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 #include "tests/cutting/cutting_fixtures.h"
 
 namespace phyxel {

@@ -1,5 +1,5 @@
 // Cutting on the CPU reference: the visibility criterion, separation of a beam, a slit, the
-// force threshold, energy after a cut, and degenerate cuts (engine/surgery/cutting.h).
+// force threshold, energy after a cut, and degenerate cuts (engine/solver/cutting.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "cutting_fixtures.h"
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 
 namespace phyxel {
 namespace {

@@ -1,4 +1,4 @@
-// The aspirator (engine/surgery/suction.h, aspiration.h; docs/suction.md) on the CPU reference:
+// The aspirator (engine/solver/suction.h, aspiration.h; docs/suction.md) on the CPU reference:
 // its pull law (toward the mouth, within reach ahead of it, adding up to F = pressure x mouth
 // area along the axis over a full half ball); the fracture sphere of the paper's hybrid tearing
 // on a synthetic set; a block under suction below its tear stress deforms and lets go without
@@ -14,8 +14,8 @@
 
 #include "engine/run/simulation.h"
 #include "engine/solver/cpu_solver.h"
+#include "engine/solver/suction.h"
 #include "engine/surgery/aspiration.h"
-#include "engine/surgery/suction.h"
 #include "tests/cutting/cutting_fixtures.h"
 
 namespace phyxel {

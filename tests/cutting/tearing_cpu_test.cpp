@@ -1,4 +1,4 @@
-// Tearing on the CPU reference (engine/surgery/tearing.h, docs/tearing.md): the pair criterion
+// Tearing on the CPU reference (engine/solver/tearing.h, docs/tearing.md): the pair criterion
 // on closed forms; a bar pulled by a rising end load tears when its stress reaches tear_stress
 // (the load at the first tear within 10 % of tear_stress x area) and not below it, across the
 // load, into pieces that part; a material without tear_stress never tears; every value stays
@@ -15,8 +15,8 @@
 #include "engine/run/simulation.h"
 #include "engine/solver/cpu_solver.h"
 #include "engine/solver/sym_eigen.h"
+#include "engine/solver/tearing.h"
 #include "engine/surgery/resection.h"
-#include "engine/surgery/tearing.h"
 #include "tests/cutting/cutting_fixtures.h"
 
 namespace phyxel {

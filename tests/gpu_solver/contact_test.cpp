@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/surgery/tool.h"
+#include "engine/geometry/tool.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
 
 namespace phyxel::gpu::test {

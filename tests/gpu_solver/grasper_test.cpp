@@ -1,4 +1,4 @@
-// The grasper on the GPU against the CPU reference (engine/surgery/grasper.h): the same phyxels
+// The grasper on the GPU against the CPU reference (engine/solver/grasper.h): the same phyxels
 // taken when the jaws close, the same motion while they hold and pull (turning the tool's axis
 // too), the same force on the tool, the same grip when held phyxels are removed, and the same
 // letting go, with the motions given chunk by chunk as the run loop does.

@@ -1,4 +1,4 @@
-// The aspirator on the GPU against the CPU reference (engine/surgery/suction.h): the same pull on
+// The aspirator on the GPU against the CPU reference (engine/solver/suction.h): the same pull on
 // the tissue and the same force on the tube, substep by substep, with the motions given chunk by
 // chunk as the run loop does; a run that aspirates on the GPU removes tissue near the mouth,
 // accounts it, stays finite and takes about as much as the CPU's.

@@ -5,7 +5,7 @@
 #include <set>
 #include <utility>
 
-#include "engine/surgery/tearing.h"
+#include "engine/solver/tearing.h"
 #include "tests/cutting/cutting_fixtures.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
 

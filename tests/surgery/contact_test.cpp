@@ -1,7 +1,7 @@
-// Tool-tissue contact (engine/surgery/contact.h): the projection of one phyxel to the tool's
+// Tool-tissue contact (engine/solver/contact.h): the projection of one phyxel to the tool's
 // surface with Coulomb friction, in double and float, and the rest-space broad phase against a
 // brute-force search.
-#include "engine/surgery/contact.h"
+#include "engine/solver/contact.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The grasper on the CPU reference (engine/surgery/grasper.h, engine/solver/cpu_solver_grasp.cpp):
+// The grasper on the CPU reference (engine/solver/grasper.h, engine/solver/cpu_solver_grasp.cpp):
 // what the jaws take when they close, the force of a bar held and pulled against E A strain,
 // letting go, and fixed tissue never taken.
-#include "engine/surgery/grasper.h"
+#include "engine/solver/grasper.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// The tool model's math (engine/surgery/tool.h): path poses, the shortest rotation of the axis,
+// The tool model's math (engine/geometry/tool.h): path poses, the shortest rotation of the axis,
 // the signed distance to sphere and capsule, the rigid carry of a point, and the bounds.
-#include "engine/surgery/tool.h"
+#include "engine/geometry/tool.h"
 
 #include <gtest/gtest.h>
 

@@ -23,7 +23,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/surgery/tool.h"
+#include "engine/scene/tool_desc.h"
 
 namespace phyxel {
 
@@ -38,9 +38,9 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose);
 // The quad the blade swept over one substep's motion, as corners p0..p3 (triangles p0 p1 p2 and
 // p0 p2 p3): p0, p1 the blade's tip and end at the start pose; p2, p3 its end and tip at the
 // end pose, moved ahead along the edge there by `reach` (each end in proportion to its motion
-// along the edge over the faster end's: a turned blade reaches nothing ahead at its pivot). The edge of a substep is the direction
-// the blade's middle moves across its axis (it cuts the way it is pushed, its back too), or
-// blade_edge where it does not move sideways (a stab).
+// along the edge over the faster end's: a turned blade reaches nothing ahead at its pivot). The
+// edge of a substep is the direction the blade's middle moves across its axis (it cuts the way it
+// is pushed, its back too), or blade_edge where it does not move sideways (a stab).
 struct CutQuad {
   std::array<Vec3, 4> corner;
   Vec3 edge = Vec3::UnitX();  // the edge direction at the end pose
@@ -77,7 +77,7 @@ bool segment_crosses_quad(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matri
 double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3, 4>& quad);
 
 // One severed pair (i < j): where the blade crossed it, as the fraction t along x_i -> x_j.
-// A pair torn apart by its stress (engine/surgery/tearing.h) has t = 0.5 and `torn` set.
+// A pair torn apart by its stress (engine/solver/tearing.h) has t = 0.5 and `torn` set.
 struct SeveredPair {
   uint32_t i = 0, j = 0;
   float t = 0.5f;

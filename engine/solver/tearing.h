@@ -18,7 +18,7 @@
 // eq 12 and section V) bounds s_ij from above: no pair tears where no phyxel's largest principal
 // stress reaches T.
 //
-// A torn pair is severed exactly as a cut severs one (engine/surgery/cutting.h: weight 0 on both
+// A torn pair is severed exactly as a cut severs one (engine/solver/cutting.h: weight 0 on both
 // sides for good, logged as (i, j, t = 0.5, torn), the precompute rerun for both phyxels), so
 // cut faces, pieces, checkpoints and the renderer treat both alike. The forces of the substep in
 // which a pair tears are those before it tore (it takes effect from the next stress pass).

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
-#include "engine/surgery/tool.h"
+#include "engine/scene/tool_desc.h"
 
 namespace phyxel {
 

@@ -22,7 +22,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "engine/surgery/contact.h"
+#include "engine/solver/contact.h"
 
 namespace phyxel {
 

@@ -1,4 +1,4 @@
-#include "engine/surgery/tool.h"
+#include "engine/geometry/tool.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "engine/surgery/contact.h"
+#include "engine/solver/contact.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -24,7 +24,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/surgery/contact.h"
+#include "engine/solver/contact.h"
 
 namespace phyxel {
 

@@ -1,4 +1,4 @@
-#include "engine/surgery/cutting.h"
+#include "engine/solver/cutting.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
