@@ -23,6 +23,8 @@ import tempfile
 # The one place the order is written; low to high.
 TOP_LAYERS = ["engine", "compute", "render", "app"]
 ENGINE_LAYERS = ["geometry", "scene", "sampling", "solver", "surgery", "run"]
+# Folders on another's level: bench/ is the `phyxel bench` driver, app's level.
+SAME_LAYER = {"bench": "app"}
 
 SOURCE_SUFFIXES = (".h", ".hpp", ".cpp", ".cc", ".inl", ".glsl", ".comp")
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
@@ -35,10 +37,11 @@ def layer_of(path):
     ENGINE_LAYERS gets rank None (reported: every engine folder must have its place)."""
     parts = path.split("/")
     top = parts[0]
-    if top not in TOP_LAYERS:
+    level = SAME_LAYER.get(top, top)
+    if level not in TOP_LAYERS:
         return None
-    if top != "engine":
-        return top, len(ENGINE_LAYERS) + TOP_LAYERS.index(top)
+    if level != "engine":
+        return top, len(ENGINE_LAYERS) + TOP_LAYERS.index(level)
     if len(parts) > 2 and parts[1] in ENGINE_LAYERS:
         return "engine/" + parts[1], ENGINE_LAYERS.index(parts[1])
     return "engine/" + (parts[1] if len(parts) > 2 else ""), None
@@ -57,7 +60,7 @@ def resolve(root, source, target):
 
 def includes(root):
     """Every project include of the layered folders: (source, line number, target)."""
-    for top in TOP_LAYERS:
+    for top in TOP_LAYERS + list(SAME_LAYER):
         for folder, dirs, files in os.walk(os.path.join(root, top)):
             dirs.sort()
             for name in sorted(files):
