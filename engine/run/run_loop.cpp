@@ -107,8 +107,8 @@ Checkpoint make_checkpoint(const Scene& scene, const PhyxelSet& set, Solver& sol
 }
 
 // The abilities the scene needs that the solver lacks: a std::runtime_error naming the file.
-void require_abilities(const Scene& scene, Solver& solver, const RunOptions& options, bool tearing,
-                       bool load_changes, bool aspirating, bool tools) {
+void require_abilities(const Scene& scene, Solver& solver, bool tearing, bool load_changes,
+                       bool aspirating, bool tools) {
   const std::string file = scene.file.string();
   if (tearing && !solver.supports_tearing())
     throw std::runtime_error(file + ": a material has tear_stress, which " + solver.device() +
@@ -121,14 +121,6 @@ void require_abilities(const Scene& scene, Solver& solver, const RunOptions& opt
   if (aspirating && !solver.supports_removal())
     throw std::runtime_error(file + ": a suction tool aspirates tissue, which " + solver.device() +
                              " cannot remove; use --device cpu or gpu");
-  if (aspirating && (options.checkpoint_every > 0 || options.resume))
-    throw std::runtime_error(file +
-                             ": checkpoints do not hold aspirated tissue yet; run a scene whose "
-                             "suction tools aspirate without --checkpoint-every or --resume");
-  if (has_grasper(scene) && (options.checkpoint_every > 0 || options.resume))
-    throw std::runtime_error(file +
-                             ": checkpoints do not hold a grasper's grip yet; run a scene with a "
-                             "grasper without --checkpoint-every or --resume");
   if (tools && !solver.supports_tools())
     throw std::runtime_error(file + ": the scene has tools, which " + solver.device() +
                              " cannot simulate; use --device cpu");
@@ -154,8 +146,7 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   // pairs severed, each substep.
   const bool tearing = scene.tearing_possible();
   events_ = load_event_steps(set, step_time_, total_);
-  require_abilities(scene, solver, options, tearing, !events_.empty(), aspirator_.active(),
-                    !tools_.empty());
+  require_abilities(scene, solver, tearing, !events_.empty(), aspirator_.active(), !tools_.empty());
   if (solver.supports_principal_stress()) solver.set_principal_stress(tearing);
   if (solver.supports_tearing()) solver.set_tearing(tearing);
   sleeping_ = select && scene.simulation.sleep.enabled;
@@ -226,7 +217,13 @@ void RunLoop::resume(const Checkpoint& c) {
     last_u_ = c.last_check_u;
     tools_.restore(c.tool_poses, c.tool_stats);
   }
-  solver_.sever_pairs(c.severed);                 // the cuts, before the state's forces
+  solver_.sever_pairs(c.severed);  // the cuts, before the state's forces
+  try {
+    aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
+    if (has_grasper(scene_)) solver_.restore_grips(c.grips);
+  } catch (const std::invalid_argument& e) {
+    throw CheckpointError(name + ": " + e.what());
+  }
   solver_.set_state(c.displacement, c.velocity);  // last: the forces for this u and state
   // A load switching exactly at the step a shorter run ended on: it never applied it.
   if (next_event_ < events_.size() && events_[next_event_] == step_) switch_loads(step_ - 1);
@@ -486,6 +483,8 @@ Checkpoint RunLoop::checkpoint() {
     c.tool_stats = tools_.stats();
   }
   c.severed = solver_.severed_since(0);
+  if (has_grasper(scene_)) c.grips = solver_.grips();
+  c.aspiration = aspirator_.state();
   return c;
 }
 
