@@ -155,7 +155,7 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
   for (size_t k = 0; k < scene_->tools.size() && k < poses.size(); ++k) {
     const Suction& s = scene_->tools[k].suction;
     const bool haptic = scene_->tools[k].control == ToolDesc::Control::Haptic;
-    if (!s.sucks() || !(haptic || s.on_at(t))) continue;
+    if (!s.sucks() || !(haptic || s.on_at(scene_->tools[k].cycle_time(t)))) continue;
     if (x.empty()) {                      // one read of the state for every tool
       solver.set_advance_readback(true);  // from the next advance on, if the solver can
       solver.read_advanced_state(u, principal);
