@@ -170,6 +170,8 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   polled_ = options.stop_requested && tools_.empty();
   // Steps of many substeps are polled between substeps too (engine/run/long_step.h).
   long_steps_ = polled_ && !tearing && result_.plan.substeps >= kLongStepSubsteps;
+  long_tool_steps_ = options.stop_requested && (tearing || !tools_.empty()) &&
+                     result_.plan.substeps >= kLongStepSubsteps;
   if (options.resume) {
     resume(*options.resume);
     checkpointed_ = step_;
@@ -245,6 +247,12 @@ bool RunLoop::running() const {
 void RunLoop::step() {
   int64_t next = next_stop();
   const std::vector<ToolStepRecord> records = advance(next);
+  if (within_step_) {  // stopped inside a step: the rows of the whole steps, then the end
+    tool_rows(next, records);
+    step_ = next;
+    result_.stopped = true;
+    return;
+  }
   surgery_events(next, records);
   pacing(next);
   const int64_t previous = step_;
@@ -297,7 +305,14 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
     next = step_ + advance_long_steps(solver_, next - step_, result_.plan.substeps,
                                       result_.plan.dt_used, options_.stop_requested,
                                       options_.stop_poll_seconds, options_.on_substep_rate);
-  else
+  else if (long_tool_steps_) {
+    PolledToolSteps r = advance_long_tool_steps(
+        solver_, tools_, step_, next - step_, result_.plan.substeps, result_.plan.dt_used,
+        options_.stop_requested, options_.stop_poll_seconds);
+    next = step_ + r.steps;
+    records = std::move(r.records);
+    within_step_ = r.within_step > 0;
+  } else
     records = advance_with_tools(solver_, tools_, step_, next - step_, result_.plan.substeps,
                                  result_.plan.dt_used);
   for (size_t r = 0; r < records.size(); ++r) {
@@ -314,16 +329,23 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
 // The tools' records to the caller, then the paper's hybrid tearing at the aspirators' mouths
 // at the end of each tool chunk.
 void RunLoop::surgery_events(int64_t next, const std::vector<ToolStepRecord>& records) {
+  tool_rows(next, records);
+  // On the tool chunks' grid; at the end too unless the run keeps checkpoints (a run that
+  // can be continued must not aspirate off the grid: the continued run would differ).
+  const bool end = next == total_ && options_.checkpoint_every == 0;
+  if (aspirator_.active() && tool_chunk_ > 0 && (next % tool_chunk_ == 0 || end))
+    for (const AspirationEvent& e :
+         aspirator_.after_advance(solver_, tools_.poses(), double(next) * step_time_))
+      if (options_.on_aspiration) options_.on_aspiration(e);
+  lap(result_.split.callbacks);
+}
+
+void RunLoop::tool_rows(int64_t next, const std::vector<ToolStepRecord>& records) {
   for (int64_t s = step_; options_.on_tool_step && !tools_.empty() && s < next; ++s)
     options_.on_tool_step(
         s + 1, double(s + 1) * step_time_,
         std::vector<ToolStepRecord>(records.begin() + (s - step_) * tools_.size(),
                                     records.begin() + (s - step_ + 1) * tools_.size()));
-  if (aspirator_.active() && tool_chunk_ > 0 && (next % tool_chunk_ == 0 || next == total_))
-    for (const AspirationEvent& e :
-         aspirator_.after_advance(solver_, tools_.poses(), double(next) * step_time_))
-      if (options_.on_aspiration) options_.on_aspiration(e);
-  lap(result_.split.callbacks);
 }
 
 void RunLoop::pacing(int64_t next) {
@@ -503,6 +525,10 @@ void RunLoop::lap(double& into) {
 }
 
 void RunLoop::extend(int64_t total) {
+  if (within_step_)
+    throw std::runtime_error("stopped inside step " + std::to_string(step_ + 1) +
+                             " (a step of many substeps with tools or tearing): the state is "
+                             "not a step's and cannot go on; resume from a checkpoint");
   if (total < step_)
     throw std::invalid_argument("RunLoop::extend: " + std::to_string(total) +
                                 " steps, fewer than the " + std::to_string(step_) + " done");
@@ -535,7 +561,7 @@ RunResult RunLoop::finish() {
   result_.steps_done = step_;
   result_.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  if (!result_.non_finite && !result_.unstable) {
+  if (!result_.non_finite && !result_.unstable && !within_step_) {
     // The end (or an interruption, or rest): a last checkpoint to continue from.
     if (options_.checkpoint_every > 0 && checkpointed_ != step_) write_checkpoint_now();
     write_points(step_);
