@@ -398,10 +398,11 @@ int run_command(const Args& args) {
     }
     if (signal != 0) {
       std::fprintf(stderr,
-                   "phyxel run: %s: stopped by %s after step %lld of %lld; wrote the last state "
-                   "and %s (exit status %d)\n",
+                   "phyxel run: %s: stopped by %s after step %lld of %lld; wrote %s%s (exit "
+                   "status %d)\n",
                    scene.file.c_str(), signal_name(signal),
                    static_cast<long long>(result.steps_done), static_cast<long long>(options.steps),
+                   last_points.empty() ? "" : "the last state and ",
                    (out_dir / "summary.json").c_str(), interrupted_exit_status(signal));
       return interrupted_exit_status(signal);
     }
@@ -415,6 +416,12 @@ int run_command(const Args& args) {
     if (!quiet && !scene.render.video.empty())
       std::printf("wrote the video %s\n", scene.render.video.c_str());
     return 0;
+  } catch (const SearchStopped& e) {  // a signal while setting up: nothing was written
+    const int signal = InterruptGuard::received();
+    std::fprintf(stderr, "phyxel run: %s: %s by %s; wrote nothing (exit status %d)\n",
+                 positional[0].c_str(), e.what(), signal_name(signal),
+                 interrupted_exit_status(signal));
+    return interrupted_exit_status(signal);
   } catch (const CheckpointError& e) {
     std::fprintf(stderr, "phyxel run: %s\n", e.what());
     return 1;

@@ -12,5 +12,6 @@ int run_command(const Args& args);    // phyxel run SCENE ...      (cmd_run.cpp)
 int bench_command(const Args& args);  // phyxel bench ...          (cmd_bench.cpp)
 int info_command(const Args& args);   // phyxel info               (cmd_info.cpp)
 int view_command(const Args& args);   // phyxel view SCENE ...     (cmd_view.cpp)
+int soak_command(const Args& args);   // phyxel soak SCENE ...     (cmd_soak.cpp)
 
 }  // namespace phyxel::app

@@ -6,6 +6,8 @@
 #include <atomic>
 #include <stdexcept>
 
+#include "engine/solver/neighbours.h"
+
 namespace phyxel::app {
 namespace {
 
@@ -32,9 +34,12 @@ InterruptGuard::InterruptGuard() {
   action.sa_flags = SA_RESTART;  // an interrupted read or write goes on; the loop polls the flag
   sigaction(SIGINT, &action, &g_previous_int);
   sigaction(SIGTERM, &action, &g_previous_term);
+  // The neighbour search, which may take seconds before the run loop polls, polls it too.
+  set_search_stop([] { return g_signal.load(std::memory_order_relaxed) != 0; });
 }
 
 InterruptGuard::~InterruptGuard() {
+  set_search_stop({});
   sigaction(SIGINT, &g_previous_int, nullptr);
   sigaction(SIGTERM, &g_previous_term, nullptr);
   g_installed.store(false);

@@ -18,6 +18,7 @@ void print_usage() {
       "  bench       measure solver speed and accuracy (bench --help)\n"
       "  info        list Vulkan devices and their limits\n"
       "  view SCENE  simulate a scene live in a window, mono or stereo (view --help)\n"
+      "  soak SCENE  a long run sampled for memory, speed and energy (soak --help)\n"
       "  help        this text");
 }
 
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
     if (command == "bench") return phyxel::app::bench_command(args);
     if (command == "info") return phyxel::app::info_command(args);
     if (command == "view") return phyxel::app::view_command(args);
+    if (command == "soak") return phyxel::app::soak_command(args);
     if (command == "help" || command == "--help" || command == "-h") {
       print_usage();
       return 0;

@@ -164,6 +164,8 @@ class GpuSolver final : public Solver {
   // the grip's force into the sample (gpu_solver_grasp.cpp); nothing is read back during the
   // advance. held_phyxels downloads the grip.
   std::vector<uint32_t> held_phyxels(size_t tool) override;
+  std::vector<Grip> grips() override;
+  void restore_grips(const std::vector<Grip>& grips) override;
   // Principal stress (tearing), with CpuSolver's semantics (engine/solver/cpu_solver.h): while
   // on, solver_principal follows every stress pass over the stress list, on the same u, into a
   // float per phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.

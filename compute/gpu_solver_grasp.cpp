@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "compute/gpu_solver.h"
@@ -92,6 +93,55 @@ std::vector<uint32_t> GpuSolver::held_phyxels(size_t tool) {
   for (const GraspEntry& e : entries)
     if (!(phyxel_flags_.at(e.phyxel.x) & kRemoved)) held.push_back(e.phyxel.x);
   return held;
+}
+
+// The grips as they are (offsets float32, converted exactly; removed phyxels stay, as the hold
+// pass skips them), for checkpoints.
+std::vector<Grip> GpuSolver::grips() {
+  settle();
+  std::vector<Grip> grips(tools_.size());
+  for (size_t t = 0; t < grips.size() && grasping_; ++t) {
+    if (!grip_closed_[t]) continue;
+    grips[t].closed = true;
+    const auto count = download<ContactCount>(*ctx_, grip_count_, 1, t * sizeof(ContactCount));
+    if (count.front().total == 0) continue;
+    const auto entries = download<GraspEntry>(*ctx_, grip_, count.front().total,
+                                              t * uint64_t{count_} * sizeof(GraspEntry));
+    for (const GraspEntry& e : entries)
+      grips[t].held.push_back({e.phyxel.x, Vec3(e.offset.x, e.offset.y, e.offset.z)});
+  }
+  return grips;
+}
+
+// Checkpointed grips back into the grip buffers, with the counts and indirect dispatch the
+// capture would have written (after set_tools).
+void GpuSolver::restore_grips(const std::vector<Grip>& grips) {
+  settle();
+  if (grips.size() != tools_.size())
+    throw std::invalid_argument("GpuSolver::restore_grips: " + std::to_string(grips.size()) +
+                                " grips for " + std::to_string(tools_.size()) + " tools");
+  const uint32_t wg = kernels_->grasp.workgroup_size()[0];
+  for (size_t t = 0; t < grips.size(); ++t) {
+    if (!grips[t].closed) continue;
+    if (!tools_[t].grasp.grasps() || grips[t].held.size() > count_)
+      throw std::invalid_argument("GpuSolver::restore_grips: tool " + std::to_string(t) +
+                                  " cannot hold that grip");
+    std::vector<GraspEntry> entries;
+    for (const GripEntry& e : grips[t].held) {
+      if (e.phyxel >= count_)
+        throw std::invalid_argument("GpuSolver::restore_grips: no phyxel " +
+                                    std::to_string(e.phyxel));
+      entries.push_back({{float(e.offset.x()), float(e.offset.y()), float(e.offset.z()), 0.0f},
+                         {e.phyxel, 0u, 0u, 0u}});
+    }
+    const uint32_t total = static_cast<uint32_t>(entries.size());
+    const uint32_t groups = (total + wg - 1) / wg;
+    const std::vector<ContactCount> count = {
+        {total, std::min(groups, 65535u), (groups + 65534u) / 65535u, 1u}};
+    if (!entries.empty()) upload(*ctx_, grip_, entries, t * uint64_t{count_} * sizeof(GraspEntry));
+    upload(*ctx_, grip_count_, count, t * sizeof(ContactCount));
+    grip_closed_[t] = 1;
+  }
 }
 
 }  // namespace phyxel::gpu

@@ -41,6 +41,9 @@ Simulation::Simulation(Scene scene, uint64_t scene_hash, const SimulationOptions
   if (resumed_)  // as phyxel run --resume: before anything else, naming the file
     check_checkpoint_matches(*resumed_, resume, scene_hash, set_, solver_->device());
   aspiration_flags_.assign(set_.size(), 0);
+  if (resumed_)  // what the aspirators took before the checkpoint
+    for (const uint32_t i : resumed_->aspiration.removed)
+      if (i < aspiration_flags_.size()) aspiration_flags_[i] |= kRemoved;
   run_options_.steps = resumed_ ? resumed_->step : 0;
   run_options_.pass_selection = options_.pass_selection;
   run_options_.resume = resumed_.get();
@@ -192,10 +195,6 @@ render::RgbaImage Simulation::render(const std::string& mode, int width, int hei
 }
 
 void Simulation::save_checkpoint(const std::filesystem::path& file) {
-  // As phyxel run --checkpoint-every (RunLoop refuses those runs at their start).
-  if (Aspirator(scene_, set_).active() || has_grasper(scene_))
-    throw std::runtime_error(scene_.file.string() +
-                             ": checkpoints do not hold aspirated tissue or a grasper's grip yet");
   write_checkpoint(file, loop_->checkpoint());
 }
 

@@ -47,7 +47,8 @@ void cylinder_entry(const Vec3& o, const Vec3& dir, const Vec3& p0, const Vec3& 
 std::vector<ToolDrawable> tool_drawables(const std::vector<ToolDesc>& tools, double t) {
   std::vector<ToolDrawable> out;
   out.reserve(tools.size());
-  for (const ToolDesc& tool : tools) out.push_back({tool.shape, pose_at(tool.path, t)});
+  for (const ToolDesc& tool : tools)
+    out.push_back({tool.shape, pose_at(tool.path, tool.cycle_time(t))});
   return out;
 }
 

@@ -28,6 +28,8 @@ enum Section : uint32_t {
   kCuts = 9,          // severed pairs (i, j, t) and the scalpels' cutting statistics
   kCutFeedback = 10,  // the scalpels' largest feedback, friction and depth (ToolRunStats)
   kTorn = 11,         // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
+  kGrips = 12,        // per tool: the grasper's jaws closed and what they hold
+  kAspiration = 13,   // the aspirator: removed phyxels, surface, severed log read, totals
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -221,6 +223,55 @@ void write_sections(Writer& w, const Checkpoint& c) {
   for (size_t k = 0; k < torn.size(); ++k) torn[k] = c.severed[k].torn;
   w.put_array(torn);
   w.end_section();
+
+  w.begin_section(kGrips);
+  w.put<uint64_t>(c.grips.size());
+  for (const Grip& g : c.grips) {
+    w.put<uint8_t>(g.closed ? 1 : 0);
+    w.put<uint64_t>(g.held.size());
+    for (const GripEntry& e : g.held) {
+      w.put<uint32_t>(e.phyxel);
+      w.put_vec3(e.offset);
+    }
+  }
+  w.end_section();
+
+  const AspiratorState& a = c.aspiration;
+  w.begin_section(kAspiration);
+  w.put<uint64_t>(a.log_cursor);
+  w.put_array(a.removed);
+  w.put_array(a.surface);
+  w.put<int64_t>(a.events);
+  w.put<double>(a.max_radius);
+  w.put_array(a.removed_mass);
+  w.put_array(a.removed_volume);
+  w.end_section();
+}
+
+void read_grips(Reader& r, Checkpoint& c) {
+  const uint64_t tools = r.get<uint64_t>();
+  for (uint64_t t = 0; t < tools; ++t) {
+    Grip g;
+    g.closed = r.get<uint8_t>() != 0;
+    const uint64_t n = r.get<uint64_t>();
+    for (uint64_t k = 0; k < n; ++k) {
+      GripEntry e;
+      e.phyxel = r.get<uint32_t>();
+      e.offset = r.get_vec3();
+      g.held.push_back(e);
+    }
+    c.grips.push_back(std::move(g));
+  }
+}
+
+void read_aspiration(Reader& r, AspiratorState& a) {
+  a.log_cursor = r.get<uint64_t>();
+  a.removed = r.get_array<uint32_t>();
+  a.surface = r.get_array<uint8_t>();
+  a.events = r.get<int64_t>();
+  a.max_radius = r.get<double>();
+  a.removed_mass = r.get_array<double>();
+  a.removed_volume = r.get_array<double>();
 }
 
 void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -321,6 +372,12 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
       for (size_t k = 0; k < torn.size(); ++k) c.severed[k].torn = torn[k] != 0;
       break;
     }
+    case kGrips:
+      read_grips(r, c);
+      break;
+    case kAspiration:
+      read_aspiration(r, c.aspiration);
+      break;
     default:  // a section this version does not know: skipped
       break;
   }

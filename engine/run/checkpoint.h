@@ -11,6 +11,8 @@
 
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/cutting.h"
+#include "engine/solver/grasper.h"
+#include "engine/surgery/aspiration.h"
 #include "engine/surgery/tool_track.h"
 
 namespace phyxel {
@@ -62,6 +64,10 @@ struct Checkpoint {
   // cut so far (the solver's log, in its order; resumed through Solver::sever_pairs).
   std::vector<uint32_t> flags;
   std::vector<SeveredPair> severed;
+  // The graspers' grips, one per tool (empty without a grasper), and the aspirator's state
+  // (its surface empty without one).
+  std::vector<Grip> grips;
+  AspiratorState aspiration;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

@@ -56,6 +56,16 @@ void check_checkpoint_values(const Checkpoint& c, const std::filesystem::path& f
     if (p.i >= n || p.j >= n || p.i == p.j || !std::isfinite(p.t))
       fail("a severed pair (" + std::to_string(p.i) + ", " + std::to_string(p.j) +
            ") outside the scene's " + std::to_string(n) + " phyxels");
+  for (const Grip& g : c.grips)
+    for (const GripEntry& e : g.held)
+      if (e.phyxel >= n || !finite(e.offset)) fail("a grip holds a phyxel out of range");
+  const AspiratorState& a = c.aspiration;
+  for (const uint32_t i : a.removed)
+    if (i >= n) fail("an aspirated phyxel outside the scene's phyxels");
+  for (const std::vector<double>* v : {&a.removed_mass, &a.removed_volume})
+    for (double x : *v)
+      if (!std::isfinite(x) || x < 0) fail("a negative or non-finite aspirated mass or volume");
+  if (a.events < 0 || !std::isfinite(a.max_radius)) fail("a bad aspiration count or radius");
 }
 
 }  // namespace phyxel

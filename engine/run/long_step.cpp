@@ -61,4 +61,47 @@ int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, doub
   return steps;
 }
 
+PolledToolSteps advance_long_tool_steps(Solver& solver, ToolTrack& tools, int64_t first_step,
+                                        int64_t steps, int64_t substeps, double dt,
+                                        const std::function<bool()>& stop, double poll_seconds) {
+  const auto stopped = [&] { return stop && stop(); };
+  PolledToolSteps out;
+  int64_t chunk = 1;  // substeps per advance, from the rate measured so far
+  for (int64_t s = 0; s < steps; ++s) {
+    // The step's motions at once (fold reads them), handed to the solver a chunk at a time.
+    const std::vector<ToolMotion> motions =
+        tools.empty() ? std::vector<ToolMotion>{}
+                      : tools.motions((first_step + s) * substeps, substeps, dt);
+    const size_t nt = tools.size();
+    std::vector<ToolContactSample> samples;
+    for (int64_t done = 0; done < substeps;) {
+      const int64_t n = std::min(chunk, substeps - done);
+      const auto t0 = std::chrono::steady_clock::now();
+      if (!tools.empty())
+        solver.set_tool_motion(std::vector<ToolMotion>(motions.begin() + done * nt,
+                                                       motions.begin() + (done + n) * nt));
+      solver.advance(n, dt);
+      if (!tools.empty()) {
+        const std::vector<ToolContactSample> got = solver.tool_samples();
+        samples.insert(samples.end(), got.begin(), got.end());
+      }
+      solver.finish();
+      done += n;
+      const double per_substep = std::max(seconds_since(t0), 1e-12) / double(n);
+      chunk = std::clamp<int64_t>(static_cast<int64_t>(poll_seconds / per_substep), 1, 4 * n);
+      if (done < substeps && stopped()) {
+        out.within_step = done;
+        return out;
+      }
+    }
+    if (!tools.empty()) {
+      const std::vector<ToolStepRecord> r = tools.fold(samples, 1, substeps);
+      out.records.insert(out.records.end(), r.begin(), r.end());
+    }
+    out.steps = s + 1;
+    if (s + 1 < steps && stopped()) return out;
+  }
+  return out;
+}
+
 }  // namespace phyxel

@@ -6,7 +6,10 @@
 #include <cstdint>
 #include <functional>
 
+#include <vector>
+
 #include "engine/solver/solver.h"
+#include "engine/surgery/tool_track.h"
 
 namespace phyxel {
 
@@ -25,5 +28,19 @@ constexpr int64_t kLongStepSubsteps = 256;
 int64_t advance_long_steps(Solver& solver, int64_t steps, int64_t substeps, double dt,
                            const std::function<bool()>& stop, double poll_seconds,
                            const std::function<void(double)>& on_rate = {});
+
+// The same for scenes with tools or tearing, whose edits (cuts, tears, grips, aspiration) cannot
+// be undone: chunks of about `poll_seconds`, the tools' motion set per chunk (`tools` may be
+// empty) and their samples folded per step into `records` (steps x tools). A stop between steps
+// returns the steps done; a stop in the middle of a step ends the advance there, leaving the
+// solver inside that step (within_step: its substeps done), which the run does not write.
+struct PolledToolSteps {
+  int64_t steps = 0;        // whole steps done
+  int64_t within_step = 0;  // > 0: stopped this many substeps into the next step
+  std::vector<ToolStepRecord> records;
+};
+PolledToolSteps advance_long_tool_steps(Solver& solver, ToolTrack& tools, int64_t first_step,
+                                        int64_t steps, int64_t substeps, double dt,
+                                        const std::function<bool()>& stop, double poll_seconds);
 
 }  // namespace phyxel

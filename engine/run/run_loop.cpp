@@ -107,8 +107,8 @@ Checkpoint make_checkpoint(const Scene& scene, const PhyxelSet& set, Solver& sol
 }
 
 // The abilities the scene needs that the solver lacks: a std::runtime_error naming the file.
-void require_abilities(const Scene& scene, Solver& solver, const RunOptions& options, bool tearing,
-                       bool load_changes, bool aspirating, bool tools) {
+void require_abilities(const Scene& scene, Solver& solver, bool tearing, bool load_changes,
+                       bool aspirating, bool tools) {
   const std::string file = scene.file.string();
   if (tearing && !solver.supports_tearing())
     throw std::runtime_error(file + ": a material has tear_stress, which " + solver.device() +
@@ -121,14 +121,6 @@ void require_abilities(const Scene& scene, Solver& solver, const RunOptions& opt
   if (aspirating && !solver.supports_removal())
     throw std::runtime_error(file + ": a suction tool aspirates tissue, which " + solver.device() +
                              " cannot remove; use --device cpu or gpu");
-  if (aspirating && (options.checkpoint_every > 0 || options.resume))
-    throw std::runtime_error(file +
-                             ": checkpoints do not hold aspirated tissue yet; run a scene whose "
-                             "suction tools aspirate without --checkpoint-every or --resume");
-  if (has_grasper(scene) && (options.checkpoint_every > 0 || options.resume))
-    throw std::runtime_error(file +
-                             ": checkpoints do not hold a grasper's grip yet; run a scene with a "
-                             "grasper without --checkpoint-every or --resume");
   if (tools && !solver.supports_tools())
     throw std::runtime_error(file + ": the scene has tools, which " + solver.device() +
                              " cannot simulate; use --device cpu");
@@ -154,8 +146,7 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   // pairs severed, each substep.
   const bool tearing = scene.tearing_possible();
   events_ = load_event_steps(set, step_time_, total_);
-  require_abilities(scene, solver, options, tearing, !events_.empty(), aspirator_.active(),
-                    !tools_.empty());
+  require_abilities(scene, solver, tearing, !events_.empty(), aspirator_.active(), !tools_.empty());
   if (solver.supports_principal_stress()) solver.set_principal_stress(tearing);
   if (solver.supports_tearing()) solver.set_tearing(tearing);
   sleeping_ = select && scene.simulation.sleep.enabled;
@@ -179,6 +170,8 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   polled_ = options.stop_requested && tools_.empty();
   // Steps of many substeps are polled between substeps too (engine/run/long_step.h).
   long_steps_ = polled_ && !tearing && result_.plan.substeps >= kLongStepSubsteps;
+  long_tool_steps_ = options.stop_requested && (tearing || !tools_.empty()) &&
+                     result_.plan.substeps >= kLongStepSubsteps;
   if (options.resume) {
     resume(*options.resume);
     checkpointed_ = step_;
@@ -226,7 +219,13 @@ void RunLoop::resume(const Checkpoint& c) {
     last_u_ = c.last_check_u;
     tools_.restore(c.tool_poses, c.tool_stats);
   }
-  solver_.sever_pairs(c.severed);                 // the cuts, before the state's forces
+  solver_.sever_pairs(c.severed);  // the cuts, before the state's forces
+  try {
+    aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
+    if (has_grasper(scene_)) solver_.restore_grips(c.grips);
+  } catch (const std::invalid_argument& e) {
+    throw CheckpointError(name + ": " + e.what());
+  }
   solver_.set_state(c.displacement, c.velocity);  // last: the forces for this u and state
   // A load switching exactly at the step a shorter run ended on: it never applied it.
   if (next_event_ < events_.size() && events_[next_event_] == step_) switch_loads(step_ - 1);
@@ -248,6 +247,12 @@ bool RunLoop::running() const {
 void RunLoop::step() {
   int64_t next = next_stop();
   const std::vector<ToolStepRecord> records = advance(next);
+  if (within_step_) {  // stopped inside a step: the rows of the whole steps, then the end
+    tool_rows(next, records);
+    step_ = next;
+    result_.stopped = true;
+    return;
+  }
   surgery_events(next, records);
   pacing(next);
   const int64_t previous = step_;
@@ -300,7 +305,14 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
     next = step_ + advance_long_steps(solver_, next - step_, result_.plan.substeps,
                                       result_.plan.dt_used, options_.stop_requested,
                                       options_.stop_poll_seconds, options_.on_substep_rate);
-  else
+  else if (long_tool_steps_) {
+    PolledToolSteps r = advance_long_tool_steps(
+        solver_, tools_, step_, next - step_, result_.plan.substeps, result_.plan.dt_used,
+        options_.stop_requested, options_.stop_poll_seconds);
+    next = step_ + r.steps;
+    records = std::move(r.records);
+    within_step_ = r.within_step > 0;
+  } else
     records = advance_with_tools(solver_, tools_, step_, next - step_, result_.plan.substeps,
                                  result_.plan.dt_used);
   for (size_t r = 0; r < records.size(); ++r) {
@@ -317,16 +329,23 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
 // The tools' records to the caller, then the paper's hybrid tearing at the aspirators' mouths
 // at the end of each tool chunk.
 void RunLoop::surgery_events(int64_t next, const std::vector<ToolStepRecord>& records) {
+  tool_rows(next, records);
+  // On the tool chunks' grid; at the end too unless the run keeps checkpoints (a run that
+  // can be continued must not aspirate off the grid: the continued run would differ).
+  const bool end = next == total_ && options_.checkpoint_every == 0;
+  if (aspirator_.active() && tool_chunk_ > 0 && (next % tool_chunk_ == 0 || end))
+    for (const AspirationEvent& e :
+         aspirator_.after_advance(solver_, tools_.poses(), double(next) * step_time_))
+      if (options_.on_aspiration) options_.on_aspiration(e);
+  lap(result_.split.callbacks);
+}
+
+void RunLoop::tool_rows(int64_t next, const std::vector<ToolStepRecord>& records) {
   for (int64_t s = step_; options_.on_tool_step && !tools_.empty() && s < next; ++s)
     options_.on_tool_step(
         s + 1, double(s + 1) * step_time_,
         std::vector<ToolStepRecord>(records.begin() + (s - step_) * tools_.size(),
                                     records.begin() + (s - step_ + 1) * tools_.size()));
-  if (aspirator_.active() && tool_chunk_ > 0 && (next % tool_chunk_ == 0 || next == total_))
-    for (const AspirationEvent& e :
-         aspirator_.after_advance(solver_, tools_.poses(), double(next) * step_time_))
-      if (options_.on_aspiration) options_.on_aspiration(e);
-  lap(result_.split.callbacks);
 }
 
 void RunLoop::pacing(int64_t next) {
@@ -486,6 +505,8 @@ Checkpoint RunLoop::checkpoint() {
     c.tool_stats = tools_.stats();
   }
   c.severed = solver_.severed_since(0);
+  if (has_grasper(scene_)) c.grips = solver_.grips();
+  c.aspiration = aspirator_.state();
   return c;
 }
 
@@ -504,6 +525,10 @@ void RunLoop::lap(double& into) {
 }
 
 void RunLoop::extend(int64_t total) {
+  if (within_step_)
+    throw std::runtime_error("stopped inside step " + std::to_string(step_ + 1) +
+                             " (a step of many substeps with tools or tearing): the state is "
+                             "not a step's and cannot go on; resume from a checkpoint");
   if (total < step_)
     throw std::invalid_argument("RunLoop::extend: " + std::to_string(total) +
                                 " steps, fewer than the " + std::to_string(step_) + " done");
@@ -536,7 +561,7 @@ RunResult RunLoop::finish() {
   result_.steps_done = step_;
   result_.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  if (!result_.non_finite && !result_.unstable) {
+  if (!result_.non_finite && !result_.unstable && !within_step_) {
     // The end (or an interruption, or rest): a last checkpoint to continue from.
     if (options_.checkpoint_every > 0 && checkpointed_ != step_) write_checkpoint_now();
     write_points(step_);

@@ -51,6 +51,7 @@ class RunLoop {
   int64_t next_stop() const;         // phase "next stop"
   std::vector<ToolStepRecord> advance(int64_t& next);
   void surgery_events(int64_t next, const std::vector<ToolStepRecord>& records);
+  void tool_rows(int64_t next, const std::vector<ToolStepRecord>& records);
   void pacing(int64_t next);
   void switch_loads(int64_t previous);
   bool check();  // false: the state failed (non-finite or running away); the loop ends
@@ -88,7 +89,11 @@ class RunLoop {
   // Advances without tools split exactly, so they can be cut short to see a stop promptly.
   bool polled_ = false;
   bool long_steps_ = false;  // polled between substeps too (engine/run/long_step.h)
-  int64_t poll_steps_ = 1;   // steps per advance while polled, from the measured rate
+  // With tools or tearing, polled between substeps without going back (long_step.h); a stop
+  // inside a step ends the run there, writing nothing of that state.
+  bool long_tool_steps_ = false;
+  bool within_step_ = false;
+  int64_t poll_steps_ = 1;  // steps per advance while polled, from the measured rate
   int64_t step_ = 0;
   size_t next_event_ = 0;
   int64_t checkpointed_ = -1;  // the step of the last checkpoint

@@ -42,6 +42,8 @@ constexpr double kMaxSuctionPressure = 1e6;
 
 // Cutting forces of scalpels in soft tissue are a few newtons; above this a value is a typo.
 constexpr double kMaxCutForce = 1e3;
+// A tool's cycle ("repeat"), s.
+constexpr double kMinRepeat = 1e-6, kMaxRepeat = 1e6;
 
 ToolDesc::Type read_type(const Node& node) {
   const std::string type = node.choice({"probe", "scalpel", "suction", "grasper"});
@@ -168,10 +170,25 @@ CouplingSettings read_coupling(const Node& node) {
   return c;
 }
 
+// "repeat": a path tool's cycle (s): at least its path's length, the path ending where it began.
+void read_repeat(const Node& node, ToolDesc& tool) {
+  tool.repeat = node.number(json_reader::Limits{kMinRepeat, kMaxRepeat, true, true}, "s");
+  if (tool.control == ToolDesc::Control::Haptic)
+    node.fail("\"repeat\" applies only to a path tool", "remove it or set \"control\": \"path\"");
+  const ToolKey &first = tool.path.front(), &last = tool.path.back();
+  if (last.t > tool.repeat)
+    node.fail("repeat = " + std::to_string(tool.repeat) + " s is shorter than the path (" +
+                  std::to_string(last.t) + " s)",
+              "a cycle at least as long as the path's last key time");
+  if (last.position != first.position || last.axis != first.axis)
+    node.fail("a repeating path must end where it begins",
+              "a last key with the first key's position and axis");
+}
+
 ToolDesc read_tool(const Node& node) {
   node.expect_object(kToolExpected,
                      {"name", "type", "shape", "path", "friction", "control", "coupling", "blade",
-                      "cut_force_threshold", "suction", "grasp"});
+                      "cut_force_threshold", "suction", "grasp", "repeat"});
   ToolDesc tool;
   tool.name = node.at("name", "a non-empty string").text();
   tool.type = read_type(node.at("type", "\"probe\", \"scalpel\", \"suction\" or \"grasper\""));
@@ -206,6 +223,7 @@ ToolDesc read_tool(const Node& node) {
     tool.control = control->choice({"path", "haptic"}) == "haptic" ? ToolDesc::Control::Haptic
                                                                    : ToolDesc::Control::Path;
   }
+  if (const auto repeat = node.find("repeat")) read_repeat(*repeat, tool);
   if (const auto coupling = node.find("coupling")) {
     if (tool.control != ToolDesc::Control::Haptic) {
       coupling->fail(

@@ -3,6 +3,7 @@
 // is in engine/geometry/tool.h.
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -65,6 +66,10 @@ struct ToolDesc {
   Blade blade;                // scalpel only (engine/surgery/cutting.h)
   Suction suction;            // suction only (engine/surgery/suction.h)
   Grasp grasp;                // grasper only (engine/surgery/grasper.h)
+  // A scripted cycle: the path and the suction and grasp windows repeat every `repeat` s (0:
+  // once); the tool at t does what it did at t mod repeat (the path ends where it began).
+  double repeat = 0;
+  double cycle_time(double t) const { return repeat > 0 ? std::fmod(t, repeat) : t; }
 };
 
 }  // namespace phyxel

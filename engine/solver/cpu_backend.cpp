@@ -88,6 +88,8 @@ class CpuBackend final : public Solver {
     for (const GripEntry& e : solver_->grip(tool).held) held.push_back(e.phyxel);
     return held;
   }
+  std::vector<Grip> grips() override { return solver_->grips(); }
+  void restore_grips(const std::vector<Grip>& grips) override { solver_->restore_grips(grips); }
   bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override { solver_->set_principal_stress(on); }
   bool supports_tearing() const override { return true; }

@@ -81,6 +81,9 @@ class CpuSolver {
   // jaws close in the step captures the candidates within its reach, and each closed grasper
   // carries what it holds (cpu_solver_grasp.cpp). The grip of tool t (empty for other tools).
   const Grip& grip(size_t tool) const { return grips_.at(tool); }
+  const std::vector<Grip>& grips() const { return grips_; }
+  // Puts checkpointed grips back (after set_tools): one per tool, phyxels in range.
+  void restore_grips(const std::vector<Grip>& grips);
 
   // Cutting (engine/solver/cutting.h, docs/cutting.md): after the contacts of every step, each
   // scalpel whose edge force reached its threshold severs the pairs that cross the quad its

@@ -3,6 +3,8 @@
 // tool by tool: jaws that close capture the candidates within reach (ascending), closed jaws put
 // what they hold where the tool carries it with the tool's velocity there and feel minus the
 // momentum that took, per dt; jaws that open let go.
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/solver/cpu_solver.h"
@@ -45,6 +47,20 @@ void CpuSolver<Real>::apply_grasps(Real dt, const std::vector<ToolMotion>& now,
   }
 }
 
+template <class Real>
+void CpuSolver<Real>::restore_grips(const std::vector<Grip>& grips) {
+  if (grips.size() != tools_.size())
+    throw std::invalid_argument("restore_grips: " + std::to_string(grips.size()) + " grips for " +
+                                std::to_string(tools_.size()) + " tools");
+  for (const Grip& g : grips)
+    for (const GripEntry& e : g.held)
+      if (e.phyxel >= size())
+        throw std::invalid_argument("restore_grips: no phyxel " + std::to_string(e.phyxel));
+  grips_ = grips;
+}
+
+template void CpuSolver<double>::restore_grips(const std::vector<Grip>&);
+template void CpuSolver<float>::restore_grips(const std::vector<Grip>&);
 template void CpuSolver<double>::apply_grasps(double, const std::vector<ToolMotion>&,
                                               std::vector<ToolContactSample>&);
 template void CpuSolver<float>::apply_grasps(float, const std::vector<ToolMotion>&,

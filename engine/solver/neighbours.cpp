@@ -1,8 +1,10 @@
 #include "engine/solver/neighbours.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -48,7 +50,16 @@ CellGrid build_grid(const PhyxelSet& set, const std::vector<uint32_t>& members, 
   return g;
 }
 
+// set_search_stop's check, and how often the search polls it (in phyxels: the first of each
+// dynamic chunk).
+std::function<bool()> search_stop;
+constexpr size_t kPollEvery = 256;
+
 }  // namespace
+
+void set_search_stop(std::function<bool()> stop) {
+  search_stop = std::move(stop);
+}
 
 NeighbourLists find_rest_neighbours(const PhyxelSet& set) {
   const size_t n = set.size();
@@ -64,8 +75,14 @@ NeighbourLists find_rest_neighbours(const PhyxelSet& set) {
     // hair inside (a lattice at h = 2 s would otherwise gain a few zero-weight neighbours).
     const double h2 = h * h * (1 - 1e-9);
     const CellGrid g = build_grid(set, members, h);
+    std::atomic<bool> stopped{false};
 #pragma omp parallel for schedule(dynamic, 256)
     for (size_t m = 0; m < members.size(); ++m) {
+      if (stopped.load(std::memory_order_relaxed)) continue;
+      if (m % kPollEvery == 0 && search_stop && search_stop()) {
+        stopped.store(true, std::memory_order_relaxed);
+        continue;
+      }
       const uint32_t i = members[m];
       const Eigen::Vector3i c = g.cell_of(set.rest[i]);
       std::vector<uint32_t>& row = rows[i];
@@ -82,6 +99,7 @@ NeighbourLists find_rest_neighbours(const PhyxelSet& set) {
           }
       std::sort(row.begin(), row.end());
     }
+    if (stopped.load()) throw SearchStopped();
   }
   NeighbourLists out;
   out.offset.resize(n + 1, 0);

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <stdexcept>
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
@@ -30,6 +32,16 @@ struct NeighbourLists {
 // Pairs (i, j), i != j, of the same object with |x0_j - x0_i|^2 < h^2 (1 - 1e-9), h the
 // object's support radius.
 // Phyxels flagged kRemoved get no neighbours and are no one's neighbour.
+// Polled every few thousand phyxels, `search_stop` (set_search_stop; none by default) may end
+// it: it then throws SearchStopped. The command line's Ctrl-C handler sets it, so a search
+// that takes seconds stops within a fraction of one.
 NeighbourLists find_rest_neighbours(const PhyxelSet& set);
+
+class SearchStopped : public std::runtime_error {
+ public:
+  SearchStopped() : std::runtime_error("stopped during the neighbour search") {}
+};
+// Process-wide; called from the search's threads at once (read atomics only). Empty: never.
+void set_search_stop(std::function<bool()> stop);
 
 }  // namespace phyxel

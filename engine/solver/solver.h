@@ -105,6 +105,13 @@ class Solver {
     (void)tool;
     return {};
   }
+  // The graspers' grips (per tool: closed, and what the jaws hold with its offsets), for
+  // checkpoints; restore_grips puts them back after set_tools. No grasper: none held.
+  virtual std::vector<Grip> grips() { return {}; }
+  virtual void restore_grips(const std::vector<Grip>& grips) {
+    for (const Grip& g : grips)
+      if (g.closed) throw std::logic_error(device() + " cannot restore a grasper's grip");
+  }
   // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
   virtual size_t contact_candidates() const { return 0; }
   // Principal stress (tearing, Scene::tearing_possible): while on, every substep computes the

@@ -155,7 +155,7 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
   for (size_t k = 0; k < scene_->tools.size() && k < poses.size(); ++k) {
     const Suction& s = scene_->tools[k].suction;
     const bool haptic = scene_->tools[k].control == ToolDesc::Control::Haptic;
-    if (!s.sucks() || !(haptic || s.on_at(t))) continue;
+    if (!s.sucks() || !(haptic || s.on_at(scene_->tools[k].cycle_time(t)))) continue;
     if (x.empty()) {                      // one read of the state for every tool
       solver.set_advance_readback(true);  // from the next advance on, if the solver can
       solver.read_advanced_state(u, principal);
@@ -175,6 +175,45 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     events.push_back(std::move(e));
   }
   return events;
+}
+
+AspiratorState Aspirator::state() const {
+  AspiratorState s;
+  if (!active_) return s;
+  s.log_cursor = log_cursor_;
+  for (size_t i = 0; i < removed_.size(); ++i)
+    if (removed_[i] && !(set_->flags[i] & kRemoved)) s.removed.push_back(uint32_t(i));
+  s.surface = surface_;
+  s.events = totals_.events;
+  s.max_radius = totals_.max_radius;
+  s.removed_mass = totals_.removed_mass;
+  s.removed_volume = totals_.removed_volume;
+  return s;
+}
+
+void Aspirator::restore(const AspiratorState& s, Solver& solver,
+                        const std::vector<SeveredPair>& severed) {
+  if (!active_ && s.surface.empty()) return;
+  const size_t m = totals_.removed_mass.size();
+  if (!active_ || s.surface.size() != surface_.size() || s.log_cursor > severed.size() ||
+      s.removed_mass.size() != m || s.removed_volume.size() != m)
+    throw std::invalid_argument("its aspiration state does not fit this scene");
+  for (const uint32_t i : s.removed)
+    if (i >= removed_.size() || removed_[i])
+      throw std::invalid_argument("its aspirated phyxels do not fit this scene");
+  for (const uint32_t i : s.removed) removed_[i] = 1;
+  surface_ = s.surface;
+  for (size_t k = 0; k < s.log_cursor; ++k) {
+    const SeveredPair& p = severed[k];
+    if (p.torn) torn_[p.i] = torn_[p.j] = 1;
+    severed_.insert(pair_key(p.i, p.j));
+  }
+  log_cursor_ = s.log_cursor;
+  totals_.events = s.events;
+  totals_.max_radius = s.max_radius;
+  totals_.removed_mass = s.removed_mass;
+  totals_.removed_volume = s.removed_volume;
+  if (!s.removed.empty()) solver.remove_phyxels(s.removed);
 }
 
 }  // namespace phyxel

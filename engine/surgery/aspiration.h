@@ -34,6 +34,8 @@
 #include "engine/geometry/tool.h"
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/neighbours.h"
+#include "engine/scene/tool_desc.h"
+#include "engine/solver/cutting.h"
 
 namespace phyxel {
 
@@ -89,6 +91,18 @@ struct AspirationTotals {
   double max_radius = 0;  // the largest fracture radius, m
 };
 
+// What a checkpoint keeps of an Aspirator (engine/run/checkpoint.h): the phyxels it removed
+// (ascending), which phyxels are surface, how much of the solver's severed log it has read and
+// the totals' running sums (kept as summed, so a resumed run's totals are bit-identical).
+struct AspiratorState {
+  uint64_t log_cursor = 0;
+  std::vector<uint32_t> removed;
+  std::vector<uint8_t> surface;  // per phyxel; empty: no aspirator
+  int64_t events = 0;
+  double max_radius = 0;                             // m
+  std::vector<double> removed_mass, removed_volume;  // per material, kg and m^3
+};
+
 class Aspirator {
  public:
   Aspirator(const Scene& scene, const PhyxelSet& set);
@@ -99,6 +113,12 @@ class Aspirator {
   std::vector<AspirationEvent> after_advance(Solver& solver, const std::vector<ToolPose>& poses,
                                              double t);
   const AspirationTotals& totals() const { return totals_; }
+  // For checkpoints: the state, and back (before the solver's state is set): the removed
+  // phyxels leave `solver` again and the log's first log_cursor pairs (`severed`, the solver's
+  // log) are read as after_advance read them. Throws std::invalid_argument on a mismatch.
+  AspiratorState state() const;
+  void restore(const AspiratorState& state, Solver& solver,
+               const std::vector<SeveredPair>& severed);
 
  private:
   void account(const AspirationEvent& e);

@@ -58,14 +58,14 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
         to.position = start.position + s * (target.position - start.position);
         to.axis = slerp_axis(start.axis, target.axis, s);
       } else {
-        to = pose_at(tool.path, double(first + k + 1) * dt);
+        to = pose_at(tool.path, tool.cycle_time(double(first + k + 1) * dt));
       }
       // A haptic aspirator sucks all the time (the hand holds the pedal); a path one as its
       // suction says, at the substep's middle.
-      const bool on =
-          tool.suction.sucks() && (live_tool || tool.suction.on_at((double(first + k) + 0.5) * dt));
+      const double middle = tool.cycle_time((double(first + k) + 0.5) * dt);
+      const bool on = tool.suction.sucks() && (live_tool || tool.suction.on_at(middle));
       // A grasper's jaws as its grasp says, at the substep's middle, haptic or not.
-      const bool closed = tool.grasp.closed_at((double(first + k) + 0.5) * dt);
+      const bool closed = tool.grasp.closed_at(middle);
       motions_[static_cast<size_t>(k) * nt + t] = {from, to, on, closed};
       from = to;
     }
@@ -84,9 +84,13 @@ Bounds ToolTrack::swept_bounds(double from, double to) const {
     } else if (tool.control == ToolDesc::Control::Haptic) {
       swept.extend(tool_bounds(tool.shape, source_(t, to)));
     } else {
-      swept.extend(tool_bounds(tool.shape, pose_at(tool.path, to)));
+      // A repeating path's keys in the cycle's times of (from, to), all of them where it wraps.
+      const double a = tool.cycle_time(from), z = tool.cycle_time(to);
+      const bool wraps = tool.repeat > 0 && (to - from >= tool.repeat || z < a);
+      swept.extend(tool_bounds(tool.shape, pose_at(tool.path, z)));
       for (const ToolKey& k : tool.path)
-        if (k.t > from && k.t < to) swept.extend(tool_bounds(tool.shape, {k.position, k.axis}));
+        if (wraps || (k.t > a && k.t < z))
+          swept.extend(tool_bounds(tool.shape, {k.position, k.axis}));
     }
     if (tool.suction.sucks()) swept.grow(tool.suction.reach);  // what its mouth pulls on
     if (tool.grasp.grasps()) swept.grow(tool.grasp.reach);     // what its jaws close on

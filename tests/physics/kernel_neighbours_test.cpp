@@ -1,6 +1,7 @@
 // Kernel normalisation and support; rest neighbour lists against brute force.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <numbers>
 
 #include "engine/solver/kernel.h"
@@ -83,6 +84,25 @@ TEST(Neighbours, SeparateObjectsNeverNeighbour) {
   for (size_t i = 0; i < set.size(); ++i)
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
       EXPECT_EQ(set.object[i], set.object[nbr.index[k]]);
+}
+
+// The search polls its stop every 256 phyxels (the first of each chunk), and a stop ends it with
+// SearchStopped; without a stop it finds what it always finds.
+TEST(Neighbours, TheSearchPollsItsStopAndEndsOnIt) {
+  const Scene scene =
+      test::box_scene(Vec3(0, 0, 0), Vec3(0.03, 0.02, 0.017), 0.0025, test::tissue(), 2.3);
+  const PhyxelSet set = sample_scene(scene);
+  const NeighbourLists plain = find_rest_neighbours(set);
+  std::atomic<int> polls{0};
+  set_search_stop([&] { return ++polls < 0; });
+  const NeighbourLists polled = find_rest_neighbours(set);
+  EXPECT_EQ(polls.load(), int((set.size() + 255) / 256));
+  EXPECT_EQ(polled.offset, plain.offset);
+  EXPECT_EQ(polled.index, plain.index);
+  set_search_stop([] { return true; });
+  EXPECT_THROW(find_rest_neighbours(set), SearchStopped);
+  set_search_stop({});
+  EXPECT_EQ(find_rest_neighbours(set).index, plain.index);
 }
 
 }  // namespace

@@ -99,6 +99,21 @@ constexpr const char* kScalpel = R"({
      "path": [{"t": 0, "position": [-0.002, 0.0061, 0.004]}, {"t": 0.04, "position": [0.022, 0.0061, 0.004]}]}]
 })";
 
+// A grasper closing on the end of a strip at 5 ms, pulling it until it lets go at 40 ms: the
+// checkpoints at 20 ms (and a stop at 27 ms) fall inside the grip.
+constexpr const char* kGrasper = R"({
+  "simulation": {"dt": 1e-3, "steps": 60, "gravity": [0, 0, 0]},
+  "objects": [{"name": "strip", "shape": {"type": "box", "min": [0, -0.004, -0.003], "max": [0.03, 0.004, 0.003]},
+    "spacing": 0.002,
+    "material": {"young": 5e3, "poisson": 0.4, "density": 1000, "damping": 60},
+    "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [0.0025, 1, 1]}]}],
+  "output": {"every": 20, "format": "binary"},
+  "tools": [{"name": "grasper", "type": "grasper", "shape": {"type": "sphere", "radius": 0.001},
+     "grasp": {"reach": 0.005, "from": 0.005, "until": 0.04},
+     "path": [{"t": 0, "position": [0.0315, 0, 0]}, {"t": 0.005, "position": [0.0315, 0, 0]},
+              {"t": 0.04, "position": [0.0365, 0.002, 0.001]}]}]
+})";
+
 fs::path write_scene(const fs::path& dir, const std::string& name, const std::string& json) {
   fs::create_directories(dir);
   const fs::path file = dir / name;
@@ -319,6 +334,33 @@ TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
   const std::string& device = *gpu_args;
   check_resume(dir / "gpu", scene, device, 200, 50, 100);
   check_resume(dir / "gpu_inside", scene, device, 200, 50, 77);
+}
+
+// A checkpoint inside a grasper's grip holds the grip (the held phyxels and their offsets):
+// the resumed run holds and lets go as the uninterrupted one, bit for bit.
+TEST(Checkpoint, GrasperResumeKeepsTheGripOnTheCpuAndTheGpu) {
+  const fs::path dir = test::test_output_dir("checkpoint_grasper");
+  const fs::path scene = write_scene(dir, "grasper.json", kGrasper);
+  check_resume(dir / "cpu", scene, "--threads 1", 60, 20, 20);
+  expect_same_file(dir / "cpu" / "plain" / "tools.csv", dir / "cpu" / "part" / "tools.csv");
+  const nlohmann::json p = read_json(dir / "cpu" / "plain" / "summary.json");
+  const nlohmann::json s = read_json(dir / "cpu" / "part" / "summary.json");
+  EXPECT_EQ(s["tools"], p["tools"]);
+  EXPECT_GT(p["tools"][0]["max_held"].get<int>(), 0);
+  const Ran r = run(
+      scene, "--threads 1 --steps 20 --checkpoint-every 20 --out " + (dir / "at_20").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Checkpoint at_20 = read_checkpoint(dir / "at_20" / kCheckpointFile);
+  ASSERT_EQ(at_20.grips.size(), 1u);
+  EXPECT_TRUE(at_20.grips[0].closed);
+  EXPECT_FALSE(at_20.grips[0].held.empty());
+  check_resume(dir / "cpu_inside", scene, "--threads 1", 60, 20, 27);
+  std::string why;
+  const std::optional<std::string> gpu_args = gpu_device_args(why);
+  if (!gpu_args) GTEST_SKIP() << why;
+  const std::string& device = *gpu_args;
+  check_resume(dir / "gpu", scene, device, 60, 20, 20);
+  check_resume(dir / "gpu_inside", scene, device, 60, 20, 27);
 }
 
 // A valid checkpoint to corrupt: the probe scene at step 20.

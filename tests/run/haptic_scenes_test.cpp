@@ -82,7 +82,9 @@ Driven drive(const Drive& d, const std::string& name, bool intruder) {
 TEST(HapticScenes, TheReferenceDriverDrivesEachSurgeryScene) {
   const Drive drives[] = {{"scalpel_cut_haptic.json", 150},
                           {"grasper_tear_haptic.json", 40},
-                          {"probe_indent_haptic.json", 300}};
+                          {"probe_indent_haptic.json", 300},
+                          {"brain_tumour_removal_haptic.json", 50},
+                          {"breast_resection_haptic.json", 50}};
   for (const Drive& d : drives) {
     SCOPED_TRACE(d.scene);
     const nlohmann::json s = drive(d, d.scene, false).summary;

@@ -360,5 +360,88 @@ TEST(PhyxelRunInterrupt, SecondSigintExitsAtOnce) {
   for (const auto& file : written) expect_whole_vtp(file, 41 * 9 * 9);  // the demo beam
 }
 
+// Waits (at most 30 s) until process `pid` catches `sig` (its handler is installed).
+bool wait_catching(pid_t pid, int sig) {
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  while (Clock::now() < deadline) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(status, line))
+      if (line.rfind("SigCgt:", 0) == 0 &&
+          ((std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1) != 0)
+        return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
+}
+
+// Sends SIGTERM to a child once it catches it, or once `line` is in its log; returns the
+// seconds from the signal to its end (-1: still running 60 s later, killed).
+double terminate_when(Child& child, const std::string& line) {
+  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  if (!wait_catching(child.pid(), SIGTERM)) return -1;
+  while (!line.empty() && child.log().find(line) == std::string::npos && Clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // into the search or the step
+  const auto sent = Clock::now();
+  child.send(SIGTERM);
+  if (!child.wait(std::chrono::seconds(60))) return -1;
+  return std::chrono::duration<double>(Clock::now() - sent).count();
+}
+
+// 160 000 phyxels with a support radius of 4 spacings (about 270 neighbours each): the
+// neighbour search takes seconds on one core. SIGTERM during it (or before it: its first poll
+// sees the flag) ends the run at once, writing nothing. The time to stop is recorded.
+TEST(PhyxelRunInterrupt, SigtermDuringTheNeighbourSearchStopsIt) {
+  const auto dir = test::test_output_dir("interrupt_search");
+  const auto out = dir / "out";
+  const auto scene = dir / "big.json";
+  std::ofstream(scene) << R"({"simulation": {"dt": 1e-4, "steps": 10},
+    "objects": [{"name": "block", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.08, 0.08, 0.025]},
+      "spacing": 0.001, "support_radius": 0.004,
+      "material": {"young": 1e3, "poisson": 0.3, "density": 1000}}],
+    "output": {"every": 0}})";
+  Child child(scene, out, {});
+  ASSERT_TRUE(child.started());
+  const double took = terminate_when(child, "");
+  ASSERT_GE(took, 0) << child.log();
+  RecordProperty("seconds_to_stop", std::to_string(took));
+  EXPECT_TRUE(WIFEXITED(child.status())) << "ended by signal " << WTERMSIG(child.status());
+  EXPECT_EQ(WEXITSTATUS(child.status()), 143) << child.log();
+  EXPECT_NE(child.log().find("stopped during the neighbour search by SIGTERM"), std::string::npos)
+      << child.log();
+  EXPECT_FALSE(std::filesystem::exists(out / "summary.json"));
+}
+
+// A stiff block under a probe and with a tear stress: thousands of substeps per step, seconds
+// each. SIGTERM inside the first step ends the run there (tools and tearing cannot go back to
+// the step's start): exit 143, a summary of the whole steps done (none), no row, no points of
+// the partial step.
+TEST(PhyxelRunInterrupt, SigtermInsideALongStepWithToolsStopsIt) {
+  const auto dir = test::test_output_dir("interrupt_long_tool_step");
+  const auto out = dir / "out";
+  const auto scene = dir / "stiff.json";
+  std::ofstream(scene) << R"({"simulation": {"dt": 0.02, "steps": 10},
+    "objects": [{"name": "block", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.02, 0.02, 0.01]},
+      "spacing": 0.002,
+      "material": {"young": 1e8, "poisson": 0.3, "density": 1000, "tear_stress": 1e9},
+      "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 0.001]}]}],
+    "tools": [{"name": "probe", "type": "probe", "shape": {"type": "sphere", "radius": 0.003},
+      "path": [{"t": 0, "position": [0.01, 0.01, 0.014]}, {"t": 0.2, "position": [0.01, 0.01, 0.009]}]}],
+    "output": {"every": 0}})";
+  Child child(scene, out, {});
+  ASSERT_TRUE(child.started());
+  const double took = terminate_when(child, "substeps");
+  ASSERT_GE(took, 0) << child.log();
+  RecordProperty("seconds_to_stop", std::to_string(took));
+  EXPECT_TRUE(WIFEXITED(child.status())) << "ended by signal " << WTERMSIG(child.status());
+  EXPECT_EQ(WEXITSTATUS(child.status()), 143) << child.log();
+  const nlohmann::json s = nlohmann::json::parse(read_file(out / "summary.json"));
+  EXPECT_EQ(s["interrupted"], true);
+  EXPECT_EQ(s["steps_done"], 0) << "a step takes seconds: the signal came inside the first";
+  EXPECT_TRUE(files_matching(out, "points_", ".vtp").empty());
+  expect_no_temporary_files(out);
+}
+
 }  // namespace
 }  // namespace phyxel

@@ -4,6 +4,7 @@
 
 #include "engine/run/long_step.h"
 #include "engine/run/simulation.h"
+#include "engine/surgery/contact.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {
@@ -57,6 +58,55 @@ TEST(LongSteps, AStopMidStepGoesBackToTheStepsStart) {
   reference->advance(300, f.dt);
   stopped->advance(300, f.dt);
   expect_same_state(*reference, *stopped, f.set.size());
+}
+
+// A probe pressing into the block: the polled chunks of advance_long_tool_steps give the states
+// and the per-step records of one advance of the same steps; a stop inside a step ends there.
+struct ProbeFixture : Fixture {
+  ProbeFixture() {
+    ToolDesc probe;
+    probe.name = "probe";
+    probe.shape.radius = 0.003;
+    probe.path = {{0, Vec3(0.005, 0.005, 0.0135), Vec3::UnitZ()},
+                  {10 * 300 * dt, Vec3(0.005, 0.005, 0.009), Vec3::UnitZ()}};
+    scene.tools = {probe};
+  }
+  std::unique_ptr<Solver> solver() const {
+    auto s = make_cpu_solver(set, Vec3(0, 0, -9.81), 1, false);
+    s->set_tools(contact_tools(scene.tools));
+    return s;
+  }
+};
+
+TEST(LongSteps, PolledToolChunksGiveTheStatesAndRecordsOfOneAdvance) {
+  ProbeFixture f;
+  auto whole = f.solver(), chunked = f.solver();
+  ToolTrack whole_track(f.scene.tools, {}), chunked_track(f.scene.tools, {});
+  const std::vector<ToolStepRecord> expected =
+      advance_with_tools(*whole, whole_track, 0, 3, 300, f.dt);
+  const PolledToolSteps got = advance_long_tool_steps(
+      *chunked, chunked_track, 0, 3, 300, f.dt, [] { return false; }, 0);
+  EXPECT_EQ(got.steps, 3);
+  EXPECT_EQ(got.within_step, 0);
+  ASSERT_EQ(got.records.size(), expected.size());
+  for (size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(got.records[k].force, expected[k].force) << k;
+    EXPECT_EQ(got.records[k].contacts, expected[k].contacts) << k;
+  }
+  EXPECT_GT(expected.back().contacts, 0u) << "the probe must touch the block";
+  expect_same_state(*whole, *chunked, f.set.size());
+}
+
+TEST(LongSteps, AStopInsideAToolStepEndsThere) {
+  ProbeFixture f;
+  auto solver = f.solver();
+  ToolTrack track(f.scene.tools, {});
+  int polls = 0;
+  const PolledToolSteps got = advance_long_tool_steps(
+      *solver, track, 0, 5, 300, f.dt, [&] { return ++polls >= 400; }, 0);
+  EXPECT_EQ(got.steps, 1);
+  EXPECT_EQ(got.within_step, 100);  // poll 300 ends step 1; poll 400 is 100 substeps on
+  EXPECT_EQ(got.records.size(), 1u);
 }
 
 }  // namespace

@@ -1,0 +1,100 @@
+// The soak on the CPU (`phyxel soak`, docs/performance.md "Soak"): scenes/soak.json, whose
+// scalpel, grasper and aspirator repeat a 0.4 s cycle (cut, tear, aspirate, grasp and release),
+// for soak_steps() steps: resident memory flat after the first tenth (the warm-up), the kinetic
+// energy finite and bounded in every tenth, every kind of topology edit done, and the final
+// state bit-identical between the uninterrupted run and a second run stopped half-way and
+// resumed from its checkpoint. The step rate per tenth is recorded, never judged.
+// Release ctest only (the run area is not in the sanitizer job).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "tests/physics/physics_fixtures.h"
+
+namespace phyxel {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A multiple of twice the tool chunk (64 substeps; the scene's steps have one): the checkpoint
+// half-way and the end fall on the aspirator's grid, so the stopped run is the uninterrupted
+// one's first half. 81 920 steps take about 55 s of one core per run (docs/performance.md,
+// "Soak"); PHYXEL_SOAK_STEPS sets another count (a multiple of 128).
+int64_t soak_steps() {
+  const char* steps = std::getenv("PHYXEL_SOAK_STEPS");
+  return steps ? std::stoll(steps) : 81920;
+}
+// Resident memory may grow this much from the end of the first tenth to the end of the last.
+constexpr long kRssGrowthKib = 4096;
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return nlohmann::json::parse(ss.str());
+}
+
+int soak(const std::string& args, const fs::path& dir) {
+  const std::string command =
+      "timeout 800 " + std::string(PHYXEL_BINARY_DIR) + "/app/phyxel soak " + PHYXEL_SOURCE_DIR +
+      "/scenes/soak.json --threads 1 --quiet " + args + " >" + (dir / "log.txt").string() + " 2>&1";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Soak, MemoryFlatEnergyBoundedAndResumedBitIdentical) {
+  const int64_t total = soak_steps();
+  const fs::path dir = test::test_output_dir("soak");
+  const std::string steps = " --steps " + std::to_string(total);
+  ASSERT_EQ(soak(steps + " --out " + (dir / "full").string(), dir), 0);
+  const nlohmann::json full = read_json(dir / "full" / "soak.json");
+  const int64_t chunk = 64 / full["substeps"].get<int64_t>();  // steps per tool chunk
+  ASSERT_EQ(total / 2 % chunk, 0) << "the halves must fall on the tool chunks' grid";
+  ASSERT_EQ(full["steps_done"], total);
+  EXPECT_FALSE(full["non_finite"].get<bool>());
+  EXPECT_FALSE(full["unstable"].get<bool>());
+
+  const auto& tenths = full["tenths"];
+  ASSERT_EQ(tenths.size(), 10u);
+  // The tissue: 24 x 16 x 8 mm at 1000 kg/m^3, 3.1 g; at 1 m/s everywhere it would hold
+  // 1.5 mJ, far beyond what tools moving at 0.3 m/s give it (aspirated phyxels not counted).
+  for (const auto& t : tenths) {
+    EXPECT_TRUE(t["finite"].get<bool>()) << t.dump();
+    EXPECT_LT(t["kinetic_energy_j"].get<double>(), 1.5e-3) << t.dump();
+    EXPECT_GE(t["kinetic_energy_j"].get<double>(), 0.0) << t.dump();
+  }
+  const long growth = tenths[9]["rss_kib"].get<long>() - tenths[0]["rss_kib"].get<long>();
+  EXPECT_LE(growth, kRssGrowthKib) << full.dump(2);
+  RecordProperty("rss_growth_kib", std::to_string(growth));
+  RecordProperty("steps_per_s_second_tenth",
+                 std::to_string(tenths[1]["steps_per_s"].get<double>()));
+  RecordProperty("steps_per_s_last_tenth", std::to_string(tenths[9]["steps_per_s"].get<double>()));
+  // Every topology edit: cuts and tears (severed pairs, some torn), aspiration, a grip.
+  EXPECT_GT(full["severed_pairs"].get<int64_t>(), full["torn_pairs"].get<int64_t>());
+  EXPECT_GT(full["torn_pairs"].get<int64_t>(), 0);
+  EXPECT_GT(full["aspiration_events"].get<int64_t>(), 0);
+  bool held = false;
+  for (const auto& t : full["tools"]) held = held || t["max_held"].get<int>() > 0;
+  EXPECT_TRUE(held);
+
+  // A second run, stopped half-way with a checkpoint and resumed: the same final state.
+  const std::string half =
+      " --steps " + std::to_string(total / 2) + " --checkpoint-every " + std::to_string(total / 2);
+  ASSERT_EQ(soak(half + " --out " + (dir / "part").string(), dir), 0);
+  ASSERT_EQ(soak(steps + " --resume " + (dir / "part").string(), dir), 0);
+  const nlohmann::json resumed = read_json(dir / "part" / "soak.json");
+  EXPECT_EQ(resumed["resumed_from_step"], total / 2);
+  EXPECT_EQ(resumed["steps_done"], total);
+  EXPECT_EQ(resumed["state_hash"], full["state_hash"]);
+  EXPECT_EQ(resumed["severed_pairs"], full["severed_pairs"]);
+  EXPECT_EQ(resumed["aspiration_events"], full["aspiration_events"]);
+}
+
+}  // namespace
+}  // namespace phyxel
