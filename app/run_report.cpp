@@ -12,10 +12,12 @@
 
 namespace phyxel::app {
 
-nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& solver,
-                           const RunOptions& options, const RunResult& result,
-                           const HapticSession* haptics, const char* interrupted_by) {
-  using nlohmann::json;
+namespace {
+
+using nlohmann::json;
+
+// Per object: its phyxels, spacing, support radius and neighbour counts.
+json objects_json(const PhyxelSet& set, Solver& solver) {
   json objects = json::array();
   const NeighbourLists& nbr = solver.neighbours();
   for (const ObjectRange& o : set.objects) {
@@ -34,6 +36,134 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
          {"neighbours",
           {{"min", lo}, {"max", hi}, {"mean", o.count ? double(sum) / o.count : 0.0}}}});
   }
+  return objects;
+}
+
+// Per tool: the last and largest force and contacts; a blade's cut, a grasper's hold.
+json tools_json(const std::vector<ToolRunStats>& stats) {
+  json tools = json::array();
+  for (const ToolRunStats& t : stats) {
+    json tool = {{"name", t.name},
+                 {"force", {t.last_force.x(), t.last_force.y(), t.last_force.z()}},
+                 {"max_force", t.max_force},
+                 {"contacts", t.contacts},
+                 {"max_contacts", t.max_contacts},
+                 {"steps_in_contact", t.steps_in_contact}};
+    if (t.cuts) {
+      tool["max_cut_force"] = t.max_cut_force;
+      tool["cutting_substeps"] = t.cutting_substeps;
+      tool["max_feedback_force"] = t.max_feedback;
+      tool["max_friction_force"] = t.max_friction;
+      tool["max_penetration_depth"] = t.max_depth;
+    }
+    if (t.grasps) {  // engine/solver/grasper.h
+      tool["held"] = t.held;
+      tool["max_held"] = t.max_held;
+      tool["max_pull_force"] = t.max_pull_force;
+    }
+    tools.push_back(tool);
+  }
+  return tools;
+}
+
+// What the cuts and tears freed from the fixed tissue (engine/surgery/resection.h).
+json cutting_json(const Scene& scene, const PhyxelSet& set, Solver& solver) {
+  const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
+  json inclusions = json::array();
+  for (const InclusionRemoval& c : r.inclusions)
+    inclusions.push_back({{"name", c.name},
+                          {"mass_g", 1e3 * c.mass},
+                          {"removed_percent", c.mass > 0 ? 100 * c.removed / c.mass : 0.0},
+                          {"healthy_removed_g", 1e3 * c.healthy_removed},
+                          {"whole", c.whole}});
+  size_t torn = 0;
+  for (const SeveredPair& p : solver.severed_since(0)) torn += p.torn;
+  return {{"severed_pairs", solver.severed_pairs()},
+          {"cut_pairs", solver.severed_pairs() - torn},
+          {"torn_pairs", torn},
+          {"freed_pieces", r.pieces},
+          {"freed_mass_g", 1e3 * r.freed_mass},
+          {"inclusions", inclusions}};
+}
+
+// What the aspirators took (engine/surgery/aspiration.h), per object and inclusion.
+json aspiration_json(const AspirationTotals& a) {
+  json parts = json::array();
+  double removed = 0;
+  for (size_t m = 0; m < a.names.size(); ++m) {
+    removed += a.removed_mass[m];
+    parts.push_back({{"name", a.names[m]},
+                     {"mass_g", 1e3 * a.initial_mass[m]},
+                     {"removed_g", 1e3 * a.removed_mass[m]},
+                     {"removed_percent",
+                      a.initial_mass[m] > 0 ? 100 * a.removed_mass[m] / a.initial_mass[m] : 0.0},
+                     {"removed_volume_cm3", 1e6 * a.removed_volume[m]}});
+  }
+  return {{"events", a.events},
+          {"largest_fracture_radius_m", a.max_radius},
+          {"removed_g", 1e3 * removed},
+          {"parts", parts}};
+}
+
+// Per haptic loop: its timing and forces; a UDP device's senders.
+json haptics_json(const HapticSession& haptics) {
+  json loops = json::array();
+  for (const HapticSession::ToolLoop& l : haptics.loops()) {
+    const HapticStats st = l.loop->stats();
+    loops.push_back({{"tool", l.name},
+                     {"device", l.loop->device().name()},
+                     {"ticks", st.ticks},
+                     {"period_mean_ms", st.period_mean_ms},
+                     {"period_p99_ms", st.period_p99_ms},
+                     {"period_max_ms", st.period_max_ms},
+                     {"overruns", st.overruns},
+                     {"max_force_jump", st.max_force_jump},
+                     {"max_hand_force", st.max_hand_force},
+                     {"snapshots", st.snapshots},
+                     {"realtime_priority", st.realtime_priority}});
+    if (const auto* udp = dynamic_cast<const UdpDevice*>(&l.loop->device())) {
+      // Who drove the tool: the pinned sender's poses; the others' dropped (UdpDevice).
+      const UdpDeviceStats u = udp->stats();
+      loops.back()["udp"] = {{"poses", u.poses},
+                             {"senders_pinned", u.pins},
+                             {"foreign_dropped", u.foreign},
+                             {"refused_dropped", u.refused},
+                             {"malformed", u.malformed},
+                             {"stale", u.stale}};
+    }
+  }
+  return loops;
+}
+
+// Where the state failed (non-finite or runaway, and the tool beside it), else its energies.
+void add_final_state(json& j, const Scene& scene, const RunResult& result) {
+  if (result.non_finite) {
+    j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};
+    if (result.non_finite_tool >= 0)
+      j["non_finite_at"]["tool_in_contact"] = {
+          {"name", scene.tools.at(result.non_finite_tool).name},
+          {"max_contacts", result.non_finite_tool_contacts}};
+  } else if (result.unstable) {
+    j["unstable_at"] = {{"step", result.unstable_step},
+                        {"phyxel", result.unstable_phyxel},
+                        {"speed", result.unstable_speed},
+                        {"p_wave_speed", result.unstable_wave_speed}};
+    if (result.unstable_tool >= 0)
+      j["unstable_at"]["nearest_tool"] = {{"name", scene.tools.at(result.unstable_tool).name},
+                                          {"distance", result.unstable_tool_distance}};
+  } else {
+    j["kinetic_energy"] = result.energies.kinetic;
+    j["strain_energy"] = result.energies.strain;
+    j["potential_energy"] = result.energies.potential;
+    j["max_displacement"] = result.max_displacement;
+  }
+}
+
+}  // namespace
+
+nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& solver,
+                           const RunOptions& options, const RunResult& result,
+                           const HapticSession* haptics, const char* interrupted_by) {
   const double substeps_done =
       static_cast<double>(result.steps_done) * static_cast<double>(result.plan.substeps);
   // A resumed run's wall time covers the steps since its checkpoint only.
@@ -45,7 +175,7 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
       {"refine", scene.refine},
       {"device", solver.device()},
       {"phyxels", set.size()},
-      {"objects", objects},
+      {"objects", objects_json(set, solver)},
       {"steps_requested", options.steps},
       {"steps_done", result.steps_done},
       {"substeps_per_step", result.plan.substeps},
@@ -76,117 +206,12 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
   if (interrupted_by != nullptr) j["interrupted_by"] = interrupted_by;
   if (options.real_time) j["max_lag_seconds"] = result.max_lag;
   j["wall_split_seconds"] = wall_split_json(result.split);
-  if (!result.tools.empty()) {
-    json tools = json::array();
-    for (const ToolRunStats& t : result.tools) {
-      json tool = {{"name", t.name},
-                   {"force", {t.last_force.x(), t.last_force.y(), t.last_force.z()}},
-                   {"max_force", t.max_force},
-                   {"contacts", t.contacts},
-                   {"max_contacts", t.max_contacts},
-                   {"steps_in_contact", t.steps_in_contact}};
-      if (t.cuts) {
-        tool["max_cut_force"] = t.max_cut_force;
-        tool["cutting_substeps"] = t.cutting_substeps;
-        tool["max_feedback_force"] = t.max_feedback;
-        tool["max_friction_force"] = t.max_friction;
-        tool["max_penetration_depth"] = t.max_depth;
-      }
-      if (t.grasps) {  // engine/solver/grasper.h
-        tool["held"] = t.held;
-        tool["max_held"] = t.max_held;
-        tool["max_pull_force"] = t.max_pull_force;
-      }
-      tools.push_back(tool);
-    }
-    j["tools"] = tools;
-  }
-  if (solver.supports_cutting() && solver.severed_pairs() > 0) {
-    // What the cuts and tears freed from the fixed tissue (engine/surgery/resection.h).
-    const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
-    json inclusions = json::array();
-    for (const InclusionRemoval& c : r.inclusions)
-      inclusions.push_back({{"name", c.name},
-                            {"mass_g", 1e3 * c.mass},
-                            {"removed_percent", c.mass > 0 ? 100 * c.removed / c.mass : 0.0},
-                            {"healthy_removed_g", 1e3 * c.healthy_removed},
-                            {"whole", c.whole}});
-    size_t torn = 0;
-    for (const SeveredPair& p : solver.severed_since(0)) torn += p.torn;
-    j["cutting"] = {{"severed_pairs", solver.severed_pairs()},
-                    {"cut_pairs", solver.severed_pairs() - torn},
-                    {"torn_pairs", torn},
-                    {"freed_pieces", r.pieces},
-                    {"freed_mass_g", 1e3 * r.freed_mass},
-                    {"inclusions", inclusions}};
-  }
-  if (result.aspirating) {
-    // What the aspirators took (engine/surgery/aspiration.h), per object and inclusion.
-    const AspirationTotals& a = result.aspiration;
-    json parts = json::array();
-    double removed = 0;
-    for (size_t m = 0; m < a.names.size(); ++m) {
-      removed += a.removed_mass[m];
-      parts.push_back({{"name", a.names[m]},
-                       {"mass_g", 1e3 * a.initial_mass[m]},
-                       {"removed_g", 1e3 * a.removed_mass[m]},
-                       {"removed_percent",
-                        a.initial_mass[m] > 0 ? 100 * a.removed_mass[m] / a.initial_mass[m] : 0.0},
-                       {"removed_volume_cm3", 1e6 * a.removed_volume[m]}});
-    }
-    j["aspiration"] = {{"events", a.events},
-                       {"largest_fracture_radius_m", a.max_radius},
-                       {"removed_g", 1e3 * removed},
-                       {"parts", parts}};
-  }
-  if (haptics != nullptr && !haptics->empty()) {
-    json loops = json::array();
-    for (const HapticSession::ToolLoop& l : haptics->loops()) {
-      const HapticStats st = l.loop->stats();
-      loops.push_back({{"tool", l.name},
-                       {"device", l.loop->device().name()},
-                       {"ticks", st.ticks},
-                       {"period_mean_ms", st.period_mean_ms},
-                       {"period_p99_ms", st.period_p99_ms},
-                       {"period_max_ms", st.period_max_ms},
-                       {"overruns", st.overruns},
-                       {"max_force_jump", st.max_force_jump},
-                       {"max_hand_force", st.max_hand_force},
-                       {"snapshots", st.snapshots},
-                       {"realtime_priority", st.realtime_priority}});
-      if (const auto* udp = dynamic_cast<const UdpDevice*>(&l.loop->device())) {
-        // Who drove the tool: the pinned sender's poses; the others' dropped (UdpDevice).
-        const UdpDeviceStats u = udp->stats();
-        loops.back()["udp"] = {{"poses", u.poses},
-                               {"senders_pinned", u.pins},
-                               {"foreign_dropped", u.foreign},
-                               {"refused_dropped", u.refused},
-                               {"malformed", u.malformed},
-                               {"stale", u.stale}};
-      }
-    }
-    j["haptics"] = loops;
-  }
-  if (result.non_finite) {
-    j["non_finite_at"] = {{"step", result.non_finite_step}, {"phyxel", result.non_finite_phyxel}};
-    if (result.non_finite_tool >= 0)
-      j["non_finite_at"]["tool_in_contact"] = {
-          {"name", scene.tools.at(result.non_finite_tool).name},
-          {"max_contacts", result.non_finite_tool_contacts}};
-  } else if (result.unstable) {
-    j["unstable_at"] = {{"step", result.unstable_step},
-                        {"phyxel", result.unstable_phyxel},
-                        {"speed", result.unstable_speed},
-                        {"p_wave_speed", result.unstable_wave_speed}};
-    if (result.unstable_tool >= 0)
-      j["unstable_at"]["nearest_tool"] = {{"name", scene.tools.at(result.unstable_tool).name},
-                                          {"distance", result.unstable_tool_distance}};
-  } else {
-    j["kinetic_energy"] = result.energies.kinetic;
-    j["strain_energy"] = result.energies.strain;
-    j["potential_energy"] = result.energies.potential;
-    j["max_displacement"] = result.max_displacement;
-  }
+  if (!result.tools.empty()) j["tools"] = tools_json(result.tools);
+  if (solver.supports_cutting() && solver.severed_pairs() > 0)
+    j["cutting"] = cutting_json(scene, set, solver);
+  if (result.aspirating) j["aspiration"] = aspiration_json(result.aspiration);
+  if (haptics != nullptr && !haptics->empty()) j["haptics"] = haptics_json(*haptics);
+  add_final_state(j, scene, result);
   return j;
 }
 

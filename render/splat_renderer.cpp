@@ -231,9 +231,10 @@ uint32_t SplatRenderer::max_frame_side() const {
   return std::min(l.maxImageDimension2D, l.maxViewportDimensions[0]);
 }
 
-void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const FrameSetup& setup,
-                           gpu::PassTimer* timer, uint32_t slot, gpu::Recorder* copy) {
-  Impl& m = *impl_;
+namespace {
+
+// The inputs a frame needs, as the surfel table was built for: std::invalid_argument otherwise.
+void check_render_inputs(const RenderInputs& in, uint32_t table_phyxels) {
   if (!in.rest || !in.displacement || !in.nbr_offset || !in.nbr_index) {
     throw std::invalid_argument("SplatRenderer: a RenderInputs buffer is missing");
   }
@@ -243,11 +244,19 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
     throw std::invalid_argument(
         "SplatRenderer: split pair buffers need both hi parts and lo parts of one size");
   }
-  if (in.count != m.table_phyxels) {
+  if (in.count != table_phyxels) {
     throw std::invalid_argument("SplatRenderer: the solver has " + std::to_string(in.count) +
                                 " phyxels but the surfel table was built for " +
-                                std::to_string(m.table_phyxels));
+                                std::to_string(table_phyxels));
   }
+}
+
+}  // namespace
+
+void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const FrameSetup& setup,
+                           gpu::PassTimer* timer, uint32_t slot, gpu::Recorder* copy) {
+  Impl& m = *impl_;
+  check_render_inputs(in, m.table_phyxels);
   if (const std::string why = frame_error(setup); !why.empty()) {
     throw std::invalid_argument("SplatRenderer: " + why);
   }
@@ -262,18 +271,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   const VkDeviceSize depth_range = VkDeviceSize{m.eye_stride} * sizeof(uint32_t);
   const VkDeviceSize accum_range = depth_range * layout::kAccumChannels;
 
-  const auto tool_count = static_cast<uint32_t>(m.tools.size());
-  if (tool_count > m.tool_capacity) {
-    const size_t capacity = std::max<size_t>(tool_count, 2 * m.tool_capacity);
-    const VkDeviceSize bytes = capacity * sizeof(layout::RenderTool);
-    m.tool_staging = gpu::Buffer(m.ctx, bytes, gpu::MemoryIntent::Upload, "render tools staging");
-    m.tool_buffer = gpu::Buffer(m.ctx, bytes, gpu::MemoryIntent::Device, "render tools");
-    m.tool_capacity = capacity;
-  }
-  if (tool_count > 0) {
-    auto* dst = static_cast<layout::RenderTool*>(m.tool_staging.mapped());
-    for (uint32_t k = 0; k < tool_count; ++k) dst[k] = render_tool(m.tools[k]);
-  }
+  const uint32_t tool_count = m.stage_tools();
 
   // The solver's writes, and the last frame's reads of every buffer here, come first.
   rec.barrier();
@@ -291,27 +289,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   m.texture.record_upload(rec.cmd());  // a video frame staged by set_texture, if any
   end();
   begin("render deform");
-  layout::DeformPush deform{};
-  deform.count = m.count;
-  deform.phyxels = in.count;
-  deform.max_stretch = m.options.max_stretch;
-  deform.pair_weights = in.pair_weight != nullptr ? 1u : 0u;
-  if (in.nbr_index_hi != nullptr && (m.deform_split.handle() == VK_NULL_HANDLE ||
-                                     m.deform_split_lo != in.nbr_index->size() / 4)) {
-    // A frame in flight may still use the pipeline this replaces (a renderer drawing two split
-    // solvers of one set in turn: tests only).
-    if (m.deform_split.handle() != VK_NULL_HANDLE) m.ctx.fn().vkDeviceWaitIdle(m.ctx.device());
-    m.deform_split_lo = in.nbr_index->size() / 4;
-    m.deform_split =
-        gpu::Pipeline(m.ctx, PHYXEL_SHADER(deform_surfels), 9, sizeof(layout::DeformPush),
-                      VK_NULL_HANDLE, {1u, static_cast<uint32_t>(m.deform_split_lo)});
-  }
-  gpu::dispatch(rec, in.nbr_index_hi != nullptr ? m.deform_split : m.deform, deform,
-                {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, m.surfels, m.splats,
-                 in.pair_weight != nullptr ? *in.pair_weight : m.no_weights,
-                 in.nbr_index_hi != nullptr ? *in.nbr_index_hi : *in.nbr_index,
-                 in.pair_weight_hi != nullptr ? *in.pair_weight_hi : m.no_weights},
-                m.count * layout::kDeformLanes);
+  m.record_deform(rec, in);
   end();
   rec.barrier();
   // The eyes write disjoint ranges: their dispatches need no barrier between them.
@@ -366,14 +344,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
                  gpu::BufferRef(layer ? m.layer_colour : m.depth, 0, eyes * depth_range)},
                 m.out_width * m.out_height);
   end();
-  if (slot >= kReadbackSlots)
-    throw std::invalid_argument("SplatRenderer: no read-back slot " + std::to_string(slot));
-  gpu::Buffer& readback = m.readback[slot];
-  if (!readback) {
-    readback = gpu::Buffer(m.ctx, uint64_t(m.out_width) * m.out_height * 4,
-                           gpu::MemoryIntent::Readback, "render frame readback", 0,
-                           /*with_transfer_queue=*/true);
-  }
+  gpu::Buffer& readback = m.readback_buffer(slot);
   if (copy != nullptr) {  // on the transfer queue, after rec's semaphore
     copy->copy(m.frame, readback);
     return;
@@ -382,6 +353,60 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   begin("render readback");
   rec.copy(m.frame, readback);
   end();
+}
+
+// The tools of the frame into their staging buffer (grown as needed); their count.
+uint32_t SplatRenderer::Impl::stage_tools() {
+  const auto tool_count = static_cast<uint32_t>(tools.size());
+  if (tool_count > tool_capacity) {
+    const size_t capacity = std::max<size_t>(tool_count, 2 * tool_capacity);
+    const VkDeviceSize bytes = capacity * sizeof(layout::RenderTool);
+    tool_staging = gpu::Buffer(ctx, bytes, gpu::MemoryIntent::Upload, "render tools staging");
+    tool_buffer = gpu::Buffer(ctx, bytes, gpu::MemoryIntent::Device, "render tools");
+    tool_capacity = capacity;
+  }
+  if (tool_count > 0) {
+    auto* dst = static_cast<layout::RenderTool*>(tool_staging.mapped());
+    for (uint32_t k = 0; k < tool_count; ++k) dst[k] = render_tool(tools[k]);
+  }
+  return tool_count;
+}
+
+// The surfels deformed by the solver's displacements (and its pair weights where it has them).
+void SplatRenderer::Impl::record_deform(gpu::Recorder& rec, const RenderInputs& in) {
+  layout::DeformPush push{};
+  push.count = count;
+  push.phyxels = in.count;
+  push.max_stretch = options.max_stretch;
+  push.pair_weights = in.pair_weight != nullptr ? 1u : 0u;
+  if (in.nbr_index_hi != nullptr &&
+      (deform_split.handle() == VK_NULL_HANDLE || deform_split_lo != in.nbr_index->size() / 4)) {
+    // A frame in flight may still use the pipeline this replaces (a renderer drawing two split
+    // solvers of one set in turn: tests only).
+    if (deform_split.handle() != VK_NULL_HANDLE) ctx.fn().vkDeviceWaitIdle(ctx.device());
+    deform_split_lo = in.nbr_index->size() / 4;
+    deform_split = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 9, sizeof(layout::DeformPush),
+                                 VK_NULL_HANDLE, {1u, static_cast<uint32_t>(deform_split_lo)});
+  }
+  gpu::dispatch(rec, in.nbr_index_hi != nullptr ? deform_split : deform, push,
+                {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, surfels, splats,
+                 in.pair_weight != nullptr ? *in.pair_weight : no_weights,
+                 in.nbr_index_hi != nullptr ? *in.nbr_index_hi : *in.nbr_index,
+                 in.pair_weight_hi != nullptr ? *in.pair_weight_hi : no_weights},
+                count * layout::kDeformLanes);
+}
+
+// Read-back slot `slot`'s buffer, made on first use.
+gpu::Buffer& SplatRenderer::Impl::readback_buffer(uint32_t slot) {
+  if (slot >= kReadbackSlots)
+    throw std::invalid_argument("SplatRenderer: no read-back slot " + std::to_string(slot));
+  gpu::Buffer& buffer = readback[slot];
+  if (!buffer) {
+    buffer = gpu::Buffer(ctx, uint64_t(out_width) * out_height * 4, gpu::MemoryIntent::Readback,
+                         "render frame readback", 0,
+                         /*with_transfer_queue=*/true);
+  }
+  return buffer;
 }
 
 RgbaImage SplatRenderer::read_frame(uint32_t slot) const {

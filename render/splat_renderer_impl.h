@@ -41,6 +41,10 @@ struct SplatRenderer::Impl {
   void grow(size_t slots);
   layout::ShadePush shade_push(const FrameSetup& setup) const;
   void record_backdrop_layer(gpu::Recorder& rec, const FrameSetup& setup);
+  // Parts of SplatRenderer::record (splat_renderer.cpp).
+  uint32_t stage_tools();
+  void record_deform(gpu::Recorder& rec, const RenderInputs& in);
+  gpu::Buffer& readback_buffer(uint32_t slot);
 
   gpu::Context& ctx;
   Images images;

@@ -9,9 +9,12 @@
 // tool is drawn at pose_at(path, simulated time), the time being steps x simulation.dt. A
 // tool with "control": "haptic" follows the mouse: its target pose starts at the first key of
 // its path and moves with the drags and the wheel; ViewerOptions::on_tool_drag hands it out
-// (to the haptic loop and the physics) and ViewerOptions::haptic_pose says where to draw it. A
-// simulation that turns non-finite or runs away (a phyxel faster than its material's wave speed;
-// checked twice a second) is halted, and the title and standard error say at which step and phyxel.
+// (to the haptic loop and the physics) and ViewerOptions::haptic_pose says where to draw it.
+//
+// The simulation is `phyxel run`'s run loop (render/viewer_simulation.h): the same steps, loads,
+// sleep, tearing and aspiration. One that turns non-finite or runs away (a phyxel faster than its
+// material's wave speed, at the loop's checks) is halted, and the title and standard error say
+// at which step and phyxel.
 //
 // Built with PHYXEL_WITH_WINDOW (on by default); otherwise run_viewer says so in one line.
 #pragma once

@@ -1,5 +1,6 @@
-// The window viewer (PHYXEL_WITH_WINDOW): the CPU reference solver advanced live, frames from
-// the splat renderer (headless context, as `phyxel run --render`) shown through Presenter.
+// The window viewer (PHYXEL_WITH_WINDOW): the CPU reference or GPU solver advanced live by the
+// run loop of `phyxel run` (render/viewer_simulation.h), frames from the splat renderer
+// (headless context, as `phyxel run --render`) shown through Presenter.
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
@@ -14,7 +15,6 @@
 #include <vector>
 
 #include "compute/gpu_solver.h"
-#include "engine/run/simulation.h"
 #include "engine/surgery/haptic_session.h"
 #include "render/frame_output.h"
 #include "render/image.h"
@@ -22,6 +22,7 @@
 #include "render/real_time_pacer.h"
 #include "render/viewer.h"
 #include "render/viewer_controls.h"
+#include "render/viewer_simulation.h"
 
 namespace phyxel::render {
 namespace {
@@ -97,117 +98,225 @@ void on_scroll(GLFWwindow* w, double, double dy) {
   controls_of(w).scroll(dy, shift);
 }
 
-// Empty while the state is finite and no phyxel outruns its material's wave speed; else what
-// happened (also printed once to standard error, with what to try).
-std::string stability_problem(const PhyxelSet& set, Solver& solver, int64_t step) {
-  char text[256];
-  if (const long bad = solver.first_non_finite(); bad >= 0) {
-    std::snprintf(text, sizeof text, "halted: non-finite at step %lld, phyxel %ld",
-                  static_cast<long long>(step), bad);
-  } else if (const Runaway r = find_runaway(set, solver.read_state(false).velocity);
-             r.phyxel >= 0) {
-    std::snprintf(text, sizeof text, "halted: runaway at step %lld, phyxel %ld (%.3g m/s)",
-                  static_cast<long long>(step), r.phyxel, r.speed);
-  } else {
-    return {};
+// glfwInit with Vulkan presentation, or a one-line error naming the scene file; glfwTerminate
+// when it goes.
+struct GlfwSession {
+  explicit GlfwSession(const std::string& file) {
+    if (glfwInit() != GLFW_TRUE) {
+      const char* why = nullptr;
+      glfwGetError(&why);
+      throw std::runtime_error(file + ": phyxel view: no display (" +
+                               std::string(why ? why : "GLFW cannot start") + "); " + kHeadless);
+    }
+    if (glfwVulkanSupported() != GLFW_TRUE) {
+      glfwTerminate();
+      throw std::runtime_error(file + ": phyxel view: no display with Vulkan presentation; " +
+                               kHeadless);
+    }
   }
-  std::fprintf(stderr,
-               "phyxel view: %s; the simulation is unstable: try a smaller simulation.courant "
-               "or dt, or smaller loads\n",
-               text);
-  return text;
-}
+  ~GlfwSession() { glfwTerminate(); }
+  GlfwSession(const GlfwSession&) = delete;
+  GlfwSession& operator=(const GlfwSession&) = delete;
+};
 
-}  // namespace
-
-bool viewer_available() {
-  return true;
-}
-
-void run_viewer(const Scene& source, const ViewerOptions& options) {
-  const std::string file = source.file.empty() ? std::string("<scene>") : source.file.string();
-  if (glfwInit() != GLFW_TRUE) {
-    const char* why = nullptr;
-    glfwGetError(&why);
-    throw std::runtime_error(file + ": phyxel view: no display (" +
-                             std::string(why ? why : "GLFW cannot start") + "); " + kHeadless);
-  }
-  struct Terminate {
-    ~Terminate() { glfwTerminate(); }
-  } terminate;
-  if (glfwVulkanSupported() != GLFW_TRUE) {
-    throw std::runtime_error(file + ": phyxel view: no display with Vulkan presentation; " +
-                             kHeadless);
-  }
+// The scene as the viewer shows it: options.mode over the scene's, mono when it has none.
+Scene viewer_scene(const Scene& source, const ViewerOptions& options) {
   Scene scene = source;
   if (options.mode) scene.render.mode = *options.mode;
   if (scene.render.mode == RenderSettings::Mode::None)
     scene.render.mode = RenderSettings::Mode::Mono;
-  RenderSettings::Mode mode = scene.render.mode;
+  return scene;
+}
 
-  const PhyxelSet set = sample_scene(scene);
-  const TimeStepPlan plan = plan_time_step(scene, set);
-  const bool on_gpu = options.device != "cpu";
-  gpu::ContextOptions context;
-  context.device = on_gpu ? options.device : options.render_device;
-  context.validation = options.validation;
-  gpu::Context ctx(context);
-  // The GPU solver shares the renderer's context: frames read its buffers where they are.
-  std::unique_ptr<gpu::GpuSolver> gpu_solver;
-  std::unique_ptr<Solver> cpu_solver;
+// The solver: the GPU solver on the renderer's context (frames read its buffers where they
+// are), or the CPU solver with the host inputs its state is uploaded to for each frame.
+struct ViewerSolver {
+  ViewerSolver(gpu::Context& ctx, const Scene& scene, const PhyxelSet& set,
+               const ViewerOptions& options) {
+    if (options.device != "cpu") {
+      gpu = std::make_unique<gpu::GpuSolver>(ctx, set, scene.simulation.gravity);
+    } else {
+      cpu = make_cpu_solver(set, scene.simulation.gravity, options.threads);
+      host = std::make_unique<HostInputs>(ctx, set, cpu->neighbours());
+    }
+  }
+  Solver& solver() { return gpu ? static_cast<Solver&>(*gpu) : *cpu; }
+  // The frame of the solver's state now.
+  RgbaImage render(FrameWriter& writer) {
+    if (gpu) return writer.render(gpu->buffers());
+    if (const size_t severed = cpu->severed_pairs(); severed != alive_at) {
+      host->set_pair_alive(cpu->pair_alive());
+      alive_at = severed;
+    }
+    host->set_displacement(cpu->read_state(false).displacement);
+    return writer.render(host->inputs());
+  }
+
+  std::unique_ptr<gpu::GpuSolver> gpu;
+  std::unique_ptr<Solver> cpu;
   std::unique_ptr<HostInputs> host;
   size_t alive_at = 0;  // the CPU solver's severed count when its alive mask was last uploaded
-  if (on_gpu) {
-    gpu_solver = std::make_unique<gpu::GpuSolver>(ctx, set, scene.simulation.gravity);
-  } else {
-    cpu_solver = make_cpu_solver(set, scene.simulation.gravity, options.threads);
-    host = std::make_unique<HostInputs>(ctx, set, cpu_solver->neighbours());
-  }
-  Solver& solver = on_gpu ? static_cast<Solver&>(*gpu_solver) : *cpu_solver;
-  FrameWriter writer(scene, set, {mode, {}, context.device}, &ctx);
+};
 
-  const int eyes = mode == RenderSettings::Mode::Stereo &&
-                           scene.render.stereo.layout == StereoSettings::Layout::SideBySide
-                       ? 2
-                       : 1;
-  glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
-  GLFWwindow* window = glfwCreateWindow(scene.render.width * eyes, scene.render.height,
-                                        ("phyxel view " + file).c_str(), nullptr, nullptr);
-  if (window == nullptr) {
-    throw std::runtime_error(file + ": phyxel view: cannot open a window; " + kHeadless);
+// The window, side by side eyes next to each other; destroyed when it goes.
+struct ViewerWindow {
+  ViewerWindow(const Scene& scene, const std::string& file) {
+    const int eyes = scene.render.mode == RenderSettings::Mode::Stereo &&
+                             scene.render.stereo.layout == StereoSettings::Layout::SideBySide
+                         ? 2
+                         : 1;
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    window = glfwCreateWindow(scene.render.width * eyes, scene.render.height,
+                              ("phyxel view " + file).c_str(), nullptr, nullptr);
+    if (window == nullptr) {
+      throw std::runtime_error(file + ": phyxel view: cannot open a window; " + kHeadless);
+    }
   }
-  struct Destroy {
-    GLFWwindow* w;
-    ~Destroy() { glfwDestroyWindow(w); }
-  } destroy{window};
-  Presenter presenter(window);
-  ViewerControls controls(writer.camera());
-  const std::vector<HapticTarget> haptic = haptic_targets(scene.tools);
-  // Haptic tools follow the mouse: each has a device whose pose the drags set, and a 1 kHz
-  // haptic loop couples the simulated tool to it (engine/surgery/haptic_session.h).
-  std::vector<std::shared_ptr<SharedPoseDevice>> mice(scene.tools.size());
-  for (size_t t = 0; t < scene.tools.size(); ++t) mice[t] = std::make_shared<SharedPoseDevice>();
-  HapticSession haptics(scene, [&mice](size_t tool) { return mice[tool]; });
-  auto drag = [&](size_t tool, const ToolPose& target) {
+  ~ViewerWindow() { glfwDestroyWindow(window); }
+  ViewerWindow(const ViewerWindow&) = delete;
+  ViewerWindow& operator=(const ViewerWindow&) = delete;
+  GLFWwindow* window = nullptr;
+};
+
+// Haptic tools follow the mouse: each has a device whose pose the drags set, and a 1 kHz
+// haptic loop couples the simulated tool to it (engine/surgery/haptic_session.h).
+struct MouseTools {
+  MouseTools(const Scene& scene, const ViewerOptions& options)
+      : options(options),
+        targets(haptic_targets(scene.tools)),
+        mice(make_mice(scene)),
+        haptics(scene, [this](size_t tool) { return mice[tool]; }) {
+    for (const HapticTarget& h : targets) drag(h.tool, h.pose);
+  }
+  static std::vector<std::shared_ptr<SharedPoseDevice>> make_mice(const Scene& scene) {
+    std::vector<std::shared_ptr<SharedPoseDevice>> mice(scene.tools.size());
+    for (auto& m : mice) m = std::make_shared<SharedPoseDevice>();
+    return mice;
+  }
+  void drag(size_t tool, const ToolPose& target) {
     mice[tool]->set_pose(target);
     if (options.on_tool_drag) options.on_tool_drag(tool, target);
-  };
-  for (const HapticTarget& h : haptic) drag(h.tool, h.pose);
-  auto haptic_pose = [&](size_t tool, const ToolPose& target) {
+  }
+  // Where to draw a haptic tool.
+  ToolPose pose(size_t tool, const ToolPose& target) const {
     if (options.haptic_pose) return options.haptic_pose(tool, target);
     return haptics.pose_source()(tool, 0.0);
+  }
+
+  const ViewerOptions& options;
+  const std::vector<HapticTarget> targets;
+  std::vector<std::shared_ptr<SharedPoseDevice>> mice;
+  HapticSession haptics;
+};
+
+// The viewer: everything `phyxel view` holds, built in this order. run() shows frames until the
+// window closes: events, the steps the frame owes, the simulation advanced, the frame drawn
+// and shown, the title twice a second.
+class Viewer {
+ public:
+  Viewer(const Scene& source, const ViewerOptions& options)
+      : options_(options),
+        file_(source.file.empty() ? std::string("<scene>") : source.file.string()),
+        glfw_(file_),
+        scene_(viewer_scene(source, options)),
+        set_(sample_scene(scene_)),
+        render_device_(options.device != "cpu" ? options.device : options.render_device),
+        ctx_(context_options(render_device_, options)),
+        solver_(ctx_, scene_, set_, options),
+        writer_(scene_, set_, {scene_.render.mode, {}, render_device_}, &ctx_),
+        window_(scene_, file_),
+        presenter_(window_.window),
+        controls_(writer_.camera()),
+        tools_(scene_, options),
+        sim_(scene_, set_, solver_.solver(), hooks()),
+        mode_(scene_.render.mode),
+        // Simulated time follows the wall clock, at most 0.1 s of it per frame (so frame
+        // rates down to 10 per second keep up).
+        pacer_(scene_.simulation.dt,
+               std::max<int64_t>(scene_.render.every, static_cast<int64_t>(0.1 / step_time()))) {}
+
+  void run();
+
+ private:
+  static gpu::ContextOptions context_options(const std::string& device,
+                                             const ViewerOptions& options) {
+    gpu::ContextOptions context;
+    context.device = device;
+    context.validation = options.validation;
+    return context;
+  }
+  ViewerSimulation::Hooks hooks();
+  void start();
+  int64_t steps_for_frame();
+  void advance(int64_t steps);
+  bool draw();
+  void update_title();
+  double step_time() const { return scene_.simulation.dt; }
+  double wall() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  const ViewerOptions& options_;
+  const std::string file_;
+  const GlfwSession glfw_;
+  const Scene scene_;
+  const PhyxelSet set_;
+  const std::string render_device_;
+  gpu::Context ctx_;
+  ViewerSolver solver_;
+  FrameWriter writer_;
+  ViewerWindow window_;
+  Presenter presenter_;
+  ViewerControls controls_;
+  MouseTools tools_;
+  ViewerSimulation sim_;
+  RenderSettings::Mode mode_;
+  RealTimePacer pacer_;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double seconds_per_step_ = 0;  // wall time per step of the last advance
+  std::chrono::steady_clock::time_point last_title_ = std::chrono::steady_clock::now();
+  int frames_ = 0;
+};
+
+// What the simulation hands the frames and the haptic loops: aspirated tissue leaves the
+// frames (the CPU solver's pair mask changed), each step's tool forces go to the loops.
+ViewerSimulation::Hooks Viewer::hooks() {
+  ViewerSimulation::Hooks hooks;
+  if (!tools_.haptics.empty()) hooks.tool_pose = tools_.haptics.pose_source();
+  hooks.on_tool_step = [this](double t, const std::vector<ToolStepRecord>& records) {
+    if (!tools_.haptics.empty()) tools_.haptics.publish(t, records);
   };
-  ToolTrack track(scene.tools, haptics.empty() ? ToolTrack::PoseSource{} : haptics.pose_source());
-  // Aspirators aspirate as in run_simulation (engine/surgery/aspiration.h), between advances.
-  Aspirator aspirator(scene, set);
-  if (aspirator.active() && !solver.supports_removal())
-    throw std::runtime_error(solver.device() + " cannot remove aspirated tissue");
-  if (!scene.tools.empty()) solver.set_tools(contact_tools(scene.tools));
-  // Tearing (as run_simulation): the largest principal stress every substep.
-  if (solver.supports_principal_stress()) solver.set_principal_stress(scene.tearing_possible());
-  haptics.start();
-  controls.set_haptic_tools(haptic);
-  glfwSetWindowUserPointer(window, &controls);
+  hooks.on_aspiration = [this](const AspirationEvent& e) {
+    writer_.apply_aspiration(e);
+    solver_.alive_at = std::numeric_limits<size_t>::max();
+  };
+  return hooks;
+}
+
+void Viewer::run() {
+  start();
+  auto stopping = [this] { return options_.stop_requested && options_.stop_requested(); };
+  while (glfwWindowShouldClose(window_.window) != GLFW_TRUE && !stopping()) {
+    glfwPollEvents();
+    if (controls_.take_stereo_toggle()) {
+      mode_ = mode_ == RenderSettings::Mode::Stereo ? RenderSettings::Mode::Mono
+                                                    : RenderSettings::Mode::Stereo;
+    }
+    advance(steps_for_frame());
+    if (!draw()) {
+      glfwWaitEventsTimeout(0.1);  // minimised: wake up to poll stop_requested
+      continue;
+    }
+    update_title();
+  }
+}
+
+// The haptic loops, the controls' callbacks and what the viewer shows where.
+void Viewer::start() {
+  tools_.haptics.start();
+  controls_.set_haptic_tools(tools_.targets);
+  GLFWwindow* window = window_.window;
+  glfwSetWindowUserPointer(window, &controls_);
   glfwSetKeyCallback(window, on_key);
   glfwSetMouseButtonCallback(window, on_button);
   glfwSetCursorPosCallback(window, on_cursor);
@@ -216,131 +325,111 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
       "phyxel view: %s, %zu phyxels, simulating on %s, rendering on %s, showing on %s\n"
       "  drag: orbit, wheel: zoom, space: pause, n: one step, s: mono/stereo, p: picture, q: quit\n"
       "%s",
-      file.c_str(), set.size(), solver.device().c_str(), ctx.info().name.c_str(),
-      presenter.device_name().c_str(),
-      haptic.empty() ? ""
-                     : "  haptic tools: right drag (or shift + drag): move in the view plane, "
-                       "shift + wheel: push along the view\n");
+      file_.c_str(), set_.size(), solver_.solver().device().c_str(), ctx_.info().name.c_str(),
+      presenter_.device_name().c_str(),
+      tools_.targets.empty() ? ""
+                             : "  haptic tools: right drag (or shift + drag): move in the view "
+                               "plane, shift + wheel: push along the view\n");
   std::fflush(stdout);
+}
 
-  int64_t step = 0;
-  const auto start = std::chrono::steady_clock::now();
-  auto wall = [&start] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  // Simulated time follows the wall clock, at most 0.1 s of it per frame (so frame rates down
-  // to 10 per second keep up).
-  const double step_time = scene.simulation.dt;
-  RealTimePacer pacer(step_time,
-                      std::max<int64_t>(scene.render.every, static_cast<int64_t>(0.1 / step_time)));
-  double real_time = 0;
-  std::vector<ToolStepRecord> felt;  // what each tool felt in the last step
-  auto last_title = std::chrono::steady_clock::now();
-  int frames = 0;
-  std::string halted;  // why the simulation stopped (non-finite or runaway), empty while fine
+// The steps this frame advances: what the wall clock owes, n's single steps while paused.
+int64_t Viewer::steps_for_frame() {
+  const int64_t due = pacer_.steps_due(wall(), !controls_.paused() && sim_.halted().empty());
+  int64_t advance = controls_.paused() ? controls_.steps_for_frame(1) : due;
+  if (!controls_.paused()) controls_.steps_for_frame(1);  // consumes a stray n
+  // Keys and the window are handled between advances: on a slow device (lavapipe), advance no
+  // more than about kMaxAdvanceSeconds of wall time per frame at the rate measured so far (one
+  // step until it is measured), so the viewer answers within a fraction of a second however
+  // far behind it is.
   constexpr double kMaxAdvanceSeconds = 0.2;
-  double seconds_per_step = 0;  // wall time per step of the last advance
-  auto stopping = [&options] { return options.stop_requested && options.stop_requested(); };
-  while (glfwWindowShouldClose(window) != GLFW_TRUE && !stopping()) {
-    glfwPollEvents();
-    if (controls.take_stereo_toggle()) {
-      mode = mode == RenderSettings::Mode::Stereo ? RenderSettings::Mode::Mono
-                                                  : RenderSettings::Mode::Stereo;
-    }
-    const int64_t due = pacer.steps_due(wall(), !controls.paused() && halted.empty());
-    int64_t advance = controls.paused() ? controls.steps_for_frame(1) : due;
-    if (!controls.paused()) controls.steps_for_frame(1);  // consumes a stray n
-    // Keys and the window are handled between advances: on a slow device (lavapipe), advance no
-    // more than about kMaxAdvanceSeconds of wall time per frame at the rate measured so far (one
-    // step until it is measured), so the viewer answers within a fraction of a second however
-    // far behind it is.
-    if (seconds_per_step <= 0)
-      advance = std::min<int64_t>(advance, 1);  // the first advance measures the rate
-    else
-      advance = std::min<int64_t>(
-          advance,
-          std::max<int64_t>(1, static_cast<int64_t>(kMaxAdvanceSeconds / seconds_per_step)));
-    if (advance > 0 && halted.empty()) {
-      const double advance_start = wall();
-      const std::vector<ToolStepRecord> records =
-          advance_with_tools(solver, track, step, advance, plan.substeps, plan.dt_used);
-      seconds_per_step = (wall() - advance_start) / double(advance);
-      step += advance;
-      pacer.advanced(advance);
-      for (const AspirationEvent& e :
-           aspirator.after_advance(solver, track.poses(), double(step) * step_time)) {
-        writer.apply_aspiration(e);
-        alive_at = std::numeric_limits<size_t>::max();  // the CPU's pair mask changed
-      }
-      if (!records.empty()) {
-        felt.assign(records.end() - scene.tools.size(), records.end());
-        if (!haptics.empty()) haptics.publish(double(step) * step_time, felt);
-      }
-    }
-    int fw = 0, fh = 0;
-    glfwGetFramebufferSize(window, &fw, &fh);
-    if (fw <= 0 || fh <= 0) {
-      glfwWaitEventsTimeout(0.1);  // minimised: wake up to poll stop_requested
-      continue;
-    }
-    RenderSettings r = scene.render;
-    const bool side_by_side = mode == RenderSettings::Mode::Stereo &&
-                              r.stereo.layout == StereoSettings::Layout::SideBySide;
-    r.width = std::max(1, side_by_side ? fw / 2 : fw);
-    r.height = fh;
-    int ww = 0, wh = 0;  // the cursor's units (differ from the framebuffer's on HiDPI)
-    glfwGetWindowSize(window, &ww, &wh);
-    controls.set_view_size(side_by_side ? ww / 2.0 : ww, wh);
-    for (const size_t k : controls.take_moved_tools()) {
-      const HapticTarget& h = controls.haptic_tools()[k];
-      drag(h.tool, h.pose);
-    }
-    writer.set_setup(make_frame_setup(controls.orbit().camera(writer.camera()), r, mode));
-    if (!scene.tools.empty()) {
-      writer.set_tools(viewer_tools(scene.tools, double(step) * scene.simulation.dt,
-                                    controls.haptic_tools(), haptic_pose));
-    }
-    // Cuts since the last frame: cut-face surfels; the GPU solver's buffers carry its pair
-    // weights, the CPU solver's alive mask is uploaded when its severed count changed.
-    writer.follow_cuts(solver, false);
-    // The video texture: the newest frame decoded by now (never waits for the decoder).
-    writer.advance_video(double(step) * scene.simulation.dt, false);
-    RgbaImage frame;
-    if (on_gpu) {
-      frame = writer.render(gpu_solver->buffers());
-    } else {
-      if (const size_t severed = solver.severed_pairs(); severed != alive_at) {
-        host->set_pair_alive(solver.pair_alive());
-        alive_at = severed;
-      }
-      host->set_displacement(cpu_solver->read_state(false).displacement);
-      frame = writer.render(host->inputs());
-    }
-    presenter.present(frame);
-    if (controls.take_screenshot()) save_picture(options.picture_dir, step, frame);
-    ++frames;
-    const auto now = std::chrono::steady_clock::now();
-    const double seconds = std::chrono::duration<double>(now - last_title).count();
-    if (seconds > 0.5) {
-      if (halted.empty()) halted = stability_problem(set, solver, step);
-      real_time = pacer.factor();
-      std::string note = halted;
-      for (size_t t = 0; t < felt.size() && halted.empty(); ++t) {
-        char text[128];
-        std::snprintf(text, sizeof text, "%s%s %.3f N (%u contacts)", note.empty() ? "" : ", ",
-                      scene.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
-        note += text;
-      }
-      if (const size_t cut = solver.severed_pairs(); cut > 0 && halted.empty())
-        note += (note.empty() ? "" : ", ") + std::to_string(cut) + " pairs cut";
-      glfwSetWindowTitle(
-          window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
-                               frames / seconds, note, controls.paused() ? -1 : real_time)
-                      .c_str());
-      frames = 0;
-      last_title = now;
-    }
+  if (seconds_per_step_ <= 0) return std::min<int64_t>(advance, 1);  // measures the rate
+  return std::min<int64_t>(
+      advance, std::max<int64_t>(1, static_cast<int64_t>(kMaxAdvanceSeconds / seconds_per_step_)));
+}
+
+void Viewer::advance(int64_t steps) {
+  if (steps <= 0 || !sim_.halted().empty()) return;
+  const double advance_start = wall();
+  const int64_t from = sim_.step();
+  sim_.advance(steps);
+  const int64_t done = sim_.step() - from;
+  if (done <= 0) return;
+  seconds_per_step_ = (wall() - advance_start) / double(done);
+  pacer_.advanced(done);
+}
+
+// The frame of the state now, shown; false while the window is minimised.
+bool Viewer::draw() {
+  int fw = 0, fh = 0;
+  glfwGetFramebufferSize(window_.window, &fw, &fh);
+  if (fw <= 0 || fh <= 0) return false;
+  RenderSettings r = scene_.render;
+  const bool side_by_side = mode_ == RenderSettings::Mode::Stereo &&
+                            r.stereo.layout == StereoSettings::Layout::SideBySide;
+  r.width = std::max(1, side_by_side ? fw / 2 : fw);
+  r.height = fh;
+  int ww = 0, wh = 0;  // the cursor's units (differ from the framebuffer's on HiDPI)
+  glfwGetWindowSize(window_.window, &ww, &wh);
+  controls_.set_view_size(side_by_side ? ww / 2.0 : ww, wh);
+  for (const size_t k : controls_.take_moved_tools()) {
+    const HapticTarget& h = controls_.haptic_tools()[k];
+    tools_.drag(h.tool, h.pose);
   }
+  writer_.set_setup(make_frame_setup(controls_.orbit().camera(writer_.camera()), r, mode_));
+  const double t = double(sim_.step()) * step_time();
+  if (!scene_.tools.empty()) {
+    writer_.set_tools(viewer_tools(
+        scene_.tools, t, controls_.haptic_tools(),
+        [this](size_t tool, const ToolPose& target) { return tools_.pose(tool, target); }));
+  }
+  // Cuts since the last frame: cut-face surfels; the GPU solver's buffers carry its pair
+  // weights, the CPU solver's alive mask is uploaded when its severed count changed.
+  writer_.follow_cuts(solver_.solver(), false);
+  // The video texture: the newest frame decoded by now (never waits for the decoder).
+  writer_.advance_video(t, false);
+  const RgbaImage frame = solver_.render(writer_);
+  presenter_.present(frame);
+  if (controls_.take_screenshot()) save_picture(options_.picture_dir, sim_.step(), frame);
+  ++frames_;
+  return true;
+}
+
+// Twice a second: the step, pause, mode, frame rate and real-time factor, why the simulation
+// halted or what each tool feels and the pairs cut.
+void Viewer::update_title() {
+  const auto now = std::chrono::steady_clock::now();
+  const double seconds = std::chrono::duration<double>(now - last_title_).count();
+  if (seconds <= 0.5) return;
+  const std::string& halted = sim_.halted();
+  const double real_time = pacer_.factor();
+  std::string note = halted;
+  const std::vector<ToolStepRecord>& felt = sim_.felt();
+  for (size_t t = 0; t < felt.size() && halted.empty(); ++t) {
+    char text[128];
+    std::snprintf(text, sizeof text, "%s%s %.3f N (%u contacts)", note.empty() ? "" : ", ",
+                  scene_.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
+    note += text;
+  }
+  if (const size_t cut = solver_.solver().severed_pairs(); cut > 0 && halted.empty())
+    note += (note.empty() ? "" : ", ") + std::to_string(cut) + " pairs cut";
+  glfwSetWindowTitle(
+      window_.window,
+      viewer_title(file_, sim_.step(), controls_.paused(), mode_ == RenderSettings::Mode::Stereo,
+                   frames_ / seconds, note, controls_.paused() ? -1 : real_time)
+          .c_str());
+  frames_ = 0;
+  last_title_ = now;
+}
+
+}  // namespace
+
+bool viewer_available() {
+  return true;
+}
+
+void run_viewer(const Scene& scene, const ViewerOptions& options) {
+  Viewer(scene, options).run();
 }
 
 }  // namespace phyxel::render

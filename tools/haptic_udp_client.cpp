@@ -158,6 +158,39 @@ double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// What went to the device and came back.
+struct Exchange {
+  std::vector<double> sent_at;  // by seq
+  std::vector<bool> answered;
+  std::vector<double> round_trips;
+  uint64_t forces = 0, malformed = 0, send_errors = 0;
+};
+
+// The one line of figures; exit status 1 when no force came back.
+int report(const Options& o, uint64_t count, Exchange& x) {
+  double median = NAN;
+  if (!x.round_trips.empty()) {
+    std::sort(x.round_trips.begin(), x.round_trips.end());
+    median = x.round_trips[x.round_trips.size() / 2];
+  }
+  char rtt[64] = "n/a";
+  if (std::isfinite(median)) std::snprintf(rtt, sizeof rtt, "%.3f ms", 1e3 * median);
+  std::printf(
+      "haptic_udp_client: sent %llu poses to %s:%d in %.3f s (%llu send errors), received %llu "
+      "forces (%llu malformed), round trip median %s over %zu answered poses\n",
+      (unsigned long long)count, o.host.c_str(), o.port, *o.seconds,
+      (unsigned long long)x.send_errors, (unsigned long long)x.forces,
+      (unsigned long long)x.malformed, rtt, x.round_trips.size());
+  if (x.forces == 0) {
+    std::fprintf(stderr,
+                 "haptic_udp_client: no force came back: is phyxel's UDP device listening on "
+                 "%s:%d?\n",
+                 o.host.c_str(), o.port);
+    return 1;
+  }
+  return 0;
+}
+
 int run(Options o) {
   const std::vector<phyxel::ToolKey> path = make_path(o);
   sockaddr_in target{};
@@ -179,10 +212,7 @@ int run(Options o) {
   const auto period =
       std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / o.rate));
   const uint64_t count = uint64_t(std::ceil(*o.seconds * o.rate));
-  std::vector<double> sent_at;  // by seq
-  std::vector<bool> answered;
-  std::vector<double> round_trips;
-  uint64_t forces = 0, malformed = 0, send_errors = 0;
+  Exchange x;
 
   // Drain every datagram waiting (from the target only).
   const auto receive = [&](Clock::time_point start) {
@@ -202,14 +232,14 @@ int run(Options o) {
       haptic::ForceMessage f;
       if (size_t(n) > buffer.size() ||
           haptic::decode(std::span(buffer.data(), size_t(n)), f) != haptic::DecodeStatus::Ok) {
-        ++malformed;
+        ++x.malformed;
         continue;
       }
       const double t = since(start);
-      ++forces;
-      if (f.seq < sent_at.size() && !answered[f.seq]) {
-        answered[f.seq] = true;
-        round_trips.push_back(t - sent_at[f.seq]);
+      ++x.forces;
+      if (f.seq < x.sent_at.size() && !x.answered[f.seq]) {
+        x.answered[f.seq] = true;
+        x.round_trips.push_back(t - x.sent_at[f.seq]);
       }
       if (log.is_open()) {
         char line[160];
@@ -246,38 +276,18 @@ int run(Options o) {
     m.position = pose.position;
     m.axis = pose.axis;
     const auto bytes = haptic::encode(m);
-    sent_at.push_back(t);
-    answered.push_back(false);
+    x.sent_at.push_back(t);
+    x.answered.push_back(false);
     if (::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&target),
                  sizeof target) != ssize_t(bytes.size())) {
-      ++send_errors;
+      ++x.send_errors;
     }
     deadline += period;
   }
   wait_until(Clock::now() + std::chrono::milliseconds(100), start);  // the last replies
   ::close(fd);
 
-  double median = NAN;
-  if (!round_trips.empty()) {
-    std::sort(round_trips.begin(), round_trips.end());
-    median = round_trips[round_trips.size() / 2];
-  }
-  char rtt[64] = "n/a";
-  if (std::isfinite(median)) std::snprintf(rtt, sizeof rtt, "%.3f ms", 1e3 * median);
-  std::printf(
-      "haptic_udp_client: sent %llu poses to %s:%d in %.3f s (%llu send errors), received %llu "
-      "forces (%llu malformed), round trip median %s over %zu answered poses\n",
-      (unsigned long long)count, o.host.c_str(), o.port, *o.seconds,
-      (unsigned long long)send_errors, (unsigned long long)forces, (unsigned long long)malformed,
-      rtt, round_trips.size());
-  if (forces == 0) {
-    std::fprintf(stderr,
-                 "haptic_udp_client: no force came back: is phyxel's UDP device listening on "
-                 "%s:%d?\n",
-                 o.host.c_str(), o.port);
-    return 1;
-  }
-  return 0;
+  return report(o, count, x);
 }
 
 }  // namespace

@@ -244,8 +244,8 @@ bool RunLoop::running() const {
          !result_.unstable;
 }
 
-void RunLoop::step() {
-  int64_t next = next_stop();
+void RunLoop::step(int64_t until) {
+  int64_t next = std::min(next_stop(), std::max(until, step_ + 1));
   const std::vector<ToolStepRecord> records = advance(next);
   if (within_step_) {  // stopped inside a step: the rows of the whole steps, then the end
     tool_rows(next, records);

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,8 +25,10 @@ class RunLoop {
   // Whether step() has anything left: before the total, not at rest, not stopped, not failed.
   bool running() const;
   // One advance: next stop, advance, surgery events, pacing, loads, checkpoint, checks,
-  // outputs (in this order; see run_loop.cpp).
-  void step();
+  // outputs (in this order; see run_loop.cpp). It ends by step `until` (> steps_done()) too:
+  // an interactive caller (render/viewer_simulation.h) advances what its frame owes; such a
+  // stop, like a frame's, changes no decision of the loop.
+  void step(int64_t until = std::numeric_limits<int64_t>::max());
   // The end of the run: the last checkpoint and points file (unless the state failed), the
   // energies and the result. Once, after running() turned false.
   RunResult finish();

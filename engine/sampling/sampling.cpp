@@ -400,16 +400,8 @@ void check_mls_fit(const Occupancy& occ, const ObjectDesc& object, double h,
                         rule + " for its MLS moment matrix to be invertible" + fix);
 }
 
-void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
-                   const SamplingOptions& options, PhyxelSet& out) {
-  const ObjectDesc& object = scene.objects[oi];
-  const Errors errors(scene);
-  const std::string path = object_path(oi);
-  const double s = object.spacing;
-  if (!(std::isfinite(s) && s > 0))
-    errors.fail(path + ".spacing", "the spacing must be a positive length in metres");
-  const double eps = kBoundaryTolerance * s;
-  // Scenes built in code may skip load_mesh; the scene reader always loads meshes and images.
+// Scenes built in code may skip load_mesh; the scene reader always loads meshes and images.
+void check_loaded_shapes(const ObjectDesc& object, const std::string& path, const Errors& errors) {
   auto check_mesh = [&](const Shape& shape, const std::string& at) {
     if (shape.type == Shape::Type::Mesh && !shape.mesh)
       errors.fail(at,
@@ -427,6 +419,104 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
     check_mesh(object.fixed[f], path + ".fixed[" + std::to_string(f) + "]");
   for (size_t l = 0; l < object.loads.size(); ++l)
     check_mesh(object.loads[l].region, path + ".loads[" + std::to_string(l) + "].region");
+}
+
+// Inclusions in order, so that a later one wins where they overlap: the material of the
+// object's phyxels (from `first` on) inside each.
+void assign_inclusions(const ObjectDesc& object, const std::string& path, const Errors& errors,
+                       uint32_t inclusion_base, size_t first, double eps, PhyxelSet& out) {
+  const double s = object.spacing;
+  const auto count = static_cast<int64_t>(out.size() - first);
+  for (size_t c = 0; c < object.inclusions.size(); ++c) {
+    const Region region(object.inclusions[c].shape);
+    const auto material = static_cast<uint32_t>(inclusion_base + c);
+    int64_t hits = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : hits)
+    for (int64_t n = 0; n < count; ++n) {
+      if (region.contains(out.rest[first + n], eps)) {
+        out.material[first + n] = material;
+        ++hits;
+      }
+    }
+    if (hits == 0)
+      errors.fail(path + ".inclusions[" + std::to_string(c) + "].shape",
+                  "the inclusion contains no phyxel of the object, so its material would be "
+                  "unused; move or enlarge it so that it covers some of the object's lattice "
+                  "points (spacing " +
+                      length(s) + ")");
+  }
+}
+
+// The object's phyxels (from `first` on) in its fixed regions.
+void mark_fixed(const ObjectDesc& object, const std::string& path, const Errors& errors,
+                size_t first, double eps, PhyxelSet& out) {
+  const double s = object.spacing;
+  const auto count = static_cast<int64_t>(out.size() - first);
+  for (size_t f = 0; f < object.fixed.size(); ++f) {
+    const Region region(object.fixed[f]);
+    int64_t hits = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : hits)
+    for (int64_t n = 0; n < count; ++n) {
+      if (region.contains(out.rest[first + n], eps)) {
+        out.flags[first + n] |= kFixed;
+        ++hits;
+      }
+    }
+    if (hits == 0)
+      errors.fail(path + ".fixed[" + std::to_string(f) + "]",
+                  "the region contains no phyxel of the object; move or enlarge it so that it "
+                  "covers some of the object's lattice points (spacing " +
+                      length(s) + ")");
+  }
+}
+
+// Each load's force is spread over the phyxels in its region in proportion to their volume,
+// so that the forces add up to the load.
+void spread_loads(const ObjectDesc& object, const std::string& path, const Errors& errors,
+                  size_t first, double eps, PhyxelSet& out) {
+  const double s = object.spacing;
+  const auto count = static_cast<int64_t>(out.size() - first);
+  std::vector<uint8_t> in_region(count);
+  for (size_t l = 0; l < object.loads.size(); ++l) {
+    const Region region(object.loads[l].region);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int64_t n = 0; n < count; ++n) in_region[n] = region.contains(out.rest[first + n], eps);
+    double volume = 0;
+    for (int64_t n = 0; n < count; ++n)
+      if (in_region[n]) volume += out.volume[first + n];
+    if (!(volume > 0))
+      errors.fail(path + ".loads[" + std::to_string(l) + "].region",
+                  "the region contains no phyxel of the object, so its force would act on "
+                  "nothing; move or enlarge it so that it covers some of the object's lattice "
+                  "points (spacing " +
+                      length(s) + ")");
+    const Load& load = object.loads[l];
+    LoadSpread spread;
+    spread.object = static_cast<uint32_t>(out.objects.size());
+    spread.from = load.from;
+    spread.until = load.until;
+    for (int64_t n = 0; n < count; ++n) {
+      if (!in_region[n]) continue;
+      spread.phyxels.push_back(static_cast<uint32_t>(first + n));
+      spread.forces.push_back(load.force * (out.volume[first + n] / volume));
+    }
+    if (spread.active_at(0))
+      for (size_t k = 0; k < spread.phyxels.size(); ++k)
+        out.external_force[spread.phyxels[k]] += spread.forces[k];
+    out.loads.push_back(std::move(spread));
+  }
+}
+
+void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
+                   const SamplingOptions& options, PhyxelSet& out) {
+  const ObjectDesc& object = scene.objects[oi];
+  const Errors errors(scene);
+  const std::string path = object_path(oi);
+  const double s = object.spacing;
+  if (!(std::isfinite(s) && s > 0))
+    errors.fail(path + ".spacing", "the spacing must be a positive length in metres");
+  const double eps = kBoundaryTolerance * s;
+  check_loaded_shapes(object, path, errors);
   const Region shape(object.shape);
   Occupancy occ;
   occ.lattice = make_lattice(object, path, errors);
@@ -468,76 +558,13 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
   for (size_t p = first; p < total; ++p)
     if (!(out.volume[p] > 0)) out.volume[p] = s * s * s / (kSubcells * kSubcells * kSubcells);
 
-  // Inclusions in order, so that a later one wins where they overlap.
-  for (size_t c = 0; c < object.inclusions.size(); ++c) {
-    const Region region(object.inclusions[c].shape);
-    const auto material = static_cast<uint32_t>(inclusion_base + c);
-    int64_t hits = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : hits)
-    for (int64_t n = 0; n < count; ++n) {
-      if (region.contains(out.rest[first + n], eps)) {
-        out.material[first + n] = material;
-        ++hits;
-      }
-    }
-    if (hits == 0)
-      errors.fail(path + ".inclusions[" + std::to_string(c) + "].shape",
-                  "the inclusion contains no phyxel of the object, so its material would be "
-                  "unused; move or enlarge it so that it covers some of the object's lattice "
-                  "points (spacing " +
-                      length(s) + ")");
-  }
+  assign_inclusions(object, path, errors, inclusion_base, first, eps, out);
   for (size_t p = first; p < total; ++p)
     out.mass[p] = out.materials[out.material[p]].density * out.volume[p];
 
-  for (size_t f = 0; f < object.fixed.size(); ++f) {
-    const Region region(object.fixed[f]);
-    int64_t hits = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : hits)
-    for (int64_t n = 0; n < count; ++n) {
-      if (region.contains(out.rest[first + n], eps)) {
-        out.flags[first + n] |= kFixed;
-        ++hits;
-      }
-    }
-    if (hits == 0)
-      errors.fail(path + ".fixed[" + std::to_string(f) + "]",
-                  "the region contains no phyxel of the object; move or enlarge it so that it "
-                  "covers some of the object's lattice points (spacing " +
-                      length(s) + ")");
-  }
+  mark_fixed(object, path, errors, first, eps, out);
 
-  // Each load's force is spread over the phyxels in its region in proportion to their volume,
-  // so that the forces add up to the load.
-  std::vector<uint8_t> in_region(occ.linear.size());
-  for (size_t l = 0; l < object.loads.size(); ++l) {
-    const Region region(object.loads[l].region);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (int64_t n = 0; n < count; ++n) in_region[n] = region.contains(out.rest[first + n], eps);
-    double volume = 0;
-    for (int64_t n = 0; n < count; ++n)
-      if (in_region[n]) volume += out.volume[first + n];
-    if (!(volume > 0))
-      errors.fail(path + ".loads[" + std::to_string(l) + "].region",
-                  "the region contains no phyxel of the object, so its force would act on "
-                  "nothing; move or enlarge it so that it covers some of the object's lattice "
-                  "points (spacing " +
-                      length(s) + ")");
-    const Load& load = object.loads[l];
-    LoadSpread spread;
-    spread.object = static_cast<uint32_t>(out.objects.size());
-    spread.from = load.from;
-    spread.until = load.until;
-    for (int64_t n = 0; n < count; ++n) {
-      if (!in_region[n]) continue;
-      spread.phyxels.push_back(static_cast<uint32_t>(first + n));
-      spread.forces.push_back(load.force * (out.volume[first + n] / volume));
-    }
-    if (spread.active_at(0))
-      for (size_t k = 0; k < spread.phyxels.size(); ++k)
-        out.external_force[spread.phyxels[k]] += spread.forces[k];
-    out.loads.push_back(std::move(spread));
-  }
+  spread_loads(object, path, errors, first, eps, out);
 
   ObjectRange range;
   range.name = object.name;
