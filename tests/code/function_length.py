@@ -17,7 +17,7 @@ import sys
 import tempfile
 
 LIMIT = 120
-FOLDERS = ("engine", "compute", "render", "app", "python", "tools", "fuzz")
+FOLDERS = ("engine", "compute", "render", "app", "bench", "python", "tools", "fuzz")
 EXTENSIONS = (".cpp", ".h", ".comp", ".glsl", ".vert", ".frag")
 PREFIXES = ("L", "u", "U", "u8")  # of string and character literals
 
