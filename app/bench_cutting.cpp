@@ -46,7 +46,8 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
   const int64_t enter = static_cast<int64_t>(std::ceil(0.015 / kCrossingSpeed / scalpel.dt));
   probe.run(enter);
   scalpel.run(enter);
-  const size_t severed_before = scalpel.solver->severed_pairs();
+  Cutting& cut = need(scalpel.solver->cutting(), *scalpel.solver, "cut");
+  const size_t severed_before = cut.severed_pairs();
   std::vector<double> t_probe, t_scalpel;
   for (int64_t r = 0; r < repeats; ++r) {
     t_probe.push_back(probe.run(steps) / double(steps));
@@ -54,7 +55,7 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
   }
   const double s_probe = median_of(t_probe), s_scalpel = median_of(t_scalpel);
   const double severed_per_step =
-      double(scalpel.solver->severed_pairs() - severed_before) / double(steps * repeats);
+      double(cut.severed_pairs() - severed_before) / double(steps * repeats);
   nlohmann::json row = {
       {"device", scalpel.solver->device()},
       {"phyxels", scalpel.set.size()},
@@ -67,8 +68,9 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
       {"cut_share_percent", 100 * (s_scalpel - s_probe) / std::max(s_scalpel, 1e-30)},
       {"steps_per_s_cutting", 1 / std::max(s_scalpel, 1e-30)},
       {"severed_per_step", severed_per_step},
-      {"severed_total", scalpel.solver->severed_pairs()},
-      {"candidates", scalpel.solver->contact_candidates()},
+      {"severed_total", cut.severed_pairs()},
+      {"candidates",
+       need(scalpel.solver->tools(), *scalpel.solver, "simulate tools").contact_candidates()},
       {"finite", probe.solver->first_non_finite() < 0 && scalpel.solver->first_non_finite() < 0}};
   const std::vector<gpu::PassTime> passes = scalpel.profile(32);
   if (!passes.empty()) {

@@ -74,7 +74,7 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
       {"ill_conditioned_moment_matrices", solver.regularised_count()},
       {"non_finite", result.non_finite},
       {"unstable", result.unstable},
-      {"pass_selection", options.pass_selection && solver.supports_pass_selection()},
+      {"pass_selection", options.pass_selection && solver.pass_selection() != nullptr},
       {"sleeps", result.sleeps},
       {"wakes", result.wakes},
       {"load_changes", result.load_changes},
@@ -109,9 +109,9 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
     }
     j["tools"] = tools;
   }
-  if (solver.supports_cutting() && solver.severed_pairs() > 0) {
+  if (Cutting* cut = solver.cutting(); cut && cut->severed_pairs() > 0) {
     // What the cuts and tears freed from the fixed tissue (engine/surgery/resection.h).
-    const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
+    const Resection r = measure_resection(scene, set, solver.neighbours(), cut->pair_alive());
     json inclusions = json::array();
     for (const InclusionRemoval& c : r.inclusions)
       inclusions.push_back({{"name", c.name},
@@ -120,9 +120,9 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
                             {"healthy_removed_g", 1e3 * c.healthy_removed},
                             {"whole", c.whole}});
     size_t torn = 0;
-    for (const SeveredPair& p : solver.severed_since(0)) torn += p.torn;
-    j["cutting"] = {{"severed_pairs", solver.severed_pairs()},
-                    {"cut_pairs", solver.severed_pairs() - torn},
+    for (const SeveredPair& p : cut->severed_since(0)) torn += p.torn;
+    j["cutting"] = {{"severed_pairs", cut->severed_pairs()},
+                    {"cut_pairs", cut->severed_pairs() - torn},
                     {"torn_pairs", torn},
                     {"freed_pieces", r.pieces},
                     {"freed_mass_g", 1e3 * r.freed_mass},

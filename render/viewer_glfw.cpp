@@ -200,11 +200,13 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
   ToolTrack track(scene.tools, haptics.empty() ? ToolTrack::PoseSource{} : haptics.pose_source());
   // Aspirators aspirate as in run_simulation (engine/surgery/aspiration.h), between advances.
   Aspirator aspirator(scene, set);
-  if (aspirator.active() && !solver.supports_removal())
+  if (aspirator.active() && !solver.removal())
     throw std::runtime_error(solver.device() + " cannot remove aspirated tissue");
-  if (!scene.tools.empty()) solver.set_tools(contact_tools(scene.tools));
+  if (!scene.tools.empty())
+    need(solver.tools(), solver, "simulate tools").set_tools(contact_tools(scene.tools));
   // Tearing (as run_simulation): the largest principal stress every substep.
-  if (solver.supports_principal_stress()) solver.set_principal_stress(scene.tearing_possible());
+  if (PrincipalStress* principal = solver.principal_stress())
+    principal->set_principal_stress(scene.tearing_possible());
   haptics.start();
   controls.set_haptic_tools(haptic);
   glfwSetWindowUserPointer(window, &controls);
@@ -309,8 +311,8 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
     if (on_gpu) {
       frame = writer.render(gpu_solver->buffers());
     } else {
-      if (const size_t severed = solver.severed_pairs(); severed != alive_at) {
-        host->set_pair_alive(solver.pair_alive());
+      if (const size_t severed = severed_pair_count(solver); severed != alive_at) {
+        host->set_pair_alive(alive_pairs(solver));
         alive_at = severed;
       }
       host->set_displacement(cpu_solver->read_state(false).displacement);
@@ -331,7 +333,7 @@ void run_viewer(const Scene& source, const ViewerOptions& options) {
                       scene.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
         note += text;
       }
-      if (const size_t cut = solver.severed_pairs(); cut > 0 && halted.empty())
+      if (const size_t cut = severed_pair_count(solver); cut > 0 && halted.empty())
         note += (note.empty() ? "" : ", ") + std::to_string(cut) + " pairs cut";
       glfwSetWindowTitle(
           window, viewer_title(file, step, controls.paused(), mode == RenderSettings::Mode::Stereo,
