@@ -67,8 +67,8 @@ json tools_json(const std::vector<ToolRunStats>& stats) {
 }
 
 // What the cuts and tears freed from the fixed tissue (engine/surgery/resection.h).
-json cutting_json(const Scene& scene, const PhyxelSet& set, Solver& solver) {
-  const Resection r = measure_resection(scene, set, solver.neighbours(), solver.pair_alive());
+json cutting_json(const Scene& scene, const PhyxelSet& set, Solver& solver, Cutting& cut) {
+  const Resection r = measure_resection(scene, set, solver.neighbours(), cut.pair_alive());
   json inclusions = json::array();
   for (const InclusionRemoval& c : r.inclusions)
     inclusions.push_back({{"name", c.name},
@@ -77,9 +77,9 @@ json cutting_json(const Scene& scene, const PhyxelSet& set, Solver& solver) {
                           {"healthy_removed_g", 1e3 * c.healthy_removed},
                           {"whole", c.whole}});
   size_t torn = 0;
-  for (const SeveredPair& p : solver.severed_since(0)) torn += p.torn;
-  return {{"severed_pairs", solver.severed_pairs()},
-          {"cut_pairs", solver.severed_pairs() - torn},
+  for (const SeveredPair& p : cut.severed_since(0)) torn += p.torn;
+  return {{"severed_pairs", cut.severed_pairs()},
+          {"cut_pairs", cut.severed_pairs() - torn},
           {"torn_pairs", torn},
           {"freed_pieces", r.pieces},
           {"freed_mass_g", 1e3 * r.freed_mass},
@@ -196,7 +196,7 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
       {"ill_conditioned_moment_matrices", solver.regularised_count()},
       {"non_finite", result.non_finite},
       {"unstable", result.unstable},
-      {"pass_selection", options.pass_selection && solver.supports_pass_selection()},
+      {"pass_selection", options.pass_selection && solver.pass_selection() != nullptr},
       {"sleeps", result.sleeps},
       {"wakes", result.wakes},
       {"load_changes", result.load_changes},
@@ -207,8 +207,8 @@ nlohmann::json run_summary(const Scene& scene, const PhyxelSet& set, Solver& sol
   if (options.real_time) j["max_lag_seconds"] = result.max_lag;
   j["wall_split_seconds"] = wall_split_json(result.split);
   if (!result.tools.empty()) j["tools"] = tools_json(result.tools);
-  if (solver.supports_cutting() && solver.severed_pairs() > 0)
-    j["cutting"] = cutting_json(scene, set, solver);
+  if (Cutting* cut = solver.cutting(); cut && cut->severed_pairs() > 0)
+    j["cutting"] = cutting_json(scene, set, solver, *cut);
   if (result.aspirating) j["aspiration"] = aspiration_json(result.aspiration);
   if (haptics != nullptr && !haptics->empty()) j["haptics"] = haptics_json(*haptics);
   add_final_state(j, scene, result);

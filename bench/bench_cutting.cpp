@@ -45,10 +45,11 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
   const int64_t enter = crossing_entry_steps(scalpel.dt);
   probe.run(enter);
   scalpel.run(enter);
-  const size_t severed_before = scalpel.solver->severed_pairs();
+  Cutting& cut = need(scalpel.solver->cutting(), *scalpel.solver, "cut");
+  const size_t severed_before = cut.severed_pairs();
   const auto [s_probe, s_scalpel] = interleaved_step_seconds(probe, scalpel, steps, repeats);
   const double severed_per_step =
-      double(scalpel.solver->severed_pairs() - severed_before) / double(steps * repeats);
+      double(cut.severed_pairs() - severed_before) / double(steps * repeats);
   nlohmann::json row = {
       {"device", scalpel.solver->device()},
       {"phyxels", scalpel.set.size()},
@@ -61,8 +62,9 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
       {"cut_share_percent", 100 * (s_scalpel - s_probe) / std::max(s_scalpel, 1e-30)},
       {"steps_per_s_cutting", 1 / std::max(s_scalpel, 1e-30)},
       {"severed_per_step", severed_per_step},
-      {"severed_total", scalpel.solver->severed_pairs()},
-      {"candidates", scalpel.solver->contact_candidates()},
+      {"severed_total", cut.severed_pairs()},
+      {"candidates",
+       need(scalpel.solver->tools(), *scalpel.solver, "simulate tools").contact_candidates()},
       {"finite", probe.solver->first_non_finite() < 0 && scalpel.solver->first_non_finite() < 0}};
   const std::vector<gpu::PassTime> passes = scalpel.profile(32);
   if (!passes.empty()) {

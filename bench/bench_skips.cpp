@@ -58,12 +58,13 @@ int bench_skips(const Args& args) {
                   "all s/step", "skip s/step", "saved", "stress", "asleep s/step");
     }
     solver->advance(5, dt);  // warm-up (GPU clocks, first submits)
-    solver->set_pass_selection(false);
+    PassSelection& passes = need(solver->pass_selection(), *solver, "select passes");
+    passes.set_pass_selection(false);
     const double all = median_step_seconds(*solver, dt, steps, 5);
-    solver->set_pass_selection(true);
+    passes.set_pass_selection(true);
     const double skip = median_step_seconds(*solver, dt, steps, 5);
-    const size_t stress = solver->stress_pass_size();
-    for (uint32_t o = 0; o < set.objects.size(); ++o) solver->set_object_awake(o, false);
+    const size_t stress = passes.stress_pass_size();
+    for (uint32_t o = 0; o < set.objects.size(); ++o) passes.set_object_awake(o, false);
     const double asleep = median_step_seconds(*solver, dt, steps, 5);
     std::printf("%-28s %8zu %8zu %12.4g %12.4g %11.1f%% %8zu %12.4g\n", file.c_str(), set.size(),
                 fixed, all, skip, 100 * (1 - skip / all), stress, asleep);

@@ -180,7 +180,8 @@ SoakResult soak_solver(Solver& solver, const PhyxelSet& set, double dt, int64_t 
     k = next;
     if (next_event < events.size() && events[next_event] == k) {
       ++next_event;
-      solver.set_external_forces(external_forces_at(set, double(k) * dt));
+      need(solver.load_changes(), solver, "switch loads")
+          .set_external_forces(external_forces_at(set, double(k) * dt));
       e0 = solver.energies().total();
     }
     if (k % 100 != 0 && k != steps) continue;

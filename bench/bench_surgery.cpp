@@ -87,9 +87,9 @@ nlohmann::json run_json(const Scene& scene, const PhyxelSet& set, Solver& solver
                       {"host_seconds", app::wall_split_json(r.split)},
                       {"finite", !r.non_finite && !r.unstable}};
   nlohmann::json outcome = nlohmann::json::object();
-  if (solver.supports_cutting() && solver.severed_pairs() > 0)
+  if (Cutting* cut = solver.cutting(); cut && cut->severed_pairs() > 0)
     for (const InclusionRemoval& c :
-         measure_resection(scene, set, solver.neighbours(), solver.pair_alive()).inclusions)
+         measure_resection(scene, set, solver.neighbours(), cut->pair_alive()).inclusions)
       outcome[c.name] = {{"removed_percent", c.mass > 0 ? 100 * c.removed / c.mass : 0.0},
                          {"whole", c.whole},
                          {"healthy_removed_g", 1e3 * c.healthy_removed}};
@@ -112,10 +112,10 @@ nlohmann::json pass_profile(const Scene& scene, Solver& solver, const RunResult&
   if (gpu_solver == nullptr || substeps <= 0) return passes;
   ToolTrack track(scene.tools, nullptr);
   const int64_t first = r.steps_done * r.plan.substeps;
-  if (!track.empty()) solver.set_tool_motion(track.motions(first, substeps, r.plan.dt_used));
+  if (!track.empty()) gpu_solver->set_tool_motion(track.motions(first, substeps, r.plan.dt_used));
   for (const gpu::PassTime& p : gpu_solver->profile(substeps, r.plan.dt_used))
     passes[p.name] = p.ns * 1e-3;
-  if (!track.empty()) solver.tool_samples();
+  if (!track.empty()) gpu_solver->tool_samples();
   return passes;
 }
 

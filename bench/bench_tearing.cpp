@@ -60,10 +60,10 @@ nlohmann::json tearing_row(const std::string& device, int threads, int64_t size,
   const int64_t enter = crossing_entry_steps(tearing.dt);
   intact.run(enter);
   tearing.run(enter);
-  const size_t torn_before = tearing.solver->severed_pairs();
+  Cutting& log = need(tearing.solver->cutting(), *tearing.solver, "tear");
+  const size_t torn_before = log.severed_pairs();
   const auto [s_intact, s_tearing] = interleaved_step_seconds(intact, tearing, steps, repeats);
-  const double torn_per_step =
-      double(tearing.solver->severed_pairs() - torn_before) / double(steps * repeats);
+  const double torn_per_step = double(log.severed_pairs() - torn_before) / double(steps * repeats);
   nlohmann::json row = {
       {"device", tearing.solver->device()},
       {"phyxels", tearing.set.size()},
@@ -77,7 +77,7 @@ nlohmann::json tearing_row(const std::string& device, int threads, int64_t size,
       {"tear_share_percent", 100 * (s_tearing - s_intact) / std::max(s_tearing, 1e-30)},
       {"steps_per_s_tearing", 1 / std::max(s_tearing, 1e-30)},
       {"torn_per_step", torn_per_step},
-      {"torn_total", tearing.solver->severed_pairs()},
+      {"torn_total", log.severed_pairs()},
       {"finite_intact", intact.solver->first_non_finite() < 0},
       {"finite_tearing", tearing.solver->first_non_finite() < 0}};
   row["finite"] = row["finite_intact"].get<bool>() && row["finite_tearing"].get<bool>();

@@ -69,11 +69,13 @@ ToolBenchCase::ToolBenchCase(const std::string& device, int threads, Scene scene
       dt(plan_time_step(scene, set).dt_stable),
       solver(make_bench_solver(device, set, scene.simulation.gravity, threads)),
       track(scene.tools, nullptr) {
-  if (!scene.tools.empty()) solver->set_tools(contact_tools(scene.tools));
+  if (!scene.tools.empty())
+    need(solver->tools(), *solver, "simulate tools").set_tools(contact_tools(scene.tools));
   // As run_simulation does: tearing on when a material can tear.
   if (scene.tearing_possible()) {
-    solver->set_principal_stress(true);
-    solver->set_tearing(true);
+    need(solver->principal_stress(), *solver, "compute principal stresses")
+        .set_principal_stress(true);
+    need(solver->tearing(), *solver, "tear").set_tearing(true);
   }
 }
 
@@ -90,9 +92,9 @@ void ToolBenchCase::run(int64_t steps) {
 std::vector<gpu::PassTime> ToolBenchCase::profile(int64_t steps) {
   auto* g = dynamic_cast<gpu::GpuSolver*>(solver.get());
   if (g == nullptr) return {};
-  if (!track.empty()) solver->set_tool_motion(track.motions(done, steps, dt));
+  if (!track.empty()) g->set_tool_motion(track.motions(done, steps, dt));
   std::vector<gpu::PassTime> passes = g->profile(steps, dt);
-  if (!track.empty()) solver->tool_samples();
+  if (!track.empty()) g->tool_samples();
   done += steps;
   return passes;
 }

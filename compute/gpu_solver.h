@@ -94,7 +94,7 @@ struct MomentInverseRow {
 
 class SolverKernels;
 
-class GpuSolver final : public Solver {
+class GpuSolver final : public SolverWithAllFacets {
  public:
   static constexpr int64_t kStepsPerSubmit = 256;
 
@@ -130,9 +130,8 @@ class GpuSolver final : public Solver {
   // every phyxel of an awake object that is not removed (fixed ones get their reactions and
   // never move). Each call rebuilds the pass lists on the host from the flags and the CSR,
   // uploads them and recomputes the forces.
-  bool supports_pass_selection() const override { return true; }
   void set_pass_selection(bool enabled) override;
-  bool pass_selection() const { return select_; }
+  bool pass_selection_on() const { return select_; }
   // Sleep (velocities zeroed on the GPU, every pass skipped) or wake an object.
   void set_object_awake(uint32_t object, bool awake) override;
   bool object_awake(uint32_t object) const { return awake_.at(object) != 0; }
@@ -143,7 +142,6 @@ class GpuSolver final : public Solver {
   uint32_t lanes_for(Gather pass, uint32_t count) const;
   // Replaces the loads (per phyxel, N; gravity stays): ext = m g + load, uploaded, and the
   // forces recomputed for the current u.
-  bool supports_load_changes() const override { return true; }
   void set_external_forces(const std::vector<Vec3>& loads) override;
   // Tools, with CpuSolver's semantics (engine/solver/cpu_solver.h, engine/solver/contact.h):
   // contact runs after every drift on the phyxels the broad phase found for the chunk of
@@ -154,7 +152,6 @@ class GpuSolver final : public Solver {
   // (set_object_awake) runs the broad phase again at the next advance.
   // tool_samples(): what each tool felt in each substep of the last advance (substeps x
   // tools; read back once per advance). Without tools nothing is recorded.
-  bool supports_tools() const override { return true; }
   void set_tools(const std::vector<ContactTool>& tools) override;
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
@@ -170,15 +167,13 @@ class GpuSolver final : public Solver {
   // on, solver_principal follows every stress pass over the stress list, on the same u, into a
   // float per phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
   // Off (the default): the pass is not recorded.
-  bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override;
-  bool principal_stress() const { return principal_; }
+  bool principal_stress_on() const { return principal_; }
   // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the principal
   // pass also keeps each phyxel's Cauchy tensor, and solver_tear follows every substep's force
   // pass over the stress list (on the u that pass read), then solver_precompute over the
   // phyxels it touched (indirect, as the cut): nothing is read back during the advance; the
   // torn pairs come back with the cut log once per advance.
-  bool supports_tearing() const override { return true; }
   void set_tearing(bool on) override;
   // Cutting, with CpuSolver's semantics (engine/solver/cpu_solver.h): after each substep's
   // contact reduction, tool_sever over the candidates (dispatched indirectly) for every blade
@@ -186,7 +181,6 @@ class GpuSolver final : public Solver {
   // (indirectly, from the count the sever pass grew): nothing is read back during the advance.
   // The pairs it severed come back once per advance (a log in a Readback buffer, sorted on the
   // host; when it overflows, the pair weights are compared with the last known ones).
-  bool supports_cutting() const override { return true; }
   size_t severed_pairs() const override { return severed_.size(); }
   std::vector<SeveredPair> severed_since(size_t first) override;
   std::vector<uint8_t> pair_alive() override;
@@ -214,7 +208,6 @@ class GpuSolver final : public Solver {
   // reruns the precompute pass for exactly those phyxels and recomputes the forces. A removed
   // phyxel keeps its u and v and no longer moves. The CSR (and neighbours()) is unchanged:
   // removed pairs stay in it with weight 0.
-  bool supports_removal() const override { return true; }
   void remove_phyxels(const std::vector<uint32_t>& ids) override;
   // The last chunk of each advance also copies u and the principal stress into the state's
   // read-back buffer, so read_advanced_state needs no submission of its own until something

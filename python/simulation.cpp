@@ -123,7 +123,7 @@ nlohmann::json Simulation::summary() {
 }
 
 Resection Simulation::resection() {
-  return measure_resection(scene_, set_, solver_->neighbours(), solver_->pair_alive());
+  return measure_resection(scene_, set_, solver_->neighbours(), alive_pairs(*solver_));
 }
 
 double Simulation::exposure(const std::string& name) {
@@ -142,7 +142,7 @@ double Simulation::exposure(const std::string& name) {
     throw std::out_of_range(scene_.file.string() + ": no inclusion named '" + name +
                             "'; the scene has " + (inclusions.empty() ? "none" : inclusions));
   const NeighbourLists& nbr = solver_->neighbours();
-  const std::vector<uint8_t> alive = solver_->pair_alive();
+  const std::vector<uint8_t> alive = alive_pairs(*solver_);
   size_t boundary = 0, cut = 0;
   for (size_t i = 0; i < set_.size(); ++i) {
     if (set_.material[i] != m) continue;

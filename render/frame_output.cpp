@@ -183,17 +183,17 @@ void FrameWriter::apply_aspiration(const AspirationEvent& event) {
 
 bool FrameWriter::follow_cuts(Solver& solver, bool host_state) {
   queue_->drain();
-  const size_t severed = solver.severed_pairs();
+  const size_t severed = severed_pair_count(solver);
   const bool changed = severed != cut_cursor_;
   if (changed) {
-    const std::vector<SeveredPair> pairs = solver.severed_since(cut_cursor_);
+    const std::vector<SeveredPair> pairs = solver.cutting()->severed_since(cut_cursor_);
     cut_cursor_ += pairs.size();
     cuts_.add(*set_, pairs);
     renderer_->update_cut_surfels(cut_face_surfels(*set_, cuts_, cuts_.take_changed()));
   }
   if (host_state && severed != alive_at_) {
     if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, solver.neighbours());
-    host_->set_pair_alive(solver.pair_alive());
+    host_->set_pair_alive(alive_pairs(solver));
     alive_at_ = severed;
   }
   return changed;

@@ -411,7 +411,7 @@ void Viewer::update_title() {
                   scene_.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
     note += text;
   }
-  if (const size_t cut = solver_.solver().severed_pairs(); cut > 0 && halted.empty())
+  if (const size_t cut = severed_pair_count(solver_.solver()); cut > 0 && halted.empty())
     note += (note.empty() ? "" : ", ") + std::to_string(cut) + " pairs cut";
   glfwSetWindowTitle(
       window_.window,

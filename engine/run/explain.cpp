@@ -12,8 +12,9 @@ namespace phyxel {
 std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& solver,
                            const RunOptions& options) {
   const TimeStepPlan plan = plan_time_step(scene, set);
-  const bool select = options.pass_selection && solver.supports_pass_selection();
-  if (solver.supports_pass_selection()) solver.set_pass_selection(select);
+  PassSelection* passes = solver.pass_selection();
+  const bool select = options.pass_selection && passes;
+  if (passes) passes->set_pass_selection(select);
   size_t fixed = 0;
   for (uint32_t f : set.flags) fixed += (f & kFixed) ? 1 : 0;
   const size_t n = set.size(), moving = n - fixed;
@@ -30,12 +31,12 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   add("  per substep:");
   add("    kick + drift   %zu phyxels (fixed ones never move)", moving);
   if (select) {
-    const size_t stress = solver.stress_pass_size();
+    const size_t stress = passes->stress_pass_size();
     add("    stress (MLS)   %zu phyxels: the moving ones and their neighbours; %zu fixed-only "
         "phyxels skipped",
         stress, n - stress);
-    add("    force + kick   %zu phyxels: the moving ones", solver.force_pass_size());
-  } else if (solver.supports_pass_selection()) {
+    add("    force + kick   %zu phyxels: the moving ones", passes->force_pass_size());
+  } else if (passes) {
     add("    stress (MLS)   %zu phyxels: all (--no-skip)", n);
     add("    force + kick   %zu phyxels: all, fixed ones for their reactions (--no-skip)", n);
   } else {
@@ -48,7 +49,7 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   if (tearing)
     add("    principal      %zu phyxels (those of the stress pass): the largest principal "
         "Cauchy stress, for tearing (%zu material(s) with tear_stress)",
-        select ? solver.stress_pass_size() : n, tear_materials);
+        select ? passes->stress_pass_size() : n, tear_materials);
   if (tearing)
     add("    tear           the same phyxels after the force pass: each live pair whose mean "
         "normal stress reaches the mean tear_stress of its two phyxels is severed; then the "

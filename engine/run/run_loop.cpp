@@ -30,6 +30,11 @@ int64_t next_multiple(int64_t step, int64_t n) {
   return (step / n + 1) * n;
 }
 
+// Sleeps or wakes an object where the solver selects passes (without, every object is awake).
+void set_object_awake(Solver& solver, uint32_t object, bool awake) {
+  if (PassSelection* passes = solver.pass_selection()) passes->set_object_awake(object, awake);
+}
+
 // A sleeping object wakes when a tool comes near it: some phyxel of it (at its displacement
 // when it went to sleep, which has not changed since) within the tools' swept bounds over the
 // next advance, grown by the object's spacing.
@@ -46,7 +51,7 @@ void wake_touched_objects(const PhyxelSet& set, const Bounds& bounds,
       if ((x.array() >= near.min.array()).all() && (x.array() <= near.max.array()).all()) {
         awake[o] = 1;
         below_since[o] = -1;
-        solver.set_object_awake(static_cast<uint32_t>(o), true);
+        set_object_awake(solver, static_cast<uint32_t>(o), true);
         ++result.wakes;
         break;
       }
@@ -110,18 +115,18 @@ Checkpoint make_checkpoint(const Scene& scene, const PhyxelSet& set, Solver& sol
 void require_abilities(const Scene& scene, Solver& solver, bool tearing, bool load_changes,
                        bool aspirating, bool tools) {
   const std::string file = scene.file.string();
-  if (tearing && !solver.supports_tearing())
+  if (tearing && !solver.tearing())
     throw std::runtime_error(file + ": a material has tear_stress, which " + solver.device() +
                              " cannot evaluate; use --device cpu");
-  if (load_changes && !solver.supports_load_changes())
+  if (load_changes && !solver.load_changes())
     throw std::runtime_error(file +
                              ": loads with from/until switch during the run, "
                              "which " +
                              solver.device() + " cannot do; use --device cpu");
-  if (aspirating && !solver.supports_removal())
+  if (aspirating && !solver.removal())
     throw std::runtime_error(file + ": a suction tool aspirates tissue, which " + solver.device() +
                              " cannot remove; use --device cpu or gpu");
-  if (tools && !solver.supports_tools())
+  if (tools && !solver.tools())
     throw std::runtime_error(file + ": the scene has tools, which " + solver.device() +
                              " cannot simulate; use --device cpu");
 }
@@ -140,19 +145,21 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   total_ = options.steps;
   every_ = scene.output.every;
   step_time_ = result_.plan.dt_requested;
-  const bool select = options.pass_selection && solver.supports_pass_selection();
-  if (solver.supports_pass_selection()) solver.set_pass_selection(select);
+  PassSelection* passes = solver.pass_selection();
+  const bool select = options.pass_selection && passes;
+  if (passes) passes->set_pass_selection(select);
   // Tearing: the largest principal stress of every stressed phyxel, and the overstressed
   // pairs severed, each substep.
   const bool tearing = scene.tearing_possible();
   events_ = load_event_steps(set, step_time_, total_);
   require_abilities(scene, solver, tearing, !events_.empty(), aspirator_.active(), !tools_.empty());
-  if (solver.supports_principal_stress()) solver.set_principal_stress(tearing);
-  if (solver.supports_tearing()) solver.set_tearing(tearing);
+  if (PrincipalStress* principal = solver.principal_stress())
+    principal->set_principal_stress(tearing);
+  if (Tearing* tear = solver.tearing()) tear->set_tearing(tearing);
   sleeping_ = select && scene.simulation.sleep.enabled;
   check_ = check_interval(scene, options, sleeping_);
   contacts_since_check_.assign(tools_.size(), 0u);
-  if (!tools_.empty()) solver.set_tools(contact_tools(scene.tools));
+  if (!tools_.empty()) solver.tools()->set_tools(contact_tools(scene.tools));  // required above
   tool_chunk_ = tools_.empty()
                     ? 0
                     : std::max<int64_t>(1, options.tool_chunk_substeps / result_.plan.substeps);
@@ -208,21 +215,24 @@ void RunLoop::resume(const Checkpoint& c) {
   result_.load_changes = c.load_changes;
   next_event_ = static_cast<size_t>(c.loads_applied);
   if (next_event_ > 0)
-    solver_.set_external_forces(external_forces_at(set_, events_[next_event_ - 1] * step_time_));
+    need(solver_.load_changes(), solver_, "switch loads")
+        .set_external_forces(external_forces_at(set_, events_[next_event_ - 1] * step_time_));
   for (size_t o = 0; o < set_.objects.size(); ++o) {
     awake_[o] = c.awake[o];
     object_below_since_[o] = c.object_below_since[o];
-    if (!awake_[o]) solver_.set_object_awake(static_cast<uint32_t>(o), false);
+    if (!awake_[o]) set_object_awake(solver_, static_cast<uint32_t>(o), false);
   }
   below_since_ = c.rest_below_since;
   if (!tools_.empty()) {
     last_u_ = c.last_check_u;
     tools_.restore(c.tool_poses, c.tool_stats);
   }
-  solver_.sever_pairs(c.severed);  // the cuts, before the state's forces
+  if (!c.severed.empty())  // the cuts, before the state's forces
+    need(solver_.cutting(), solver_, "sever pairs").sever_pairs(c.severed);
   try {
     aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
-    if (has_grasper(scene_)) solver_.restore_grips(c.grips);
+    if (has_grasper(scene_))
+      need(solver_.tools(), solver_, "restore a grasper's grip").restore_grips(c.grips);
   } catch (const std::invalid_argument& e) {
     throw CheckpointError(name + ": " + e.what());
   }
@@ -358,13 +368,14 @@ void RunLoop::pacing(int64_t next) {
 void RunLoop::switch_loads(int64_t previous) {
   ++next_event_;
   ++result_.load_changes;
-  solver_.set_external_forces(external_forces_at(set_, step_ * step_time_));
+  need(solver_.load_changes(), solver_, "switch loads")
+      .set_external_forces(external_forces_at(set_, step_ * step_time_));
   for (const LoadSpread& load : set_.loads) {
     if (load.active_at(previous * step_time_) == load.active_at(step_ * step_time_)) continue;
     object_below_since_[load.object] = -1;
     if (!awake_[load.object]) {
       awake_[load.object] = 1;
-      solver_.set_object_awake(load.object, true);
+      set_object_awake(solver_, load.object, true);
       ++result_.wakes;
     }
   }
@@ -450,7 +461,7 @@ void RunLoop::decide_rest_and_sleep(const std::vector<ObjectMotion>& motion) {
     }
     if (object_below_since_[o] >= 0 && step_ - object_below_since_[o] >= sleep.for_steps) {
       awake_[o] = 0;
-      solver_.set_object_awake(static_cast<uint32_t>(o), false);
+      set_object_awake(solver_, static_cast<uint32_t>(o), false);
       ++result_.sleeps;
       if (!tools_.empty()) {  // where it sleeps, for wake_touched_objects
         if (u_now.empty()) u_now = solver_.read_state(false).displacement;
@@ -504,8 +515,9 @@ Checkpoint RunLoop::checkpoint() {
     c.tool_poses = tools_.poses();
     c.tool_stats = tools_.stats();
   }
-  c.severed = solver_.severed_since(0);
-  if (has_grasper(scene_)) c.grips = solver_.grips();
+  if (Cutting* cut = solver_.cutting()) c.severed = cut->severed_since(0);
+  if (has_grasper(scene_))
+    c.grips = need(solver_.tools(), solver_, "hold a grasper's grip").grips();
   c.aspiration = aspirator_.state();
   return c;
 }

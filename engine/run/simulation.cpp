@@ -51,9 +51,10 @@ std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools,
     solver.advance(steps * substeps, dt);
     return {};
   }
-  solver.set_tool_motion(tools.motions(first * substeps, steps * substeps, dt));
+  Tools& facet = need(solver.tools(), solver, "simulate tools");
+  facet.set_tool_motion(tools.motions(first * substeps, steps * substeps, dt));
   solver.advance(steps * substeps, dt);
-  return tools.fold(solver.tool_samples(), steps, substeps);
+  return tools.fold(facet.tool_samples(), steps, substeps);
 }
 
 Runaway find_runaway(const PhyxelSet& set, const std::vector<Vec3>& velocity) {

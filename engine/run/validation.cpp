@@ -88,17 +88,18 @@ void cut_then_load(Solver& solver, const Scene& scene, const PhyxelSet& set, dou
   for (const ToolDesc& t : scene.tools) duration = std::max(duration, t.path.back().t);
   const int64_t steps = static_cast<int64_t>(std::ceil(duration / dt)) + 1, chunk = 16;
   ToolTrack track(scene.tools, {});
-  solver.set_tools(contact_tools(scene.tools));
+  Tools& tools = need(solver.tools(), solver, "simulate tools");
+  tools.set_tools(contact_tools(scene.tools));
   for (int64_t s = 0; s < steps; s += chunk) {
     const int64_t n = std::min(chunk, steps - s);
-    solver.set_tool_motion(track.motions(s, n, dt));
+    tools.set_tool_motion(track.motions(s, n, dt));
     solver.advance(n, dt);
   }
-  solver.set_tools({});
+  tools.set_tools({});
   std::vector<Vec3> loads(set.size());
   for (size_t i = 0; i < set.size(); ++i)
     loads[i] = set.mass[i] * scene.simulation.gravity + set.external_force[i];
-  solver.set_external_forces(loads);
+  need(solver.load_changes(), solver, "switch loads").set_external_forces(loads);
 }
 
 double mean_x_velocity(const PointState& s, const std::vector<size_t>& idx) {

@@ -12,7 +12,7 @@ namespace phyxel {
 namespace {
 
 template <class Real>
-class CpuBackend final : public Solver {
+class CpuBackend final : public SolverWithAllFacets {
  public:
   CpuBackend(const PhyxelSet& set, const Vec3& gravity, int threads)
       : threads_(threads > 0 ? threads : omp_get_max_threads()) {
@@ -69,16 +69,13 @@ class CpuBackend final : public Solver {
   }
   size_t regularised_count() const override { return solver_->regularised_count(); }
   const NeighbourLists& neighbours() const override { return solver_->neighbours(); }
-  bool supports_pass_selection() const override { return true; }
   void set_pass_selection(bool enabled) override { solver_->set_pass_selection(enabled); }
   void set_object_awake(uint32_t object, bool awake) override {
     solver_->set_object_awake(object, awake);
   }
   size_t stress_pass_size() const override { return solver_->stress_pass_size(); }
   size_t force_pass_size() const override { return solver_->force_pass_size(); }
-  bool supports_load_changes() const override { return true; }
   void set_external_forces(const std::vector<Vec3>& f) override { solver_->set_external_forces(f); }
-  bool supports_tools() const override { return true; }
   void set_tools(const std::vector<ContactTool>& tools) override { solver_->set_tools(tools); }
   void set_tool_motion(const std::vector<ToolMotion>& motion) override { motion_ = motion; }
   std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
@@ -90,13 +87,9 @@ class CpuBackend final : public Solver {
   }
   std::vector<Grip> grips() override { return solver_->grips(); }
   void restore_grips(const std::vector<Grip>& grips) override { solver_->restore_grips(grips); }
-  bool supports_principal_stress() const override { return true; }
   void set_principal_stress(bool on) override { solver_->set_principal_stress(on); }
-  bool supports_tearing() const override { return true; }
   void set_tearing(bool on) override { solver_->set_tearing(on); }
-  bool supports_removal() const override { return true; }
   void remove_phyxels(const std::vector<uint32_t>& ids) override { solver_->remove_phyxels(ids); }
-  bool supports_cutting() const override { return true; }
   size_t severed_pairs() const override { return solver_->severed_log().size(); }
   std::vector<SeveredPair> severed_since(size_t first) override {
     const auto& log = solver_->severed_log();

@@ -8,7 +8,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/contact.h"
 #include "engine/solver/cpu_solver.h"
@@ -50,6 +49,108 @@ std::vector<ObjectMotion> sum_object_motion(const PhyxelSet& set, const std::vec
   return out;
 }
 
+// The surgical abilities of a solver, one facet each. Solver's accessors (cutting(), tools(),
+// ...) give a facet or nullptr where the solver lacks it; a caller that needs one asks for it
+// (the run loop refuses a scene needing an absent facet, naming the scene file). A new
+// ability is a new facet, not a wider Solver. Facets are never deleted through.
+
+// Pass selection (skip fixed-only regions and sleeping objects): see CpuSolver.
+class PassSelection {
+ public:
+  virtual void set_pass_selection(bool enabled) = 0;
+  virtual void set_object_awake(uint32_t object, bool awake) = 0;
+  // Phyxels visited by the stress and force passes of one substep now.
+  virtual size_t stress_pass_size() const = 0;
+  virtual size_t force_pass_size() const = 0;
+
+ protected:
+  ~PassSelection() = default;
+};
+
+// Loads that switch on or off during the run (scene loads with from/until): the loads per
+// phyxel (N; gravity stays), the forces recomputed for the current u.
+class LoadChanges {
+ public:
+  virtual void set_external_forces(const std::vector<Vec3>& loads) = 0;
+
+ protected:
+  ~LoadChanges() = default;
+};
+
+// Tools (engine/solver/contact.h): their shapes and friction, set once; then before each
+// advance(n, dt) the motion of every tool over each of the n substeps (n x tools, row-major
+// by substep), and after it what each tool felt in each substep (n x tools).
+class Tools {
+ public:
+  virtual void set_tools(const std::vector<ContactTool>& tools) = 0;
+  virtual void set_tool_motion(const std::vector<ToolMotion>& motion) = 0;
+  virtual std::vector<ToolContactSample> tool_samples() = 0;
+  // The phyxels a grasper's jaws hold now (ascending; empty for other tools and open jaws;
+  // engine/solver/grasper.h).
+  virtual std::vector<uint32_t> held_phyxels(size_t tool) = 0;
+  // The graspers' grips (per tool: closed, and what the jaws hold with its offsets), for
+  // checkpoints; restore_grips puts them back after set_tools.
+  virtual std::vector<Grip> grips() = 0;
+  virtual void restore_grips(const std::vector<Grip>& grips) = 0;
+  // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
+  virtual size_t contact_candidates() const = 0;
+
+ protected:
+  ~Tools() = default;
+};
+
+// Principal stress (tearing, Scene::tearing_possible): while on, every substep computes the
+// largest principal value of each stressed phyxel's Cauchy stress into a per-phyxel buffer
+// (CpuSolver::max_principal_stress; a GPU pass), for the tearing passes and the outputs;
+// off (the default), nothing of it is computed or allocated.
+class PrincipalStress {
+ public:
+  virtual void set_principal_stress(bool on) = 0;
+
+ protected:
+  ~PrincipalStress() = default;
+};
+
+// Tearing (engine/solver/tearing.h, docs/tearing.md): while on, every substep ends by
+// severing the live pairs whose material is overstressed, logged like cuts (Cutting) with
+// `torn` set. Turning it on turns the principal stress on.
+class Tearing {
+ public:
+  virtual void set_tearing(bool on) = 0;
+
+ protected:
+  ~Tearing() = default;
+};
+
+// Removal (aspiration, engine/surgery/aspiration.h): the phyxels leave the physics for good,
+// flagged kRemoved, every pair touching them severed on both sides (not logged: the pieces and
+// faces follow from the flags), the precompute rerun for their neighbours and the forces
+// recomputed. Their u and v stay as they were.
+class Removal {
+ public:
+  virtual void remove_phyxels(const std::vector<uint32_t>& ids) = 0;
+
+ protected:
+  ~Removal() = default;
+};
+
+// Cutting (engine/solver/cutting.h, docs/cutting.md): tools with a blade sever neighbour
+// pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
+// pairs ascending by (i, j), appended in order): severed_pairs() is its length and
+// severed_since(k) its entries from k on, so each reader keeps its own cursor. pair_alive: 1
+// per CSR pair of neighbours() still joined. sever_pairs: severs the given pairs as a cut
+// would and logs them (checkpoint resume, tests).
+class Cutting {
+ public:
+  virtual size_t severed_pairs() const = 0;
+  virtual std::vector<SeveredPair> severed_since(size_t first) = 0;
+  virtual std::vector<uint8_t> pair_alive() = 0;
+  virtual void sever_pairs(const std::vector<SeveredPair>& pairs) = 0;
+
+ protected:
+  ~Cutting() = default;
+};
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -74,69 +175,9 @@ class Solver {
   virtual std::vector<ObjectMotion> object_motion(const PhyxelSet& set);
   // Replaces u and v (converted to the solver's precision: values read_state gave convert back
   // exactly) and recomputes the forces for the new u, so the next advance continues exactly
-  // as the solver that read them would (checkpoint resume). Throws where unsupported.
-  virtual void set_state(const std::vector<Vec3>& displacement, const std::vector<Vec3>& velocity) {
-    (void)displacement;
-    (void)velocity;
-    throw std::logic_error(device() + " cannot restore a state");
-  }
-
-  // Optional abilities; a solver without one says so and the run loop does without it.
-  // Pass selection (skip fixed-only regions and sleeping objects): see CpuSolver.
-  virtual bool supports_pass_selection() const { return false; }
-  virtual void set_pass_selection(bool) {}
-  virtual void set_object_awake(uint32_t, bool) {}
-  // Phyxels visited by the stress and force passes of one substep now.
-  virtual size_t stress_pass_size() const { return 0; }
-  virtual size_t force_pass_size() const { return 0; }
-  // Loads that switch on or off during the run (scene loads with from/until).
-  virtual bool supports_load_changes() const { return false; }
-  virtual void set_external_forces(const std::vector<Vec3>&) {}
-  // Tools (engine/solver/contact.h): their shapes and friction, set once; then before each
-  // advance(n, dt) the motion of every tool over each of the n substeps (n x tools, row-major
-  // by substep), and after it what each tool felt in each substep (n x tools).
-  virtual bool supports_tools() const { return false; }
-  virtual void set_tools(const std::vector<ContactTool>&) {}
-  virtual void set_tool_motion(const std::vector<ToolMotion>&) {}
-  virtual std::vector<ToolContactSample> tool_samples() { return {}; }
-  // The phyxels a grasper's jaws hold now (ascending; empty for other tools and open jaws;
-  // engine/solver/grasper.h).
-  virtual std::vector<uint32_t> held_phyxels(size_t tool) {
-    (void)tool;
-    return {};
-  }
-  // The graspers' grips (per tool: closed, and what the jaws hold with its offsets), for
-  // checkpoints; restore_grips puts them back after set_tools. No grasper: none held.
-  virtual std::vector<Grip> grips() { return {}; }
-  virtual void restore_grips(const std::vector<Grip>& grips) {
-    for (const Grip& g : grips)
-      if (g.closed) throw std::logic_error(device() + " cannot restore a grasper's grip");
-  }
-  // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
-  virtual size_t contact_candidates() const { return 0; }
-  // Principal stress (tearing, Scene::tearing_possible): while on, every substep computes the
-  // largest principal value of each stressed phyxel's Cauchy stress into a per-phyxel buffer
-  // (CpuSolver::max_principal_stress; a GPU pass), for the tearing passes and the outputs;
-  // off (the default), nothing of it is computed or allocated.
-  virtual bool supports_principal_stress() const { return false; }
-  virtual void set_principal_stress(bool on) {
-    if (on) throw std::logic_error(device() + " cannot compute principal stresses");
-  }
-  // Tearing (engine/solver/tearing.h, docs/tearing.md): while on, every substep ends by
-  // severing the live pairs whose material is overstressed, logged like cuts (below) with
-  // `torn` set. Turning it on turns the principal stress on.
-  virtual bool supports_tearing() const { return false; }
-  virtual void set_tearing(bool on) {
-    if (on) throw std::logic_error(device() + " cannot tear");
-  }
-  // Removal (aspiration, engine/surgery/aspiration.h): the phyxels leave the physics for good,
-  // flagged kRemoved, every pair touching them severed on both sides (not logged: the pieces and
-  // faces follow from the flags), the precompute rerun for their neighbours and the forces
-  // recomputed. Their u and v stay as they were.
-  virtual bool supports_removal() const { return false; }
-  virtual void remove_phyxels(const std::vector<uint32_t>& ids) {
-    if (!ids.empty()) throw std::logic_error(device() + " cannot remove phyxels");
-  }
+  // as the solver that read them would (checkpoint resume, a long step cut short).
+  virtual void set_state(const std::vector<Vec3>& displacement,
+                         const std::vector<Vec3>& velocity) = 0;
   // What aspiration reads after every advance: u and the largest principal stress (empty
   // while off), as read_state(true) gives them. With set_advance_readback(true) a solver may
   // copy them at the end of each advance, in the advance's own submission (the GPU solver),
@@ -149,25 +190,55 @@ class Solver {
     displacement = std::move(s.displacement);
     principal = std::move(s.max_principal_stress);
   }
-  // Cutting (engine/solver/cutting.h, docs/cutting.md): tools with a blade sever neighbour
-  // pairs during advance(). The solver keeps a log of every severed pair (i < j; each advance's
-  // pairs ascending by (i, j), appended in order): severed_pairs() is its length and
-  // severed_since(k) its entries from k on, so each reader keeps its own cursor. pair_alive: 1
-  // per CSR pair of neighbours() still joined. sever_pairs: severs the given pairs as a cut
-  // would and logs them (checkpoint resume, tests).
-  virtual bool supports_cutting() const { return false; }
-  virtual size_t severed_pairs() const { return 0; }
-  virtual std::vector<SeveredPair> severed_since(size_t first) {
-    (void)first;
-    return {};
-  }
-  virtual std::vector<uint8_t> pair_alive() {
-    return std::vector<uint8_t>(neighbours().index.size(), 1);
-  }
-  virtual void sever_pairs(const std::vector<SeveredPair>& pairs) {
-    if (!pairs.empty()) throw std::logic_error(device() + " cannot sever pairs");
-  }
+
+  // The facets (above): nullptr where the solver lacks the ability.
+  virtual PassSelection* pass_selection() { return nullptr; }
+  virtual LoadChanges* load_changes() { return nullptr; }
+  virtual Tools* tools() { return nullptr; }
+  virtual PrincipalStress* principal_stress() { return nullptr; }
+  virtual Tearing* tearing() { return nullptr; }
+  virtual Removal* removal() { return nullptr; }
+  virtual Cutting* cutting() { return nullptr; }
 };
+
+// A solver that has every facet, each one itself: the CPU reference and the GPU solver.
+class SolverWithAllFacets : public Solver,
+                            public PassSelection,
+                            public LoadChanges,
+                            public Tools,
+                            public PrincipalStress,
+                            public Tearing,
+                            public Removal,
+                            public Cutting {
+ public:
+  PassSelection* pass_selection() final { return this; }
+  LoadChanges* load_changes() final { return this; }
+  Tools* tools() final { return this; }
+  PrincipalStress* principal_stress() final { return this; }
+  Tearing* tearing() final { return this; }
+  Removal* removal() final { return this; }
+  Cutting* cutting() final { return this; }
+};
+
+// A facet the caller cannot do without (a scene's tools, a checkpoint's cuts): the facet, or a
+// std::logic_error "<device> cannot <ability>" where the solver lacks it.
+template <class Facet>
+Facet& need(Facet* facet, const Solver& solver, const char* ability) {
+  if (!facet) throw std::logic_error(solver.device() + " cannot " + ability);
+  return *facet;
+}
+
+// Cutting::severed_pairs, or 0 where the solver cannot cut.
+inline size_t severed_pair_count(Solver& solver) {
+  const Cutting* cut = solver.cutting();
+  return cut ? cut->severed_pairs() : 0;
+}
+
+// Cutting::pair_alive, or every pair joined where the solver cannot cut.
+inline std::vector<uint8_t> alive_pairs(Solver& solver) {
+  if (Cutting* cut = solver.cutting()) return cut->pair_alive();
+  return std::vector<uint8_t>(solver.neighbours().index.size(), 1);
+}
 
 // The CPU reference solver behind the Solver interface. threads <= 0: all cores.
 std::unique_ptr<Solver> make_cpu_solver(const PhyxelSet& set, const Vec3& gravity, int threads,

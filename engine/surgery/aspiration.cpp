@@ -142,13 +142,14 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
   if (!active_) return events;
   // What tore or was cut since the last aspiration: torn phyxels have failed, and every
   // severed pair opened a face (a surface).
-  if (solver.severed_pairs() > log_cursor_) {
-    for (const SeveredPair& p : solver.severed_since(log_cursor_)) {
+  Cutting* cut = solver.cutting();
+  if (cut && cut->severed_pairs() > log_cursor_) {
+    for (const SeveredPair& p : cut->severed_since(log_cursor_)) {
       surface_[p.i] = surface_[p.j] = 1;
       if (p.torn) torn_[p.i] = torn_[p.j] = 1;
       severed_.insert(pair_key(p.i, p.j));
     }
-    log_cursor_ = solver.severed_pairs();
+    log_cursor_ = cut->severed_pairs();
   }
   std::vector<Vec3> u, x;
   std::vector<double> principal;
@@ -170,7 +171,7 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     map_fracture_to_rest(e, *set_, solver.neighbours(), u, removed_, severed_);
     e.tool = k;
     e.time = t;
-    solver.remove_phyxels(e.removed);
+    need(solver.removal(), solver, "remove phyxels").remove_phyxels(e.removed);
     account(e);
     events.push_back(std::move(e));
   }
@@ -213,7 +214,8 @@ void Aspirator::restore(const AspiratorState& s, Solver& solver,
   totals_.max_radius = s.max_radius;
   totals_.removed_mass = s.removed_mass;
   totals_.removed_volume = s.removed_volume;
-  if (!s.removed.empty()) solver.remove_phyxels(s.removed);
+  if (!s.removed.empty())
+    need(solver.removal(), solver, "remove phyxels").remove_phyxels(s.removed);
 }
 
 }  // namespace phyxel

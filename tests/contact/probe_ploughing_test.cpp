@@ -55,7 +55,7 @@ Ploughed plough(const Scene& scene) {
   options.steps = scene.simulation.steps;
   Ploughed out;
   out.result = run_simulation(scene, set, *solver, options);
-  out.torn = solver->severed_pairs();
+  out.torn = solver->cutting()->severed_pairs();
   return out;
 }
 

@@ -39,7 +39,7 @@ TEST(AspirationRestSpace, ADeformedBlocksCraterIsDrawnWithItsCurrentNormals) {
   const Eigen::Matrix3d f_inv_t = f.inverse().transpose();  // normals' map, as the renderer's
   std::vector<Vec3> u(set.size());
   for (size_t i = 0; i < set.size(); ++i) u[i] = g * set.rest[i];
-  solver->set_principal_stress(true);
+  solver->principal_stress()->set_principal_stress(true);
   solver->set_state(u, std::vector<Vec3>(set.size(), Vec3::Zero()));
   // The mouth 1.7 mm above the deformed top's middle, along its deformed normal.
   const ToolPose mouth{f * Vec3(0.01, 0.01, 0.0117), (f_inv_t * Vec3::UnitZ()).normalized()};

@@ -25,20 +25,21 @@ struct CutRun {
 
 CutRun run(Solver& solver, const Scene& scene, int64_t steps, int64_t chunk = 16) {
   ToolTrack track(scene.tools, {});
-  solver.set_tools(contact_tools(scene.tools));
+  Tools& tools = *solver.tools();
+  tools.set_tools(contact_tools(scene.tools));
   const double dt = scene.simulation.dt;
   CutRun out;
   for (int64_t s = 0; s < steps; s += chunk) {
     const int64_t n = std::min(chunk, steps - s);
-    solver.set_tool_motion(track.motions(s, n, dt));
+    tools.set_tool_motion(track.motions(s, n, dt));
     solver.advance(n, dt);
-    out.candidates = std::max(out.candidates, solver.contact_candidates());
-    const std::vector<ToolContactSample> felt = solver.tool_samples();
+    out.candidates = std::max(out.candidates, tools.contact_candidates());
+    const std::vector<ToolContactSample> felt = tools.tool_samples();
     out.samples.insert(out.samples.end(), felt.begin(), felt.end());
   }
-  out.severed = solver.severed_since(0);
+  out.severed = solver.cutting()->severed_since(0);
   out.u = solver.read_state(false).displacement;
-  out.alive = solver.pair_alive();
+  out.alive = solver.cutting()->pair_alive();
   return out;
 }
 

@@ -128,12 +128,13 @@ inline void advance_tools_in_chunks(
     const std::function<void(const std::vector<ToolContactSample>&)>& after) {
   const TimeStepPlan plan = plan_time_step(scene, set);
   ToolTrack track(scene.tools, {});
-  solver.set_tools(contact_tools(scene.tools));
+  Tools& tools = *solver.tools();
+  tools.set_tools(contact_tools(scene.tools));
   for (int64_t s = 0; s < steps; s += chunk) {
     const int64_t n = std::min<int64_t>(chunk, steps - s) * plan.substeps;
-    solver.set_tool_motion(track.motions(s * plan.substeps, n, plan.dt_used));
+    tools.set_tool_motion(track.motions(s * plan.substeps, n, plan.dt_used));
     solver.advance(n, plan.dt_used);
-    after(solver.tool_samples());
+    after(tools.tool_samples());
   }
 }
 

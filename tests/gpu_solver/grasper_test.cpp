@@ -23,10 +23,10 @@ GripRun grip(Solver& solver, const Scene& scene, const PhyxelSet& set) {
   advance_tools_in_chunks(solver, scene, set, scene.simulation.steps, 8, [&](const auto& felt) {
     out.samples.insert(out.samples.end(), felt.begin(), felt.end());
     out.u.push_back(solver.read_state(false).displacement);
-    out.held.push_back(solver.held_phyxels(0));
+    out.held.push_back(solver.tools()->held_phyxels(0));
     // At 24 ms two held phyxels are aspirated: they leave the grip.
     if (out.held.size() == 3 && out.held.back().size() > 2)
-      solver.remove_phyxels({out.held.back()[0], out.held.back()[1]});
+      solver.removal()->remove_phyxels({out.held.back()[0], out.held.back()[1]});
   });
   return out;
 }

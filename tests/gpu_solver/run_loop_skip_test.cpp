@@ -42,8 +42,8 @@ RunOutcome run(Solver& solver, Scene scene, const PhyxelSet& set, int64_t steps,
   RunOutcome r;
   r.result = run_simulation(scene, set, solver, options);
   r.state = solver.read_state(false);
-  r.stress_pass = solver.stress_pass_size();
-  r.force_pass = solver.force_pass_size();
+  r.stress_pass = solver.pass_selection()->stress_pass_size();
+  r.force_pass = solver.pass_selection()->force_pass_size();
   return r;
 }
 

@@ -100,15 +100,16 @@ TEST_F(CutRender, DeformPassSkipsSeveredPairsAsItsCpuTwin) {
   const PhyxelSet set = cut_box();
   std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
   const NeighbourLists& nbr = solver->neighbours();
-  solver->sever_pairs(pairs_across(set, nbr));
-  const std::vector<uint8_t> alive = solver->pair_alive();
+  Cutting& cutting = *solver->cutting();
+  cutting.sever_pairs(pairs_across(set, nbr));
+  const std::vector<uint8_t> alive = cutting.pair_alive();
   std::vector<Vec3> u(set.size());
   for (size_t i = 0; i < set.size(); ++i) u[i] = separated(set.rest[i]);
 
   HostInputs inputs(ctx(), set, nbr);
   SplatRenderer renderer(ctx(), build_surfel_table(set), procedural_tissue_texture(64));
   CutFaces faces;
-  faces.add(set, solver->severed_since(0));
+  faces.add(set, cutting.severed_since(0));
   const std::vector<layout::SurfelStatic> cut = cut_face_surfels(set, faces, faces.take_changed());
   renderer.update_cut_surfels(cut);
   inputs.set_displacement(u);

@@ -84,8 +84,9 @@ inline SeveredBoxFrame render_severed_box(gpu::Context& ctx, bool torn,
   std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
   const std::vector<SeveredPair> pairs = pairs_across(set, solver->neighbours(), torn);
   EXPECT_GT(pairs.size(), 500u);
-  solver->sever_pairs(pairs);
-  EXPECT_EQ(solver->severed_pairs(), pairs.size());
+  Cutting& cutting = *solver->cutting();
+  cutting.sever_pairs(pairs);
+  EXPECT_EQ(cutting.severed_pairs(), pairs.size());
   std::vector<Vec3> u(set.size());
   for (size_t i = 0; i < set.size(); ++i) u[i] = separated(set.rest[i]);
   solver->set_state(u, std::vector<Vec3>(set.size(), Vec3::Zero()));
@@ -106,7 +107,7 @@ inline SeveredBoxFrame render_severed_box(gpu::Context& ctx, bool torn,
   // As write_solver_frame does: the faces follow the solver's log, torn flags included.
   writer.set_tools({});
   writer.follow_cuts(*solver, true);
-  for (const SeveredPair& p : solver->severed_since(0)) EXPECT_EQ(p.torn, torn);
+  for (const SeveredPair& p : cutting.severed_since(0)) EXPECT_EQ(p.torn, torn);
   const std::string name =
       writer.write(0, solver->read_state(false).displacement, solver->neighbours());
   std::printf("%s frame: %s\n", torn ? "torn face" : "cut face", (dir / name).c_str());

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 #include <sstream>
 
+#include "engine/run/run_loop.h"
 #include "engine/run/simulation.h"
 #include "engine/solver/cpu_solver.h"
 #include "tests/physics/physics_fixtures.h"
@@ -101,22 +103,144 @@ TEST(RunLoop, MovingObjectIsNotAtRestAndOutputsFollowTheSchedule) {
 // A solver whose state turns non-finite after a given number of substeps.
 class FailingSolver final : public Solver {
  public:
-  FailingSolver(int64_t fail_after, size_t phyxels) : fail_after_(fail_after), n_(phyxels) {}
+  FailingSolver(int64_t fail_after, size_t phyxels)
+      : fail_after_(fail_after), u_(phyxels, Vec3::Zero()), v_(phyxels, Vec3::Zero()) {}
   std::string device() const override { return "test"; }
   void advance(int64_t substeps, double) override { done_ += substeps; }
   Energies energies() override { return {}; }
   long first_non_finite() override { return done_ >= fail_after_ ? 7 : -1; }
-  PointState read_state(bool) override {
-    return {std::vector<Vec3>(n_, Vec3::Zero()), std::vector<Vec3>(n_, Vec3::Zero()), {}, {}, {}};
+  PointState read_state(bool) override { return {u_, v_, {}, {}, {}}; }
+  void set_state(const std::vector<Vec3>& u, const std::vector<Vec3>& v) override {
+    u_ = u;
+    v_ = v;
   }
   size_t regularised_count() const override { return 0; }
   const NeighbourLists& neighbours() const override { return nbr_; }
 
  private:
   int64_t fail_after_, done_ = 0;
-  size_t n_;
+  std::vector<Vec3> u_, v_;
   NeighbourLists nbr_;
 };
+
+// A solver without a facet has none: the base gives nullptr for each.
+TEST(SolverFacets, ASolverWithoutAFacetGivesNullptr) {
+  FailingSolver bare(1, 8);
+  EXPECT_EQ(bare.pass_selection(), nullptr);
+  EXPECT_EQ(bare.load_changes(), nullptr);
+  EXPECT_EQ(bare.tools(), nullptr);
+  EXPECT_EQ(bare.principal_stress(), nullptr);
+  EXPECT_EQ(bare.tearing(), nullptr);
+  EXPECT_EQ(bare.removal(), nullptr);
+  EXPECT_EQ(bare.cutting(), nullptr);
+  EXPECT_THROW(need(bare.cutting(), bare, "sever pairs"), std::logic_error);
+  const Scene scene = cube_scene();
+  const PhyxelSet set = sample_scene(scene);
+  const std::unique_ptr<Solver> cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+  EXPECT_NE(cpu->pass_selection(), nullptr);
+  EXPECT_NE(cpu->load_changes(), nullptr);
+  EXPECT_NE(cpu->tools(), nullptr);
+  EXPECT_NE(cpu->principal_stress(), nullptr);
+  EXPECT_NE(cpu->tearing(), nullptr);
+  EXPECT_NE(cpu->removal(), nullptr);
+  EXPECT_NE(cpu->cutting(), nullptr);
+  // Without cutting, every pair is joined and nothing is severed.
+  EXPECT_EQ(severed_pair_count(bare), 0u);
+  EXPECT_EQ(alive_pairs(*cpu), std::vector<uint8_t>(cpu->neighbours().index.size(), 1));
+}
+
+// The CPU solver with one of its facets hidden, as a solver without that ability.
+class HidingSolver final : public Solver {
+ public:
+  HidingSolver(std::unique_ptr<Solver> inner, std::string hidden)
+      : inner_(std::move(inner)), hidden_(std::move(hidden)) {}
+  std::string device() const override { return "test (no " + hidden_ + ")"; }
+  void advance(int64_t substeps, double dt) override { inner_->advance(substeps, dt); }
+  Energies energies() override { return inner_->energies(); }
+  long first_non_finite() override { return inner_->first_non_finite(); }
+  PointState read_state(bool with_stress) override { return inner_->read_state(with_stress); }
+  void set_state(const std::vector<Vec3>& u, const std::vector<Vec3>& v) override {
+    inner_->set_state(u, v);
+  }
+  size_t regularised_count() const override { return inner_->regularised_count(); }
+  const NeighbourLists& neighbours() const override { return inner_->neighbours(); }
+  PassSelection* pass_selection() override {
+    return shown("pass selection", inner_->pass_selection());
+  }
+  LoadChanges* load_changes() override { return shown("load changes", inner_->load_changes()); }
+  Tools* tools() override { return shown("tools", inner_->tools()); }
+  PrincipalStress* principal_stress() override {
+    return shown("principal stress", inner_->principal_stress());
+  }
+  Tearing* tearing() override { return shown("tearing", inner_->tearing()); }
+  Removal* removal() override { return shown("removal", inner_->removal()); }
+  Cutting* cutting() override { return shown("cutting", inner_->cutting()); }
+
+ private:
+  template <class Facet>
+  Facet* shown(const std::string& name, Facet* facet) const {
+    return name == hidden_ ? nullptr : facet;
+  }
+  std::unique_ptr<Solver> inner_;
+  std::string hidden_;
+};
+
+// A scene that needs an ability the solver lacks is refused before the run, with one line
+// naming the scene file, what needs it and which device to use; with the facet it starts.
+TEST(RunLoop, RefusesASceneNeedingAnAbsentFacet) {
+  struct Case {
+    std::string facet;
+    std::function<void(Scene&)> needs_it;
+    std::string message;  // after "<file>: "
+  };
+  ToolDesc probe;
+  probe.name = "probe";
+  probe.shape.radius = 0.002;
+  probe.path = {{0.0, Vec3(0, 0, 0.5), Vec3::UnitZ()}};
+  const std::vector<Case> cases = {
+      {"tearing", [](Scene& s) { s.objects[0].material.tear_stress = 1e4; },
+       "a material has tear_stress, which test (no tearing) cannot evaluate; use --device cpu"},
+      {"load changes",
+       [](Scene& s) {
+         s.objects[0].loads.push_back({test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 1)),
+                                       Vec3(0, 0, -1e-3), 0, 10 * s.simulation.dt});
+       },
+       "loads with from/until switch during the run, which test (no load changes) cannot do; "
+       "use --device cpu"},
+      {"removal",
+       [probe](Scene& s) {
+         s.objects[0].material.tear_stress = 1e4;
+         ToolDesc suction = probe;
+         suction.type = ToolDesc::Type::Suction;
+         suction.suction.pressure = 1e4;
+         suction.suction.reach = 0.003;
+         s.tools.push_back(suction);
+       },
+       "a suction tool aspirates tissue, which test (no removal) cannot remove; use --device cpu "
+       "or gpu"},
+      {"tools", [probe](Scene& s) { s.tools.push_back(probe); },
+       "the scene has tools, which test (no tools) cannot simulate; use --device cpu"},
+  };
+  for (const Case& c : cases) {
+    Scene scene = cube_scene();
+    scene.file = "facets.json";
+    const PhyxelSet plain = sample_scene(scene);
+    scene.simulation.dt = plan_time_step(scene, plain).dt_stable;
+    c.needs_it(scene);
+    const PhyxelSet set = sample_scene(scene);
+    RunOptions options;
+    options.steps = 100;
+    HidingSolver without(make_cpu_solver(set, scene.simulation.gravity, 1), c.facet);
+    try {
+      RunLoop loop(scene, set, without, options);
+      ADD_FAILURE() << c.facet << ": not refused";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), "facets.json: " + c.message);
+    }
+    HidingSolver with(make_cpu_solver(set, scene.simulation.gravity, 1), "none");
+    EXPECT_NO_THROW({ RunLoop loop(scene, set, with, options); }) << c.facet;
+  }
+}
 
 TEST(RunLoop, StopsCleanlyAtTheFirstNonFiniteCheck) {
   Scene scene = cube_scene();

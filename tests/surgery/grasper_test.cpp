@@ -38,7 +38,7 @@ BarRun run_bar(const std::string& json, int64_t steps = -1) {
   BarRun r{parse_scene(json, "bar.json"), {}, nullptr, {}};
   r.set = sample_scene(r.scene);
   r.solver = make_cpu_solver(r.set, Vec3::Zero(), 1);
-  r.solver->set_tools(contact_tools(r.scene.tools));
+  r.solver->tools()->set_tools(contact_tools(r.scene.tools));
   const TimeStepPlan plan = plan_time_step(r.scene, r.set);
   ToolTrack track(r.scene.tools, {});
   const int64_t total = steps >= 0 ? steps : r.scene.simulation.steps;
@@ -77,7 +77,7 @@ TEST(Grasper, ClosesOnThePhyxelsWithinReachOfTheTip) {
   BarRun r = run_bar(bar_json(tip.x(), 0.0027, 0, 0, 0), 4);
   const std::vector<uint32_t> expected = within(r.set, tip, 0.0027);
   ASSERT_GT(expected.size(), 10u);
-  EXPECT_EQ(r.solver->held_phyxels(0), expected);
+  EXPECT_EQ(r.solver->tools()->held_phyxels(0), expected);
   EXPECT_EQ(r.records.back().held, expected.size());
   EXPECT_EQ(r.records.front().held, 0u);  // the jaws close at 2 ms
 }
@@ -107,7 +107,7 @@ TEST(Grasper, LetsGoWhenItOpens) {
   // Pulled 2 mm, opened at 60 ms: nothing held, no force, and the end springs back.
   const Vec3 tip(kBarLength + 0.0006, 0, 0);
   BarRun r = run_bar(bar_json(tip.x(), 0.0027, 0.002, 0.06, 0.3));
-  EXPECT_TRUE(r.solver->held_phyxels(0).empty());
+  EXPECT_TRUE(r.solver->tools()->held_phyxels(0).empty());
   EXPECT_EQ(r.records.back().held, 0u);
   EXPECT_GT(r.records[50].held, 0u);  // held at 51 ms
   EXPECT_GT(r.records[50].force.norm(), 1e-4);
@@ -122,12 +122,12 @@ TEST(Grasper, LetsGoWhenItOpens) {
 TEST(Grasper, RemovedPhyxelsLeaveTheGrip) {
   const Vec3 tip(kBarLength + 0.0006, 0, 0);
   BarRun r = run_bar(bar_json(tip.x(), 0.0027, 0, 0, 0), 4);
-  std::vector<uint32_t> held = r.solver->held_phyxels(0);
+  std::vector<uint32_t> held = r.solver->tools()->held_phyxels(0);
   ASSERT_GT(held.size(), 3u);
-  r.solver->remove_phyxels({held[0], held[2]});  // aspirated
+  r.solver->removal()->remove_phyxels({held[0], held[2]});  // aspirated
   held.erase(held.begin() + 2);
   held.erase(held.begin());
-  EXPECT_EQ(r.solver->held_phyxels(0), held);
+  EXPECT_EQ(r.solver->tools()->held_phyxels(0), held);
   ToolTrack track(r.scene.tools, {});
   const TimeStepPlan plan = plan_time_step(r.scene, r.set);
   const auto rec = advance_with_tools(*r.solver, track, 4, 1, plan.substeps, plan.dt_used);
@@ -137,7 +137,7 @@ TEST(Grasper, RemovedPhyxelsLeaveTheGrip) {
 TEST(Grasper, NeverTakesFixedPhyxels) {
   // A reach over the whole bar: every moving phyxel is taken, no fixed one.
   BarRun r = run_bar(bar_json(0.015, 0.05, 0, 0, 0), 4);
-  const std::vector<uint32_t> held = r.solver->held_phyxels(0);
+  const std::vector<uint32_t> held = r.solver->tools()->held_phyxels(0);
   size_t moving = 0;
   for (uint32_t i = 0; i < r.set.size(); ++i) moving += (r.set.flags[i] & kFixed) ? 0 : 1;
   EXPECT_EQ(held.size(), moving);
