@@ -89,7 +89,7 @@ Sample take_sample(Solver& solver, const PhyxelSet& set, const std::vector<uint8
     s.finite = s.finite && v.allFinite() && state.displacement[i].allFinite();
     if (!removed[i]) s.kinetic += 0.5 * set.mass[i] * v.squaredNorm();
   }
-  s.severed = solver.severed_pairs();
+  s.severed = severed_pair_count(solver);
   return s;
 }
 
@@ -208,7 +208,8 @@ int soak_command(const Args& args) {
   };
   const RunResult result = run_simulation(scene, set, *solver, options);
   const nlohmann::json j =
-      report(samples, result, solver->severed_since(0), state_hash(solver->read_state(false)));
+      report(samples, result, need(solver->cutting(), *solver, "cut").severed_since(0),
+             state_hash(solver->read_state(false)));
   std::ofstream(out_dir / "soak.json") << j.dump(2) << "\n";
   if (!quiet) print_table(j);
   if (const int signal = InterruptGuard::received(); signal != 0)

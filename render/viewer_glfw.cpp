@@ -144,8 +144,8 @@ struct ViewerSolver {
   // The frame of the solver's state now.
   RgbaImage render(FrameWriter& writer) {
     if (gpu) return writer.render(gpu->buffers());
-    if (const size_t severed = cpu->severed_pairs(); severed != alive_at) {
-      host->set_pair_alive(cpu->pair_alive());
+    if (const size_t severed = severed_pair_count(*cpu); severed != alive_at) {
+      host->set_pair_alive(alive_pairs(*cpu));
       alive_at = severed;
     }
     host->set_displacement(cpu->read_state(false).displacement);

@@ -66,6 +66,7 @@ PolledToolSteps advance_long_tool_steps(Solver& solver, ToolTrack& tools, int64_
                                         const std::function<bool()>& stop, double poll_seconds) {
   const auto stopped = [&] { return stop && stop(); };
   PolledToolSteps out;
+  Tools* facet = tools.empty() ? nullptr : &need(solver.tools(), solver, "simulate tools");
   int64_t chunk = 1;  // substeps per advance, from the rate measured so far
   for (int64_t s = 0; s < steps; ++s) {
     // The step's motions at once (fold reads them), handed to the solver a chunk at a time.
@@ -78,11 +79,11 @@ PolledToolSteps advance_long_tool_steps(Solver& solver, ToolTrack& tools, int64_
       const int64_t n = std::min(chunk, substeps - done);
       const auto t0 = std::chrono::steady_clock::now();
       if (!tools.empty())
-        solver.set_tool_motion(std::vector<ToolMotion>(motions.begin() + done * nt,
+        facet->set_tool_motion(std::vector<ToolMotion>(motions.begin() + done * nt,
                                                        motions.begin() + (done + n) * nt));
       solver.advance(n, dt);
       if (!tools.empty()) {
-        const std::vector<ToolContactSample> got = solver.tool_samples();
+        const std::vector<ToolContactSample> got = facet->tool_samples();
         samples.insert(samples.end(), got.begin(), got.end());
       }
       solver.finish();

@@ -12,7 +12,7 @@
 
 namespace phyxel {
 
-// The cutting part of a tool (ToolDesc::blade, ContactTool::blade; engine/surgery/cutting.h).
+// The cutting part of a tool (ToolDesc::blade, ContactTool::blade; engine/solver/cutting.h).
 struct Blade {
   double length = 0;                    // m, from the tip along the axis (> 0: the tool cuts)
   Vec3 edge = Vec3::UnitX();            // unit, perpendicular to the axis at the first key
@@ -22,7 +22,7 @@ struct Blade {
   bool cuts() const { return length > 0; }
 };
 
-// The action of an aspirator (ToolDesc::suction, ContactTool::suction; engine/surgery/suction.h):
+// The action of an aspirator (ToolDesc::suction, ContactTool::suction; engine/solver/suction.h):
 // while on, its mouth (the tip) pulls the phyxels within `reach` ahead of it toward itself,
 // `pressure` times the mouth's area (pi radius^2) in all when the reach is full of tissue.
 struct Suction {
@@ -34,7 +34,7 @@ struct Suction {
   bool on_at(double t) const { return sucks() && from <= t && t < until; }
 };
 
-// The action of a grasper (ToolDesc::grasp, ContactTool::grasp; engine/surgery/grasper.h): its
+// The action of a grasper (ToolDesc::grasp, ContactTool::grasp; engine/solver/grasper.h): its
 // jaws close at `from` on every phyxel within `reach` of its tip and carry them rigidly with
 // the tool until `until`, when they let go.
 struct Grasp {
@@ -63,9 +63,9 @@ struct ToolDesc {
   double friction = 0;        // Coulomb coefficient mu (>= 0)
   Control control = Control::Path;
   CouplingSettings coupling;  // control haptic only
-  Blade blade;                // scalpel only (engine/surgery/cutting.h)
-  Suction suction;            // suction only (engine/surgery/suction.h)
-  Grasp grasp;                // grasper only (engine/surgery/grasper.h)
+  Blade blade;                // scalpel only (engine/solver/cutting.h)
+  Suction suction;            // suction only (engine/solver/suction.h)
+  Grasp grasp;                // grasper only (engine/solver/grasper.h)
   // A scripted cycle: the path and the suction and grasp windows repeat every `repeat` s (0:
   // once); the tool at t does what it did at t mod repeat (the path ends where it began).
   double repeat = 0;

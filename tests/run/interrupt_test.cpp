@@ -436,7 +436,7 @@ TEST(PhyxelRunInterrupt, SigtermInsideALongStepWithToolsStopsIt) {
   RecordProperty("seconds_to_stop", std::to_string(took));
   EXPECT_TRUE(WIFEXITED(child.status())) << "ended by signal " << WTERMSIG(child.status());
   EXPECT_EQ(WEXITSTATUS(child.status()), 143) << child.log();
-  const nlohmann::json s = nlohmann::json::parse(read_file(out / "summary.json"));
+  const nlohmann::json s = nlohmann::json::parse(read_text(out / "summary.json"));
   EXPECT_EQ(s["interrupted"], true);
   EXPECT_EQ(s["steps_done"], 0) << "a step takes seconds: the signal came inside the first";
   EXPECT_TRUE(files_matching(out, "points_", ".vtp").empty());

@@ -4,7 +4,7 @@
 
 #include "engine/run/long_step.h"
 #include "engine/run/simulation.h"
-#include "engine/surgery/contact.h"
+#include "engine/solver/contact.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {
@@ -73,7 +73,7 @@ struct ProbeFixture : Fixture {
   }
   std::unique_ptr<Solver> solver() const {
     auto s = make_cpu_solver(set, Vec3(0, 0, -9.81), 1, false);
-    s->set_tools(contact_tools(scene.tools));
+    s->tools()->set_tools(contact_tools(scene.tools));
     return s;
   }
 };
