@@ -2,7 +2,8 @@
 // CpuSolver::apply_cuts in engine/solver/cpu_solver_cutting.cpp): each candidate tests its live
 // pairs against the quad each cutting blade swept, in the canonical order (lower index first)
 // with the tie rule of engine/solver/cutting.cpp (an endpoint on the plane is on the positive
-// side; a segment through an edge crosses). Positions relative to the motion table's origin.
+// side; a segment through an edge crosses, except through the front). Positions relative to
+// the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -27,6 +28,8 @@ layout(std430, binding = kSeverBindingDirty) buffer Dirty { uint dirty[]; };
 layout(std430, binding = kSeverBindingLog) buffer Log { uvec4 cut_log[]; };
 layout(std430, binding = kSeverBindingCount) readonly buffer Count { ContactCount count; };
 
+const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
+
 // segment_crosses_triangle of engine/solver/cutting.cpp, in float.
 bool crosses_triangle(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, out float t) {
   t = 0.0;
@@ -44,9 +47,18 @@ bool crosses_triangle(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, out float t) {
   return inside;
 }
 
+// blade_severs of engine/solver/cutting.cpp: the quad a b c d crossed, but not within the tie
+// tolerance of its front a -> d (the line the blade's tip swept).
+bool severs_quad(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, vec3 d, out float t) {
+  if (!crosses_triangle(p, q, a, b, c, t) && !crosses_triangle(p, q, a, c, d, t)) return false;
+  const vec3 x = p - a + t * (q - p), front = d - a;
+  const float len2 = dot(front, front);
+  const float s = len2 > 0.0 ? clamp(dot(x, front) / len2, 0.0, 1.0) : 0.0;
+  return length(x - s * front) >= kCutTieTolerance;
+}
+
 bool crosses_quad(vec3 p, vec3 q, CutQuad c, out float t) {
-  return crosses_triangle(p, q, c.p0.xyz, c.p1.xyz, c.p2.xyz, t) ||
-         crosses_triangle(p, q, c.p0.xyz, c.p2.xyz, c.p3.xyz, t);
+  return severs_quad(p, q, c.p0.xyz, c.p1.xyz, c.p2.xyz, c.p3.xyz, t);
 }
 
 // The blade body's strip (CpuSolver's body_strip): the blade's plane within the body's radius
@@ -58,8 +70,7 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
   if (radius <= 0.0) return false;
   const vec3 e = c.edge.xyz;
   const vec3 tip = c.p3.xyz + c.p3.w * e, end = c.p2.xyz + c.p2.w * e;
-  return crosses_triangle(p, q, tip - radius * e, end - radius * e, end + radius * e, t) ||
-         crosses_triangle(p, q, tip - radius * e, end + radius * e, tip + radius * e, t);
+  return severs_quad(p, q, tip - radius * e, end - radius * e, end + radius * e, tip + radius * e, t);
 }
 
 bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {

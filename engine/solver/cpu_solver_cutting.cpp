@@ -57,8 +57,7 @@ void CpuSolver<Real>::apply_cuts() {
     const double body = blade_body_radius(tools_[tool]);
     const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
-      return segment_crosses_quad<double>(p, q, c, t) ||
-             (body > 0 && segment_crosses_quad<double>(p, q, strip, t));
+      return blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t));
     };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();

@@ -83,6 +83,21 @@ bool segment_crosses_quad(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matri
          segment_crosses_triangle<Real>(p, q, quad[0], quad[2], quad[3], t);
 }
 
+template <class Real>
+bool blade_severs(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 3, 1>& q,
+                  const std::array<Eigen::Matrix<Real, 3, 1>, 4>& quad, Real* t) {
+  using V3 = Eigen::Matrix<Real, 3, 1>;
+  Real at = 0;
+  if (!segment_crosses_quad<Real>(p, q, quad, &at)) return false;
+  // The crossing against the front p0 -> p3 (relative to p0, as the crossing test).
+  const V3 x = p - quad[0] + at * (q - p), front = quad[3] - quad[0];
+  const Real len2 = front.squaredNorm();
+  const Real s = len2 > 0 ? std::clamp(x.dot(front) / len2, Real(0), Real(1)) : Real(0);
+  if ((x - s * front).norm() < Real(kCutTieTolerance)) return false;
+  if (t) *t = at;
+  return true;
+}
+
 namespace {
 
 double point_segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
@@ -121,6 +136,9 @@ template bool segment_crosses_triangle<double>(const Vec3&, const Vec3&, const V
 template bool segment_crosses_triangle<float>(const Eigen::Vector3f&, const Eigen::Vector3f&,
                                               const Eigen::Vector3f&, const Eigen::Vector3f&,
                                               const Eigen::Vector3f&, float*);
+template bool blade_severs<double>(const Vec3&, const Vec3&, const std::array<Vec3, 4>&, double*);
+template bool blade_severs<float>(const Eigen::Vector3f&, const Eigen::Vector3f&,
+                                  const std::array<Eigen::Vector3f, 4>&, float*);
 template bool segment_crosses_quad<double>(const Vec3&, const Vec3&, const std::array<Vec3, 4>&,
                                            double*);
 template bool segment_crosses_quad<float>(const Eigen::Vector3f&, const Eigen::Vector3f&,

@@ -12,10 +12,10 @@
 //
 // The crossing test is orientation-based with an explicit tie rule: an endpoint on the quad's
 // plane counts as on its positive side, and a segment through a triangle's edge or vertex
-// crosses it. It is evaluated in the pair's canonical order (lower index first), so both sides
-// of a pair reach the same decision. In float (GPU) and double (CPU) decisions can differ only
-// for pairs with an endpoint within kCutTieTolerance of the plane of a swept triangle or
-// passing within it of a triangle's edge.
+// crosses it, except through the cut's front (blade_severs). It is evaluated in the pair's
+// canonical order (lower index first), so both sides of a pair reach the same decision. In float
+// (GPU) and double (CPU) decisions can differ only for pairs with an endpoint within
+// kCutTieTolerance of the plane of a swept triangle or passing within it of a triangle's edge.
 #pragma once
 
 #include <Eigen/Core>
@@ -69,6 +69,15 @@ bool segment_crosses_triangle(const Eigen::Matrix<Real, 3, 1>& p,
 template <class Real>
 bool segment_crosses_quad(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 3, 1>& q,
                           const std::array<Eigen::Matrix<Real, 3, 1>, 4>& quad, Real* t = nullptr);
+
+// Whether the blade severs the segment: it crosses the quad (or the body's strip, same corner
+// order), but not within kCutTieTolerance of the line p0 -> p3 that the blade's tip swept, the
+// cut's front. A pair through the front passes the crack's edge, not the crack: the tie rule
+// alone cut such pairs by rounding (half of the diagonals under a front half-way between
+// lattice planes; docs/cutting.md, "Stiffness of a cut body").
+template <class Real>
+bool blade_severs(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 3, 1>& q,
+                  const std::array<Eigen::Matrix<Real, 3, 1>, 4>& quad, Real* t = nullptr);
 
 // How close (m) the segment p -> q comes to a tie of the crossing test against the quad: the
 // smallest of the endpoints' distances to each triangle's plane and of the distances from the

@@ -43,6 +43,28 @@ TEST(CutCrossing, TheTieRulePutsPointsOnThePlaneOnThePositiveSide) {
   EXPECT_FALSE(segment_crosses_quad<double>(Vec3(-1, 0, 0.5), Vec3(1, 0, 0.5), flat));
 }
 
+TEST(CutCrossing, APairThroughTheBladesFrontIsNotSevered) {
+  // kUnitQuad's front (the line its tip swept) is p0 -> p3, x = 0: a segment through it passes
+  // the crack's edge. The tie rule alone made it cross.
+  const Vec3 below(-1, 0.3, -1), above(1, 0.3, 1);  // through (0, 0.3, 0)
+  EXPECT_TRUE(segment_crosses_quad<double>(below, above, kUnitQuad));
+  EXPECT_FALSE(blade_severs<double>(below, above, kUnitQuad));
+  EXPECT_FALSE(blade_severs<double>(above, below, kUnitQuad));
+  const Vec3 eps(0.5 * kCutTieTolerance, 0, 0), past(4 * kCutTieTolerance, 0, 0);
+  EXPECT_FALSE(blade_severs<double>(below + eps, above + eps, kUnitQuad));  // within the band
+  double t = -1;
+  EXPECT_TRUE(blade_severs<double>(below + past, above + past, kUnitQuad, &t));
+  EXPECT_NEAR(t, 0.5, 1e-9);
+  // The quad's other edges and its diagonal keep the tie rule; a segment beside it still misses.
+  EXPECT_TRUE(blade_severs<double>(Vec3(1, 0.5, 1), Vec3(1, 0.5, -1), kUnitQuad));
+  EXPECT_TRUE(blade_severs<double>(Vec3(0.5, 0, 1), Vec3(0.5, 0, -1), kUnitQuad));
+  EXPECT_TRUE(blade_severs<double>(Vec3(0.5, 0.5, 1), Vec3(0.5, 0.5, -1), kUnitQuad));
+  EXPECT_FALSE(blade_severs<double>(Vec3(-0.2, 0.5, 1), Vec3(-0.2, 0.5, -1), kUnitQuad));
+  EXPECT_TRUE(blade_severs<float>(Eigen::Vector3f(1, 0.3f, 1), Eigen::Vector3f(-0.5f, 0.3f, -1),
+                                  {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0),
+                                   Eigen::Vector3f(1, 1, 0), Eigen::Vector3f(0, 1, 0)}));
+}
+
 TEST(CutCrossing, FloatAndDoubleAgreeOutsideTheTieBand) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> d(-0.02, 0.02);
@@ -222,6 +244,41 @@ TEST(Cutting, AHalfDepthSlitSoftensTheBeamAndClosesWhenUnloaded) {
   double worst = 0;
   for (size_t i = 0; i < set.size(); ++i) worst = std::max(worst, slit.displacement()[i].norm());
   EXPECT_LT(worst, 0.05 * 0.002);  // every phyxel within 5 % of a spacing of its rest place
+}
+
+TEST(Cutting, ASlitSeversExactlyThePairsCrossingItAboveItsFront) {
+  // The slit's plane and its front lie half-way between lattice planes, so the diagonal pairs
+  // between the layers above and below the front pass through the front line itself. Rounding
+  // used to sever half of them (by phyxel order), softening the cut body (docs/cutting.md,
+  // "Stiffness of a cut body"); none is severed now, and every pair crossing above the front is.
+  Scene scene = clamped_beam(5e4, 40);
+  const double x_cut = 0.009, front = 0.005;
+  scene.tools.push_back(crossing_scalpel(x_cut, front, 0.008, 0.0, 0.016));
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, Vec3::Zero());
+  ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
+  run.run(200);
+  const NeighbourLists& nbr = solver.neighbours();
+  size_t through_front = 0, wrong = 0, severed = 0;
+  for (size_t i = 0; i < set.size(); ++i)
+    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
+      const Vec3& a = set.rest[i];
+      const Vec3& b = set.rest[nbr.index[k]];
+      const bool cut = solver.pair_weights()[k] == 0;
+      severed += cut;
+      if ((a.x() - x_cut) * (b.x() - x_cut) >= 0) {
+        wrong += cut;
+        continue;
+      }
+      const double z = a.z() + (x_cut - a.x()) / (b.x() - a.x()) * (b.z() - a.z());
+      if (std::abs(z - front) < 1e-9)
+        ++through_front, wrong += cut;
+      else
+        wrong += cut != (z > front);
+    }
+  EXPECT_GT(through_front, 0u);
+  EXPECT_GT(severed, 0u);
+  EXPECT_EQ(wrong, 0u);
 }
 
 TEST(Cutting, EnergyDoesNotRiseAfterACutInAnUndampedRun) {

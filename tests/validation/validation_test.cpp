@@ -51,9 +51,10 @@ TEST(Validation, CantileverLargeDeflectionFollowsStVenantKirchhoffNotLinearElast
 
 TEST(Validation, SlitCantileverAgainstCalculixAndTheErrorFallsWithTheSpacing) {
   // A half-depth slit cut by the scalpel at rest, then loaded (docs/cutting.md, "Stiffness of
-  // a cut body"). Today the cut body is too compliant, by 28.0 % at 2.86 mm and 45 % at 4 mm:
-  // the MLS fit smears the crack tip over a support radius, so the slit acts about half a
-  // spacing deeper. This bounds it from both sides and checks that it shrinks.
+  // a cut body"). The cut body is still too compliant, by 19.9 % at 2.86 mm and 30.6 % at 4 mm
+  // (28.0 and 44.7 % while rounding severed half the pairs through the crack front): the MLS
+  // fit and nodal integration round the front make the slit act about half a spacing deeper.
+  // This bounds it from both sides and checks that it shrinks.
   const ValidationRun fine = run_cpu("cantilever_slit", 1.0);
   const ValidationRun coarse = run_cpu("cantilever_slit", 1.4);  // 0.02 / 5
   ASSERT_TRUE(fine.finite && coarse.finite);
@@ -61,7 +62,7 @@ TEST(Validation, SlitCantileverAgainstCalculixAndTheErrorFallsWithTheSpacing) {
     std::printf("[ slit     ] spacing %.4g m: tip u_z %.6g m, CalculiX %.6g m, error %.4f\n",
                 r.spacing, r.value, r.reference, r.error);
   EXPECT_GT(fine.value / fine.reference, 1.0) << "tip u_z " << fine.value;
-  EXPECT_LT(fine.error, 0.30) << "tip u_z " << fine.value << " CalculiX " << fine.reference;
+  EXPECT_LT(fine.error, 0.21) << "tip u_z " << fine.value << " CalculiX " << fine.reference;
   EXPECT_LT(fine.error, 0.7 * coarse.error) << "spacing " << coarse.spacing << ": " << coarse.error
                                             << ", spacing " << fine.spacing << ": " << fine.error;
 }
