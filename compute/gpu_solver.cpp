@@ -210,7 +210,7 @@ StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode, uint32_t lanes
           lanes};
 }
 
-// Auto, from the H100's per-pass timestamps at 5k-1M phyxels (docs/performance.md, "Small
+// Auto, from the H100's per-pass timestamps at 5k-1M phyxels (docs/performance-log.md, "Small
 // scenes"): a pass of a few thousand phyxels is latency-bound (each thread walks ~25
 // neighbours one after another), so it gets lanes up to about 32k (stress) or 64k (force)
 // invocations; at 100k both are fastest with one lane (the set lives in L2); from 256k the
