@@ -210,7 +210,7 @@ StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode, uint32_t lanes
           lanes};
 }
 
-// Auto, from the H100's per-pass timestamps at 5k-1M phyxels (docs/performance.md, "Small
+// Auto, from the H100's per-pass timestamps at 5k-1M phyxels (docs/performance-log.md, "Small
 // scenes"): a pass of a few thousand phyxels is latency-bound (each thread walks ~25
 // neighbours one after another), so it gets lanes up to about 32k (stress) or 64k (force)
 // invocations; at 100k both are fastest with one lane (the set lives in L2); from 256k the
@@ -235,8 +235,19 @@ void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   const StepPush pc = push(n, 0.0f, 0, lanes_for(Gather::Stress, n));
   dispatch(rec, kernels_->stress, pc,
-           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp, ainv_, resid_, flags_,
-            classes_, stress_, stress_list_, nbr_index_.hi(), weight_.hi()},
+           {{"Offset", nbr_offset_},
+            {"IndexLo", nbr_index_.lo()},
+            {"WeightLo", weight_.lo()},
+            {"Local", local_},
+            {"Disp", disp},
+            {"Ainv", ainv_},
+            {"Resid", resid_},
+            {"Flags", flags_},
+            {"Classes", classes_},
+            {"Stress", stress_},
+            {"List", stress_list_},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()}},
            n * pc.lanes);
 }
 
@@ -245,8 +256,21 @@ void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffe
   const uint32_t n = static_cast<uint32_t>(force_count_);
   const StepPush pc = push(n, dt, mode, lanes_for(Gather::Force, n));
   dispatch(rec, kernels_->force, pc,
-           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, in, out, stress_, vel_, force_,
-            ext_, flags_, classes_, force_list_, nbr_index_.hi(), weight_.hi()},
+           {{"Offset", nbr_offset_},
+            {"IndexLo", nbr_index_.lo()},
+            {"WeightLo", weight_.lo()},
+            {"Local", local_},
+            {"DispIn", in},
+            {"DispOut", out},
+            {"Stress", stress_},
+            {"Vel", vel_},
+            {"Force", force_},
+            {"Ext", ext_},
+            {"Flags", flags_},
+            {"Classes", classes_},
+            {"List", force_list_},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()}},
            n * pc.lanes);
 }
 
@@ -270,7 +294,15 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       timed("kick_drift", [&] {
         const uint32_t n = static_cast<uint32_t>(force_count_);
         dispatch(rec, kernels_->kick_drift, push(n, dt),
-                 {disp_[0], disp_[target], vel_, force_, ext_, flags_, classes_, force_list_}, n);
+                 {{"DispIn", disp_[0]},
+                  {"DispOut", disp_[target]},
+                  {"Vel", vel_},
+                  {"Force", force_},
+                  {"Ext", ext_},
+                  {"Flags", flags_},
+                  {"Classes", classes_},
+                  {"List", force_list_}},
+                 n);
       });
       cur = target;
       if (contact_recorded()) {

@@ -258,6 +258,12 @@ class GpuSolver final : public SolverWithAllFacets {
   void record_dirty_reset(Recorder& rec);
   // The precompute over the dirty list (indirect), after a pass that filled it.
   void record_dirty_precompute(Recorder& rec);
+  // The precompute pass over the phyxels of `list`: `elements` of them, or, where `indirect`,
+  // as many as the list's header says (the dirty list).
+  void record_precompute(Recorder& rec, const layout::PrecomputePush& pc, const Buffer& list,
+                         uint32_t elements, bool indirect = false);
+  // A pass with solver_energy's bindings (energy, von Mises) over every phyxel, into `out`.
+  void record_energy_like(Recorder& rec, const Pipeline& pass, const Buffer& out);
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
   // count: the phyxels the pass visits (its list's length, or all of them).
   layout::StepPush push(uint32_t count, float dt, uint32_t mode = 0, uint32_t lanes = 1) const;

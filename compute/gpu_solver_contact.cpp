@@ -101,8 +101,8 @@ void GpuSolver::record_max_norms(Recorder& rec) {
   for (uint32_t level = 0;; ++level) {
     const uint32_t groups = (count + kScanBlock - 1) / kScanBlock;
     const Buffer& dst = groups == 1 ? max_norm_readback_ : reduce_[level % 2];
-    dispatch(rec, kernels_->max_norm, MaxNormPush{count, level}, {disp_[0], vel_, *src, dst},
-             groups * threads);
+    dispatch(rec, kernels_->max_norm, MaxNormPush{count, level},
+             {{"Disp", disp_[0]}, {"Vel", vel_}, {"Src", *src}, {"Dst", dst}}, groups * threads);
     if (groups == 1) break;
     rec.barrier();
     src = &dst;
@@ -152,14 +152,19 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
       float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_)))};
   auto pass = [&](uint32_t mode) {
     push.mode = mode;
-    dispatch(
-        rec, kernels_->broad_phase, push,
-        {force_list_, rest_, disp_[0], flags_, max_norm_readback_, broad_groups_, candidate_list_},
-        groups * wg);
+    dispatch(rec, kernels_->broad_phase, push,
+             {{"List", force_list_},
+              {"Rest", rest_},
+              {"Disp", disp_[0]},
+              {"Flags", flags_},
+              {"MaxNorm", max_norm_readback_},
+              {"Group", broad_groups_},
+              {"Out", candidate_list_}},
+             groups * wg);
   };
   pass(0);
   rec.barrier();
-  dispatch(rec, kernels_->broad_scan, push, {broad_groups_, contact_count_},
+  dispatch(rec, kernels_->broad_scan, push, {{"Group", broad_groups_}, {"Count", contact_count_}},
            kernels_->broad_scan.workgroup_size()[0]);
   rec.barrier();
   pass(1);
@@ -220,13 +225,22 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          0u,
                          0u};
   dispatch_indirect(rec, kernels_->contact, push,
-                    {candidate_list_, rest_, disp, vel_, ext_, flags_, tool_shapes_, motion_table_,
-                     candidate_force_, contact_flag_, contact_count_},
+                    {{"List", candidate_list_},
+                     {"Rest", rest_},
+                     {"Disp", disp},
+                     {"Vel", vel_},
+                     {"Ext", ext_},
+                     {"Flags", flags_},
+                     {"Tools", tool_shapes_},
+                     {"Motion", motion_table_},
+                     {"Force", candidate_force_},
+                     {"Contact", contact_flag_},
+                     {"Count", contact_count_}},
                     contact_count_, offsetof(ContactCount, groups_x));
   rec.barrier();
   dispatch(rec, kernels_->contact_reduce,
            ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
-           {candidate_force_, samples_buffer_, contact_count_},
+           {{"Force", candidate_force_}, {"Samples", samples_buffer_}, {"Count", contact_count_}},
            nt * kernels_->contact_reduce.workgroup_size()[0]);
   if (grasping_) {
     rec.barrier();

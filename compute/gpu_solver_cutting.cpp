@@ -89,11 +89,22 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   record_dirty_reset(rec);
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
-  dispatch_indirect(
-      rec, kernels_->sever, push,
-      {candidate_list_, rest_, disp, nbr_offset_, nbr_index_.lo(), weight_.lo(), flags_, cut_quads_,
-       samples_buffer_, cut_dirty_, cut_log_, contact_count_, nbr_index_.hi(), weight_.hi()},
-      contact_count_, offsetof(ContactCount, groups_x));
+  dispatch_indirect(rec, kernels_->sever, push,
+                    {{"List", candidate_list_},
+                     {"Rest", rest_},
+                     {"Disp", disp},
+                     {"Offset", nbr_offset_},
+                     {"IndexLo", nbr_index_.lo()},
+                     {"WeightLo", weight_.lo()},
+                     {"Flags", flags_},
+                     {"Quads", cut_quads_},
+                     {"Samples", samples_buffer_},
+                     {"Dirty", cut_dirty_},
+                     {"Log", cut_log_},
+                     {"Count", contact_count_},
+                     {"IndexHi", nbr_index_.hi()},
+                     {"WeightHi", weight_.hi()}},
+                    contact_count_, offsetof(ContactCount, groups_x));
   record_dirty_precompute(rec);
 }
 
@@ -105,10 +116,27 @@ void GpuSolver::record_dirty_reset(Recorder& rec) {
 
 void GpuSolver::record_dirty_precompute(Recorder& rec) {
   rec.indirect_barrier();
-  dispatch_indirect(rec, kernels_->precompute, PrecomputePush{0u, kPrecomputeCutList},
-                    {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, flags_, classes_, rest_,
-                     ainv_, resid_, cut_dirty_, nbr_index_.hi(), weight_.hi()},
-                    cut_dirty_, sizeof(uint32_t));
+  record_precompute(rec, PrecomputePush{0u, kPrecomputeCutList}, cut_dirty_, 0, true);
+}
+
+void GpuSolver::record_precompute(Recorder& rec, const PrecomputePush& pc, const Buffer& list,
+                                  uint32_t elements, bool indirect) {
+  const std::initializer_list<BufferRef> bindings = {{"Offset", nbr_offset_},
+                                                     {"IndexLo", nbr_index_.lo()},
+                                                     {"WeightLo", weight_.lo()},
+                                                     {"Local", local_},
+                                                     {"Flags", flags_},
+                                                     {"Classes", classes_},
+                                                     {"Rest", rest_},
+                                                     {"Ainv", ainv_},
+                                                     {"Resid", resid_},
+                                                     {"List", list},
+                                                     {"IndexHi", nbr_index_.hi()},
+                                                     {"WeightHi", weight_.hi()}};
+  if (indirect)
+    dispatch_indirect(rec, kernels_->precompute, pc, bindings, list, sizeof(uint32_t));
+  else
+    dispatch(rec, kernels_->precompute, pc, bindings, elements);
 }
 
 void GpuSolver::finish_cutting() {

@@ -93,10 +93,8 @@ void GpuSolver::apply_edit(const std::vector<uint32_t>& flags, const std::vector
   if (list_bytes > 0) rec.copy(edit_upload_, list_, list_bytes, flag_bytes + weight_bytes, 0);
   rec.barrier();
   if (!touched.empty()) {
-    dispatch(rec, kernels_->precompute, PrecomputePush{uint32_t(touched.size()), 1},
-             {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, flags_, classes_, rest_, ainv_,
-              resid_, list_, nbr_index_.hi(), weight_.hi()},
-             uint32_t(touched.size()));
+    record_precompute(rec, PrecomputePush{uint32_t(touched.size()), 1}, list_,
+                      uint32_t(touched.size()));
     rec.barrier();
   }
   rec.copy(flags_, edit_readback_, flag_bytes, 0, 0);

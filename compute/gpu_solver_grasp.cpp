@@ -59,9 +59,18 @@ void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer
                    static_cast<uint32_t>(step)};
     auto pass = [&](uint32_t mode, uint32_t elements) {
       push.mode = mode;
-      const std::initializer_list<BufferRef> bindings = {
-          candidate_list_, contact_count_, rest_, disp,        vel_,        ext_,
-          flags_,          motion_table_,  grip_, grip_count_, grip_force_, samples_buffer_};
+      const std::initializer_list<BufferRef> bindings = {{"List", candidate_list_},
+                                                         {"Candidates", contact_count_},
+                                                         {"Rest", rest_},
+                                                         {"Disp", disp},
+                                                         {"Vel", vel_},
+                                                         {"Ext", ext_},
+                                                         {"Flags", flags_},
+                                                         {"Motion", motion_table_},
+                                                         {"Grip", grip_},
+                                                         {"Count", grip_count_},
+                                                         {"Force", grip_force_},
+                                                         {"Samples", samples_buffer_}};
       if (elements > 0)
         dispatch(rec, kernels_->grasp, push, bindings, elements);
       else

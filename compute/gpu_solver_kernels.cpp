@@ -60,7 +60,7 @@ void SolverKernels::split_pairs(Context& ctx, uint32_t pairs_lo) {
 void SolverKernels::make_pair_pipelines(Context& ctx) {
   const std::vector<uint32_t> spec = {pairs_split_ ? 1u : 0u, pairs_lo_};
   auto make = [&](const ShaderCode& code, uint32_t bindings, uint32_t push) {
-    return Pipeline(ctx, code, bindings, push, VK_NULL_HANDLE, spec);
+    return Pipeline(ctx, code, bindings, push, {}, spec);
   };
   nbr_pairs = make(PHYXEL_SHADER(nbr_pairs), 13, sizeof(NbrPush));
   if (ctx.float64()) nbr_pairs_f64 = make(PHYXEL_SHADER(nbr_pairs_f64), 13, sizeof(NbrPush));
@@ -112,14 +112,14 @@ void PrefixScan::record_level(Recorder& rec, size_t index, const Buffer& src, ui
   const Level& level = levels_[index];
   if (level.count == 0) return;
   const uint32_t threads = kernels_->scan_block.workgroup_size()[0];
-  dispatch(rec, kernels_->scan_block, ScanPush{level.count, input_count}, {src, dst, level.sums},
-           level.blocks * threads);
+  dispatch(rec, kernels_->scan_block, ScanPush{level.count, input_count},
+           {{"Src", src}, {"Dst", dst}, {"Sums", level.sums}}, level.blocks * threads);
   if (level.blocks <= 1) return;
   rec.barrier();
   record_level(rec, index + 1, level.sums, level.blocks, level.scanned);
   rec.barrier();
-  dispatch(rec, kernels_->scan_add, ScanPush{level.count, level.count}, {dst, level.scanned},
-           level.count);
+  dispatch(rec, kernels_->scan_add, ScanPush{level.count, level.count},
+           {{"Dst", dst}, {"Sums", level.scanned}}, level.count);
 }
 
 }  // namespace phyxel::gpu

@@ -47,22 +47,47 @@ void GpuSolver::build_neighbours(const std::vector<vec4>& rest_lo_host) {
                               : kernels_->nbr_pairs;
   const NbrPush count_push{count_, buckets - 1, kNbrCount, 0};
   const NbrPush fill_push{count_, buckets - 1, kNbrFill, 0};
+  // The support test over the candidates: counting, then filling the index and weights.
+  const auto record_pairs = [&](Recorder& rec, const NbrPush& pc, const BufferRef& index_lo,
+                                const BufferRef& weight_lo, const BufferRef& index_hi,
+                                const BufferRef& weight_hi) {
+    dispatch(rec, pairs, pc,
+             {{"Local", local_},
+              {"RestLo", rest_lo},
+              {"Flags", flags_},
+              {"Classes", classes_},
+              {"CellOf", cell_of},
+              {"Start", bucket_start},
+              {"Sorted", sorted},
+              {"Count", pair_count},
+              {"Offset", nbr_offset_},
+              {"IndexLo", index_lo},
+              {"WeightLo", weight_lo},
+              {"IndexHi", index_hi},
+              {"WeightHi", weight_hi}},
+             count_);
+  };
   {
     Recorder rec(ctx, "neighbour search: count");
     rec.fill(bucket_count, 0);
     rec.barrier();
     dispatch(rec, kernels_->nbr_cells, count_push,
-             {local_, flags_, classes_, cell_of, slot, bucket_count}, count_);
+             {{"Local", local_},
+              {"Flags", flags_},
+              {"Classes", classes_},
+              {"CellOf", cell_of},
+              {"Slot", slot},
+              {"BucketCount", bucket_count}},
+             count_);
     rec.barrier();
     bucket_scan.record(rec, bucket_count, buckets, bucket_start);
     rec.barrier();
-    dispatch(rec, kernels_->nbr_scatter, count_push, {cell_of, slot, bucket_start, sorted}, count_);
+    dispatch(rec, kernels_->nbr_scatter, count_push,
+             {{"CellOf", cell_of}, {"Slot", slot}, {"Start", bucket_start}, {"Sorted", sorted}},
+             count_);
     rec.barrier();
     // Index and weight are not touched when counting; the offsets stand in for them.
-    dispatch(rec, pairs, count_push,
-             {local_, rest_lo, flags_, classes_, cell_of, bucket_start, sorted, pair_count,
-              nbr_offset_, nbr_offset_, nbr_offset_, nbr_offset_, nbr_offset_},
-             count_);
+    record_pairs(rec, count_push, nbr_offset_, nbr_offset_, nbr_offset_, nbr_offset_);
     rec.barrier();
     row_scan.record(rec, pair_count, count_, nbr_offset_);
     rec.submit_and_wait();
@@ -75,15 +100,9 @@ void GpuSolver::build_neighbours(const std::vector<vec4>& rest_lo_host) {
   weight_ = PairBuffer(ctx, pairs_, per_part, "pair weight");
   {
     Recorder rec(ctx, "neighbour search: fill, precompute");
-    dispatch(rec, pairs, fill_push,
-             {local_, rest_lo, flags_, classes_, cell_of, bucket_start, sorted, pair_count,
-              nbr_offset_, nbr_index_.lo(), weight_.lo(), nbr_index_.hi(), weight_.hi()},
-             count_);
+    record_pairs(rec, fill_push, nbr_index_.lo(), weight_.lo(), nbr_index_.hi(), weight_.hi());
     rec.barrier();
-    dispatch(rec, kernels_->precompute, PrecomputePush{count_, 0},
-             {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, flags_, classes_, rest_, ainv_,
-              resid_, list_, nbr_index_.hi(), weight_.hi()},
-             count_);
+    record_precompute(rec, PrecomputePush{count_, 0}, list_, count_);
     rec.submit_and_wait();
   }
   neighbours_.offset = download<uint32_t>(ctx, nbr_offset_, n + 1);

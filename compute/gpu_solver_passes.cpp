@@ -122,9 +122,19 @@ void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
   const StepPush pc =
       push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u, lanes_for(Gather::Stress, n));
   dispatch(rec, kernels_->principal, pc,
-           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp, ainv_, flags_, classes_,
-            principal_stress_, stress_list_, tearing_ ? cauchy_ : principal_stress_,
-            nbr_index_.hi(), weight_.hi()},
+           {{"Offset", nbr_offset_},
+            {"IndexLo", nbr_index_.lo()},
+            {"WeightLo", weight_.lo()},
+            {"Local", local_},
+            {"Disp", disp},
+            {"Ainv", ainv_},
+            {"Flags", flags_},
+            {"Classes", classes_},
+            {"Out", principal_stress_},
+            {"List", stress_list_},
+            {"Cauchy", tearing_ ? cauchy_ : principal_stress_},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()}},
            n * pc.lanes);
 }
 

@@ -34,13 +34,28 @@ std::vector<Vec3> to_vec3(const std::vector<vec4>& x) {
 
 }  // namespace
 
+void GpuSolver::record_energy_like(Recorder& rec, const Pipeline& pass, const Buffer& out) {
+  dispatch(rec, pass, push(count_, 0.0f),
+           {{"Offset", nbr_offset_},
+            {"IndexLo", nbr_index_.lo()},
+            {"WeightLo", weight_.lo()},
+            {"Local", local_},
+            {"Disp", disp_[0]},
+            {"Vel", vel_},
+            {"Ainv", ainv_},
+            {"Ext", ext_},
+            {"Flags", flags_},
+            {"Classes", classes_},
+            {"Out", out},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()}},
+           count_);
+}
+
 Energies GpuSolver::energies() {
   settle();
   Recorder& rec = *rec_[0];
-  dispatch(rec, kernels_->energy, push(count_, 0.0f),
-           {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp_[0], vel_, ainv_, ext_, flags_,
-            classes_, energy_, nbr_index_.hi(), weight_.hi()},
-           count_);
+  record_energy_like(rec, kernels_->energy, energy_);
   // Reduce by kScanBlock per level until few enough partial sums are left to download.
   const Buffer* src = &energy_;
   uint32_t count = count_;
@@ -49,7 +64,7 @@ Energies GpuSolver::energies() {
     const Buffer& dst = reduce_[level % 2];
     rec.barrier();
     const uint32_t groups = (count + kScanBlock - 1) / kScanBlock;
-    dispatch(rec, kernels_->reduce, ReducePush{count, 0}, {*src, dst},
+    dispatch(rec, kernels_->reduce, ReducePush{count, 0}, {{"Src", *src}, {"Dst", dst}},
              groups * kernels_->reduce.workgroup_size()[0]);
     src = &dst;
     count = groups;
@@ -94,7 +109,7 @@ std::vector<ObjectMotion> GpuSolver::object_motion(const PhyxelSet& set) {
       dispatch(rec, kernels_->motion,
                MotionPush{level == 0 ? obj.first : 0u, count, level,
                           last ? static_cast<uint32_t>(o) : 0u},
-               {vel_, ext_, *src, dst}, groups * threads);
+               {{"Vel", vel_}, {"Ext", ext_}, {"Src", *src}, {"Dst", dst}}, groups * threads);
       recorded = true;
       if (last) break;
       src = &dst;
@@ -116,7 +131,8 @@ long GpuSolver::first_non_finite() {
   Recorder& rec = *rec_[0];
   rec.fill(check_, 0xffffffffu);
   rec.barrier();
-  dispatch(rec, kernels_->check, CheckPush{count_, 0}, {disp_[0], vel_, check_}, count_);
+  dispatch(rec, kernels_->check, CheckPush{count_, 0},
+           {{"Disp", disp_[0]}, {"Vel", vel_}, {"Result", check_}}, count_);
   rec.submit_and_wait();
   const uint32_t first = download<uint32_t>(*ctx_, check_, 1)[0];
   return first == 0xffffffffu ? -1 : static_cast<long>(first);
@@ -189,10 +205,7 @@ PointState GpuSolver::read_state(bool with_stress) {
   ensure_state_readback();
   Recorder& rec = *rec_[0];
   if (with_stress) {
-    dispatch(rec, kernels_->von_mises, push(count_, 0.0f),
-             {nbr_offset_, nbr_index_.lo(), weight_.lo(), local_, disp_[0], vel_, ainv_, ext_,
-              flags_, classes_, von_mises_, nbr_index_.hi(), weight_.hi()},
-             count_);
+    record_energy_like(rec, kernels_->von_mises, von_mises_);
   }
   rec.barrier();
   record_state_copies(rec, true, with_stress, true);

@@ -38,8 +38,20 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   record_dirty_reset(rec);
   dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, 0u, 0u},
-           {stress_list_, rest_, disp, nbr_offset_, nbr_index_.lo(), weight_.lo(), flags_, classes_,
-            principal_stress_, cauchy_, cut_dirty_, cut_log_, nbr_index_.hi(), weight_.hi()},
+           {{"List", stress_list_},
+            {"Rest", rest_},
+            {"Disp", disp},
+            {"Offset", nbr_offset_},
+            {"IndexLo", nbr_index_.lo()},
+            {"WeightLo", weight_.lo()},
+            {"Flags", flags_},
+            {"Classes", classes_},
+            {"Principal", principal_stress_},
+            {"Cauchy", cauchy_},
+            {"Dirty", cut_dirty_},
+            {"Log", cut_log_},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()}},
            n);
   record_dirty_precompute(rec);
 }

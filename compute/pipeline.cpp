@@ -8,38 +8,17 @@
 namespace phyxel::gpu {
 namespace {
 
-constexpr uint32_t kSpirvMagic = 0x07230203;
-constexpr uint32_t kOpExecutionMode = 16;
-constexpr uint32_t kOpExecutionModeId = 331;
-constexpr uint32_t kModeLocalSize = 17;
-constexpr uint32_t kModeLocalSizeId = 38;
+// The layout the code declares: `storage_buffers` at set 0, then the caller's set 1.
+std::vector<SpirvBinding> declared_bindings(uint32_t storage_buffers, const CallerSet& set1) {
+  std::vector<SpirvBinding> out;
+  for (uint32_t i = 0; i < storage_buffers; ++i)
+    out.push_back({0, i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, ""});
+  for (const VkDescriptorSetLayoutBinding& b : set1.bindings)
+    out.push_back({1, b.binding, b.descriptorType, b.descriptorCount, ""});
+  return out;
+}
 
 }  // namespace
-
-std::array<uint32_t, 3> spirv_workgroup_size(const ShaderCode& code) {
-  const std::string name = code.name;
-  if (code.words == nullptr || code.bytes < 20 || code.bytes % 4 != 0 ||
-      code.words[0] != kSpirvMagic) {
-    throw VulkanError("shader '" + name + "' is not SPIR-V");
-  }
-  const size_t count = code.bytes / 4;
-  for (size_t i = 5; i < count;) {
-    const uint32_t words = code.words[i] >> 16;
-    const uint32_t opcode = code.words[i] & 0xffffu;
-    if (words == 0 || i + words > count) break;
-    if (opcode == kOpExecutionMode && words >= 6 && code.words[i + 2] == kModeLocalSize) {
-      return {code.words[i + 3], code.words[i + 4], code.words[i + 5]};
-    }
-    if ((opcode == kOpExecutionMode || opcode == kOpExecutionModeId) && words >= 3 &&
-        code.words[i + 2] == kModeLocalSizeId) {
-      break;
-    }
-    i += words;
-  }
-  throw VulkanError("shader '" + name +
-                    "' has no literal local_size (specialization-constant workgroup sizes are "
-                    "not supported by dispatch())");
-}
 
 std::array<uint32_t, 3> group_counts(uint32_t elements, uint32_t workgroup_size,
                                      const std::array<uint32_t, 3>& max_groups) {
@@ -55,11 +34,17 @@ std::array<uint32_t, 3> group_counts(uint32_t elements, uint32_t workgroup_size,
 }
 
 Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
-                   uint32_t push_constant_size, VkDescriptorSetLayout set1,
+                   uint32_t push_constant_size, const CallerSet& set1,
                    const std::vector<uint32_t>& specialization)
     : ctx_(&ctx), bindings_(bindings), push_size_(push_constant_size), name_(code.name) {
   const DeviceInfo& info = ctx.info();
   workgroup_ = spirv_workgroup_size(code);
+  if ((set1.layout == VK_NULL_HANDLE) != set1.bindings.empty()) {
+    throw std::logic_error("shader '" + name_ +
+                           "': a caller's set 1 needs its layout and bindings");
+  }
+  shader_bindings_ = spirv_bindings(code);
+  check_bindings(code, shader_bindings_, declared_bindings(bindings, set1));
   const uint64_t invocations = uint64_t{workgroup_[0]} * workgroup_[1] * workgroup_[2];
   if (invocations > info.max_workgroup_invocations || workgroup_[0] > info.max_workgroup_size[0] ||
       workgroup_[1] > info.max_workgroup_size[1] || workgroup_[2] > info.max_workgroup_size[2]) {
@@ -95,8 +80,8 @@ Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
     const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_size};
     auto layout =
         vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-    const std::array<VkDescriptorSetLayout, 2> sets = {set_layout_, set1};
-    layout.setLayoutCount = set1 != VK_NULL_HANDLE ? 2 : 1;
+    const std::array<VkDescriptorSetLayout, 2> sets = {set_layout_, set1.layout};
+    layout.setLayoutCount = set1.layout != VK_NULL_HANDLE ? 2 : 1;
     layout.pSetLayouts = sets.data();
     layout.pushConstantRangeCount = push_constant_size > 0 ? 1 : 0;
     layout.pPushConstantRanges = &range;
@@ -155,6 +140,7 @@ Pipeline& Pipeline::operator=(Pipeline&& other) noexcept {
     push_size_ = other.push_size_;
     workgroup_ = other.workgroup_;
     name_ = std::move(other.name_);
+    shader_bindings_ = std::move(other.shader_bindings_);
   }
   return *this;
 }
@@ -174,6 +160,47 @@ void Pipeline::reset() {
 }
 
 namespace detail {
+namespace {
+
+// The descriptor of binding `index`, after checking the buffer's block name (when the list is
+// `named`), size, offset and range.
+VkDescriptorBufferInfo checked_buffer(const Pipeline& pipeline, const DeviceInfo& info,
+                                      const BufferRef& b, uint32_t index, bool named) {
+  // The error's text is only built for an error.
+  const auto which = [&] {
+    return "dispatch of '" + pipeline.name() + "': binding " + std::to_string(index) + " ('" +
+           b.buffer->name() + "')";
+  };
+  if ((b.block != nullptr) != named) {
+    throw std::logic_error(which() + (named ? " has no block name" : " has one") +
+                           ": name every buffer of the list or none");
+  }
+  const std::string& block = pipeline.shader_bindings()[index].name;
+  if (named && block != b.block) {
+    throw std::logic_error(which() + " is listed as '" + b.block + "', but the shader's binding " +
+                           std::to_string(index) + " is '" + block + "'");
+  }
+  if (!*b.buffer) throw std::logic_error(which() + " is an empty buffer");
+  const VkDeviceSize size = b.buffer->size();
+  const VkDeviceSize range =
+      b.range == VK_WHOLE_SIZE ? (size > b.offset ? size - b.offset : 0) : b.range;
+  if (b.offset > size || range > size - b.offset) {
+    throw std::logic_error(which() + " runs past the end of the buffer");
+  }
+  if (b.offset % info.min_storage_buffer_offset_alignment != 0) {
+    throw std::logic_error(which() + ": offset " + std::to_string(b.offset) +
+                           " is not a multiple of minStorageBufferOffsetAlignment (" +
+                           std::to_string(info.min_storage_buffer_offset_alignment) + ")");
+  }
+  if (range > info.max_storage_buffer_range) {
+    throw std::logic_error(which() + ": " + std::to_string(range) +
+                           " bytes exceed maxStorageBufferRange (" +
+                           std::to_string(info.max_storage_buffer_range) + "); bind it in pieces");
+  }
+  return {b.buffer->handle(), b.offset, b.range};
+}
+
+}  // namespace
 
 void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, size_t push_size,
                      std::initializer_list<BufferRef> bindings, uint32_t elements,
@@ -208,31 +235,11 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
   std::array<VkDescriptorBufferInfo, 16> infos{};
   if (bindings.size() > infos.size())
     throw std::logic_error("dispatch of '" + name + "': more than 16 bindings");
+  const bool named = bindings.size() > 0 && bindings.begin()->block != nullptr;
   uint32_t count = 0;
   for (const BufferRef& b : bindings) {
-    // The error's text is only built for an error.
-    const auto which = [&] {
-      return "dispatch of '" + name + "': binding " + std::to_string(count) + " ('" +
-             b.buffer->name() + "')";
-    };
-    if (!*b.buffer) throw std::logic_error(which() + " is an empty buffer");
-    const VkDeviceSize size = b.buffer->size();
-    const VkDeviceSize range =
-        b.range == VK_WHOLE_SIZE ? (size > b.offset ? size - b.offset : 0) : b.range;
-    if (b.offset > size || range > size - b.offset) {
-      throw std::logic_error(which() + " runs past the end of the buffer");
-    }
-    if (b.offset % info.min_storage_buffer_offset_alignment != 0) {
-      throw std::logic_error(which() + ": offset " + std::to_string(b.offset) +
-                             " is not a multiple of minStorageBufferOffsetAlignment (" +
-                             std::to_string(info.min_storage_buffer_offset_alignment) + ")");
-    }
-    if (range > info.max_storage_buffer_range) {
-      throw std::logic_error(
-          which() + ": " + std::to_string(range) + " bytes exceed maxStorageBufferRange (" +
-          std::to_string(info.max_storage_buffer_range) + "); bind it in pieces");
-    }
-    infos[count++] = {b.buffer->handle(), b.offset, b.range};
+    infos[count] = checked_buffer(pipeline, info, b, count, named);
+    ++count;
   }
   if (indirect != nullptr && (!*indirect || indirect_offset % 4 != 0 ||
                               indirect_offset + 3 * sizeof(uint32_t) > indirect->size()))

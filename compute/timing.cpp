@@ -144,7 +144,7 @@ CopyBandwidth measure_copy_bandwidth(Context& ctx, uint64_t bytes, int repeats) 
   push.per_thread = 4;
   push.threads = (push.count + push.per_thread - 1) / push.per_thread;
   const auto stream_copy = [&](Recorder& rec) {
-    dispatch(rec, kernel, push, {src, dst}, push.threads);
+    dispatch(rec, kernel, push, {{"Src", src}, {"Dst", dst}}, push.threads);
   };
   const auto dma_copy = [&](Recorder& rec) { rec.copy(src, dst); };
   {
@@ -203,7 +203,7 @@ LaunchFloor measure_launch_floor(Context& ctx, uint32_t invocations, int dispatc
     rec.fill(src, 0u);
     rec.barrier();
     for (int i = 0; i < dispatches; ++i) {
-      dispatch(rec, kernel, push, {src, dst}, push.threads);
+      dispatch(rec, kernel, push, {{"Src", src}, {"Dst", dst}}, push.threads);
       rec.barrier();
     }
     rec.submit_and_wait();
@@ -218,9 +218,9 @@ LaunchFloor measure_launch_floor(Context& ctx, uint32_t invocations, int dispatc
           for (int i = 0; i < dispatches; ++i) {
             // Alternate the direction, so that each dispatch reads what the last one wrote.
             if (i % 2 == 0)
-              dispatch(rec, kernel, push, {src, dst}, push.threads);
+              dispatch(rec, kernel, push, {{"Src", src}, {"Dst", dst}}, push.threads);
             else
-              dispatch(rec, kernel, push, {dst, src}, push.threads);
+              dispatch(rec, kernel, push, {{"Src", dst}, {"Dst", src}}, push.threads);
             if (kind == 0) rec.barrier();
             if (kind == 1) rec.compute_barrier();
           }

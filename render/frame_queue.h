@@ -2,7 +2,7 @@
 // waiting; the next call (or drain()) waits for it, and the copy of its pixels out of the
 // read-back buffer happens on the FrameSink's thread, which also writes the PNG and the video.
 // The simulation thread pays for recording and submitting, not for the GPU's drawing or the
-// copy of a 7–17 MB frame (docs/performance.md, "Frames off the simulation thread").
+// copy of a 7–17 MB frame (docs/performance-log.md, "Frames off the simulation thread").
 //
 // One frame is in flight at a time, so that whatever the renderer reads (its surfels, tools,
 // texture staging) may change once drain() has returned; two read-back slots let the sink

@@ -54,10 +54,11 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.create_texture_sets();
   m.deform = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 9, sizeof(layout::DeformPush));
   m.visibility = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_visibility), 2, sizeof(layout::RasterPush));
+  const gpu::CallerSet texture_set{m.texture_layout, {detail::kTextureBinding}};
   m.accumulate = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_accumulate), 3, sizeof(layout::RasterPush),
-                               m.texture_layout);
-  m.shade = gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 5, sizeof(layout::ShadePush),
-                          m.texture_layout);
+                               texture_set);
+  m.shade =
+      gpu::Pipeline(ctx, PHYXEL_SHADER(splat_shade), 5, sizeof(layout::ShadePush), texture_set);
   m.tool_pass = gpu::Pipeline(ctx, PHYXEL_SHADER(tool_visibility), 3, sizeof(layout::ToolPush));
   m.count = static_cast<uint32_t>(table.surfels.size());
   m.table_phyxels = table.phyxels;
@@ -298,8 +299,9 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
     for (uint32_t e = 0; e < eyes; ++e) {
       gpu::dispatch(rec, m.tool_pass,
                     tool_push(setup.eyes[e], setup.eye_width, setup.height, tool_count),
-                    {m.tool_buffer, gpu::BufferRef(m.depth, e * depth_range, depth_range),
-                     gpu::BufferRef(m.accum, e * accum_range, accum_range)},
+                    {{"Tools", m.tool_buffer},
+                     {"Depth", m.depth, e * depth_range, depth_range},
+                     {"Accum", m.accum, e * accum_range, accum_range}},
                     setup.eye_width * setup.height);
     }
     end();
@@ -310,7 +312,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
     gpu::dispatch(
         rec, m.visibility,
         raster_push(setup.eyes[e], m.options.epsilon, setup.eye_width, setup.height, m.count),
-        {m.splats, gpu::BufferRef(m.depth, e * depth_range, depth_range)},
+        {{"Splats", m.splats}, {"Depth", m.depth, e * depth_range, depth_range}},
         raster_invocations(m.count));
   }
   end();
@@ -323,8 +325,9 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
     gpu::dispatch(
         rec, m.accumulate,
         raster_push(setup.eyes[e], m.options.epsilon, setup.eye_width, setup.height, m.count),
-        {m.splats, gpu::BufferRef(m.depth, e * depth_range, depth_range),
-         gpu::BufferRef(m.accum, e * accum_range, accum_range)},
+        {{"Splats", m.splats},
+         {"Depth", m.depth, e * depth_range, depth_range},
+         {"Accum", m.accum, e * accum_range, accum_range}},
         raster_invocations(m.count));
   }
   end();
@@ -338,10 +341,11 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
                                      nullptr);
   // Without a layer the depth buffer stands in for its buffers (never read then).
   gpu::dispatch(rec, m.shade, shade,
-                {gpu::BufferRef(m.accum, 0, eyes * accum_range), m.frame,
-                 gpu::BufferRef(m.depth, 0, eyes * depth_range),
-                 gpu::BufferRef(layer ? m.layer_depth : m.depth, 0, eyes * depth_range),
-                 gpu::BufferRef(layer ? m.layer_colour : m.depth, 0, eyes * depth_range)},
+                {{"Accum", m.accum, 0, eyes * accum_range},
+                 {"Frame", m.frame},
+                 {"Depth", m.depth, 0, eyes * depth_range},
+                 {"BackdropDepth", layer ? m.layer_depth : m.depth, 0, eyes * depth_range},
+                 {"Backdrop", layer ? m.layer_colour : m.depth, 0, eyes * depth_range}},
                 m.out_width * m.out_height);
   end();
   gpu::Buffer& readback = m.readback_buffer(slot);
@@ -386,13 +390,18 @@ void SplatRenderer::Impl::record_deform(gpu::Recorder& rec, const RenderInputs& 
     if (deform_split.handle() != VK_NULL_HANDLE) ctx.fn().vkDeviceWaitIdle(ctx.device());
     deform_split_lo = in.nbr_index->size() / 4;
     deform_split = gpu::Pipeline(ctx, PHYXEL_SHADER(deform_surfels), 9, sizeof(layout::DeformPush),
-                                 VK_NULL_HANDLE, {1u, static_cast<uint32_t>(deform_split_lo)});
+                                 {}, {1u, static_cast<uint32_t>(deform_split_lo)});
   }
   gpu::dispatch(rec, in.nbr_index_hi != nullptr ? deform_split : deform, push,
-                {*in.rest, *in.displacement, *in.nbr_offset, *in.nbr_index, surfels, splats,
-                 in.pair_weight != nullptr ? *in.pair_weight : no_weights,
-                 in.nbr_index_hi != nullptr ? *in.nbr_index_hi : *in.nbr_index,
-                 in.pair_weight_hi != nullptr ? *in.pair_weight_hi : no_weights},
+                {{"Rest", *in.rest},
+                 {"Disp", *in.displacement},
+                 {"Offset", *in.nbr_offset},
+                 {"IndexLo", *in.nbr_index},
+                 {"Surfels", surfels},
+                 {"Splats", splats},
+                 {"WeightLo", in.pair_weight != nullptr ? *in.pair_weight : no_weights},
+                 {"IndexHi", in.nbr_index_hi != nullptr ? *in.nbr_index_hi : *in.nbr_index},
+                 {"WeightHi", in.pair_weight_hi != nullptr ? *in.pair_weight_hi : no_weights}},
                 count * layout::kDeformLanes);
 }
 

@@ -90,12 +90,10 @@ SplatRenderer::Impl::~Impl() {
 // Set 1 of the accumulation pass (the texture and its sampler) and of the shading pass (the
 // environment; the texture stands in for it until a scene sets one).
 void SplatRenderer::Impl::create_texture_sets() {
-  const VkDescriptorSetLayoutBinding binding{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1,
-                                             VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   auto set = vk_struct<VkDescriptorSetLayoutCreateInfo>(
       VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
   set.bindingCount = 1;
-  set.pBindings = &binding;
+  set.pBindings = &detail::kTextureBinding;
   VK_CHECK(ctx.fn().vkCreateDescriptorSetLayout(ctx.device(), &set, nullptr, &texture_layout));
   const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2};
   auto info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
@@ -244,7 +242,7 @@ void SplatRenderer::Impl::record_backdrop_layer(gpu::Recorder& rec, const FrameS
     gpu::dispatch(rec, visibility,
                   raster_push(setup.eyes[e], options.backdrop_epsilon, setup.eye_width,
                               setup.height, backdrop_count),
-                  {backdrop, gpu::BufferRef(layer_depth, e * depth_range, depth_range)},
+                  {{"Splats", backdrop}, {"Depth", layer_depth, e * depth_range, depth_range}},
                   raster_invocations(backdrop_count));
   }
   rec.barrier();
@@ -254,8 +252,9 @@ void SplatRenderer::Impl::record_backdrop_layer(gpu::Recorder& rec, const FrameS
     gpu::dispatch(rec, accumulate,
                   raster_push(setup.eyes[e], options.backdrop_epsilon, setup.eye_width,
                               setup.height, backdrop_count),
-                  {backdrop, gpu::BufferRef(layer_depth, e * depth_range, depth_range),
-                   gpu::BufferRef(accum, e * accum_range, accum_range)},
+                  {{"Splats", backdrop},
+                   {"Depth", layer_depth, e * depth_range, depth_range},
+                   {"Accum", accum, e * accum_range, accum_range}},
                   raster_invocations(backdrop_count));
   }
   rec.barrier();
@@ -267,9 +266,11 @@ void SplatRenderer::Impl::record_backdrop_layer(gpu::Recorder& rec, const FrameS
     one.eyes[0] = setup.eyes[e];
     const gpu::BufferRef eye_depth(layer_depth, e * depth_range, depth_range);
     gpu::dispatch(rec, shade, shade_push(one),
-                  {gpu::BufferRef(accum, e * accum_range, accum_range),
-                   gpu::BufferRef(layer_colour, e * depth_range, depth_range), eye_depth, eye_depth,
-                   eye_depth},
+                  {{"Accum", accum, e * accum_range, accum_range},
+                   {"Frame", layer_colour, e * depth_range, depth_range},
+                   {"Depth", eye_depth},
+                   {"BackdropDepth", eye_depth},
+                   {"Backdrop", eye_depth}},
                   setup.eye_width * setup.height);
   }
   rec.barrier();

@@ -29,6 +29,9 @@ uint32_t shade_layout(FrameLayout layout);
 // bytes for all eyes.
 uint64_t eye_stride_of(const FrameSetup& setup);
 uint64_t accum_bytes_of(const FrameSetup& setup);
+// Set 1 of the texturing passes: one combined image sampler (the tissue or the environment).
+inline constexpr VkDescriptorSetLayoutBinding kTextureBinding{
+    0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
 
 }  // namespace detail
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On the device machine (docs/performance.md, "Frames while the solver runs"): the GPU tests of
+# On the device machine (docs/performance-log.md, "Frames while the solver runs"): the GPU tests of
 # an advance left in flight, of the transfer queue and of the frame queue, then what a stereo
 # 1080p frame every 1/60 s costs the solver at about 1M phyxels (`phyxel bench --render`: a
 # shell of 1 030 966 phyxels, 280 000 surfels, $FRAMES frames, default 360), for this build

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On the device machine (docs/performance.md, "Scale: the largest box one H100 holds"): the
+# On the device machine (docs/performance-log.md, "Scale: the largest box one H100 holds"): the
 # two-part pair buffers (compute/pair_buffer.h) on the real GPU. `compare` (the default): the
 # pair-split, capacity and parity tests, then `phyxel bench` at 10k, 100k and 1M phyxels for this
 # build and, where $BASE/phyxel exists (default .devbin/base), a baseline build, interleaved,

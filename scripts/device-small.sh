@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On the device machine (docs/performance.md, "Small scenes"): the lanes tests and the GPU
+# On the device machine (docs/performance-log.md, "Small scenes"): the lanes tests and the GPU
 # parity tests on the real GPU, `phyxel bench` at 5k-1M phyxels for each lane count, and the
 # brain block (scenes/brain_tumour.json) and the brain tumour removal without frames, three
 # times each: physics substeps per wall second and the real-time factor. Expects .devbin and .gl

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On the device machine (docs/performance.md, "Tearing and suction"): the GPU tearing and
+# On the device machine (docs/performance-log.md, "Tearing and suction"): the GPU tearing and
 # suction tests on the real GPU, `phyxel bench --tearing` on boxes of 10k, 100k and 1M phyxels,
 # and scenes/brain_tumour_removal.json on the GPU, without frames and with stereo frames drawn 60
 # times per simulated second, three times each (the real-time factor, what was aspirated), then

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On the device machine (docs/performance.md, "Video output" and "The backdrop of the example
+# On the device machine (docs/performance-log.md, "Video output" and "The backdrop of the example
 # scenes"): --video's encode rate at stereo 1080p (bench --render's last line, 240 frames of
 # the synthetic clip, twice with the default preset and once with superfast), the example
 # scenes' frames at rest and while the view turns every frame (bench --render --scene, stereo

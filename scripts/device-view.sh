@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On the device machine (docs/performance.md, "Interactive runs with frames"): what `phyxel
+# On the device machine (docs/performance-log.md, "Interactive runs with frames"): what `phyxel
 # view` does with a haptic probe, without the window (the H100 machine has no display): the
 # probe scene with its probe on the haptic loop ("control": "haptic", the scripted device),
 # its press and release repeated, paced to the wall clock, drawing a frame every 1/60 s of

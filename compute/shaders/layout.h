@@ -5,7 +5,9 @@
 // bare vec3: its std430 alignment differs from any C++ struct of three floats), and each one
 // gets a PHYXEL_ASSERT_SIZE with its std430 size.
 //
-// Binding numbers are the positions in dispatch()'s buffer list.
+// Binding numbers are the positions in dispatch()'s buffer list, where each buffer names its
+// block ({"Offset", buf} for `buffer Offset {...}`); dispatch() checks the names against the
+// SPIR-V.
 #ifndef PHYXEL_COMPUTE_SHADERS_LAYOUT_H
 #define PHYXEL_COMPUTE_SHADERS_LAYOUT_H
 

@@ -56,7 +56,7 @@ layout(constant_id = 0) const bool kPairsSplit = false;
 // index and the weights: both are 4 bytes a pair). A constant, not the lo binding's length():
 // NVIDIA's driver (580.159.04) gave wrong results for every pair in a lo binding of 3 GB and
 // more when the shader took its length(), while the same binding read without length() was
-// right (docs/performance.md, "Past one binding").
+// right (docs/performance-log.md, "Past one binding").
 layout(constant_id = 1) const uint kPairsLo = 0xffffffffu;
 
 uint pairs_lo() { return kPairsLo; }

@@ -18,6 +18,9 @@ layout(std430, binding = kEnergyBindingOffset) readonly buffer Offset { uint off
 #include "pair_buffers.glsl"
 layout(std430, binding = kEnergyBindingLocal) readonly buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kEnergyBindingDisp) readonly buffer Disp { vec4 disp[]; };
+// Not read: declared so that the layout equals solver_energy's (Pipeline checks it).
+layout(std430, binding = kEnergyBindingVel) readonly buffer Vel { vec4 vel[]; };
+layout(std430, binding = kEnergyBindingExt) readonly buffer Ext { vec4 ext[]; };
 layout(std430, binding = kEnergyBindingAinv) readonly buffer Ainv { vec4 ainv[]; };
 layout(std430, binding = kEnergyBindingFlags) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = kEnergyBindingClasses) readonly buffer Classes { SolverClass classes[]; };

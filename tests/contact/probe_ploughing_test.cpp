@@ -1,5 +1,5 @@
 // A thick probe ploughing through tissue at the spacing where `phyxel bench --tearing`'s intact
-// 97 336-phyxel box turned non-finite (docs/performance.md, "Tearing", note a): a part of that
+// 97 336-phyxel box turned non-finite (docs/performance-log.md, "Tearing", note a): a part of that
 // box, the same lattice, material, probe and path, on the CPU reference.
 #include <gtest/gtest.h>
 
@@ -39,7 +39,7 @@ Scene ploughed_box() {
 // inverted by step 160 and their neighbourhood is stretched without bound (the largest singular
 // value of F 1.2 at step 160, 3.5 at 580). The MLS gradient of a neighbourhood turned inside out
 // no longer describes it, and St Venant-Kirchhoff, corotated and stable neo-Hookean laws all run
-// away (docs/performance.md, "Tearing", note a). The run stops there and names the probe, whose
+// away (docs/performance-log.md, "Tearing", note a). The run stops there and names the probe, whose
 // crossing it could not follow (its message then says to slow the tool or give the material a
 // tear_stress). With the bench's tear_stress (12 kPa) the tissue tears ahead of the probe and
 // the probe crosses the box with every phyxel finite and slower than the wave speed.

@@ -250,7 +250,7 @@ TissueRun press_on_tissue(double rate, double simulated_seconds) {
 // A physics slower than real time (a CPU solver at a tenth of it): the coupled tool advances by
 // the simulated time of each tick, so it meets the tissue as in real time. Advanced on the wall
 // clock it met it ten times faster, and the penalty contact, stepped by the physics, went
-// unstable (docs/performance.md, "Haptics and contact": brain runs at 0.03-0.12x real time
+// unstable (docs/performance-log.md, "Haptics and contact": brain runs at 0.03-0.12x real time
 // ended at the runaway check).
 TEST(HapticCoupling, ASlowPhysicsMeetsTheToolAsInRealTime) {
   {  // Until the physics' rate is known (its second snapshot), the tool holds.
