@@ -15,13 +15,7 @@ constexpr int64_t kEndless = int64_t(1) << 60;
 
 ViewerSimulation::ViewerSimulation(const Scene& scene, const PhyxelSet& set, Solver& solver,
                                    Hooks hooks)
-    : set_(set),
-      solver_(solver),
-      slowest_wave_(std::numeric_limits<double>::infinity()),
-      hooks_(std::move(hooks)),
-      loop_(scene, set, solver, run_options()) {
-  for (const Material& m : set.materials) slowest_wave_ = std::min(slowest_wave_, p_wave_speed(m));
-}
+    : hooks_(std::move(hooks)), loop_(scene, set, solver, run_options()) {}
 
 RunOptions ViewerSimulation::run_options() {
   RunOptions options;
@@ -44,18 +38,13 @@ void ViewerSimulation::advance(int64_t steps) {
   }
 }
 
-// What the loop's last check found, else the same check read only, now: the reductions first,
-// the state read back only for a phyxel faster than the slowest wave speed.
+// What the loop's last check found, else its stability check now (reductions; the state is read
+// back only for a phyxel faster than the slowest wave speed).
 void ViewerSimulation::check_state() {
   const RunResult& r = loop_.result();
+  if (!r.non_finite && !r.unstable) loop_.check_stability();
   if (r.non_finite) return halt("non-finite", r.non_finite_step, r.non_finite_phyxel, 0);
   if (r.unstable) return halt("runaway", r.unstable_step, r.unstable_phyxel, r.unstable_speed);
-  const int64_t step = loop_.steps_done();
-  if (const long bad = solver_.first_non_finite(); bad >= 0)
-    return halt("non-finite", step, bad, 0);
-  if (solver_.max_norms().second <= slowest_wave_) return;
-  const Runaway w = find_runaway(set_, solver_.read_state(false).velocity);
-  if (w.phyxel >= 0) halt("runaway", step, w.phyxel, w.speed);
 }
 
 void ViewerSimulation::halt(const char* what, int64_t step, long phyxel, double speed) {

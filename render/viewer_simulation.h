@@ -45,9 +45,6 @@ class ViewerSimulation {
   void check_state();
   void halt(const char* what, int64_t step, long phyxel, double speed);
 
-  const PhyxelSet& set_;
-  Solver& solver_;
-  double slowest_wave_;  // the smallest p-wave speed of the materials, m/s
   Hooks hooks_;
   std::vector<ToolStepRecord> felt_;
   std::string halted_;

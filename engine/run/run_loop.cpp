@@ -385,6 +385,30 @@ void RunLoop::switch_loads(int64_t previous) {
 // sleep is decided, else the largest speed alone. Only a phyxel faster than the slowest wave
 // speed (a runaway to name) or an object going to sleep near tools reads u or v back.
 bool RunLoop::check() {
+  if (!check_finite()) return false;
+  std::fill(contacts_since_check_.begin(), contacts_since_check_.end(), 0u);
+  std::vector<ObjectMotion> motion;
+  double fastest = 0;
+  if (scene_.simulation.until_rest.enabled || sleeping_) {
+    motion = solver_.object_motion(set_);
+    for (const ObjectMotion& m : motion)
+      if (!(m.max_speed <= fastest)) fastest = m.max_speed;
+  } else {
+    fastest = solver_.max_norms().second;
+  }
+  if (!(fastest <= slowest_wave_) && check_runaway(solver_.read_state(false))) return false;
+  decide_rest_and_sleep(motion);
+  return true;
+}
+
+bool RunLoop::check_stability() {
+  if (!check_finite()) return false;
+  if (solver_.max_norms().second <= slowest_wave_) return true;
+  return !check_runaway(solver_.read_state(false));
+}
+
+// No non-finite value (false: the result names the phyxel and the tool most in contact).
+bool RunLoop::check_finite() {
   const long bad = solver_.first_non_finite();
   if (bad >= 0) {
     result_.non_finite = true;
@@ -398,18 +422,6 @@ bool RunLoop::check() {
     }
     return false;
   }
-  std::fill(contacts_since_check_.begin(), contacts_since_check_.end(), 0u);
-  std::vector<ObjectMotion> motion;
-  double fastest = 0;
-  if (scene_.simulation.until_rest.enabled || sleeping_) {
-    motion = solver_.object_motion(set_);
-    for (const ObjectMotion& m : motion)
-      if (!(m.max_speed <= fastest)) fastest = m.max_speed;
-  } else {
-    fastest = solver_.max_norms().second;
-  }
-  if (!(fastest <= slowest_wave_) && check_runaway(solver_.read_state(false))) return false;
-  decide_rest_and_sleep(motion);
   return true;
 }
 

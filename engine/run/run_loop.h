@@ -37,6 +37,9 @@ class RunLoop {
   // (>= steps_done()), as a run of `total` steps resumed here would; a stop or a rest that
   // ended the last stretch no longer holds.
   void extend(int64_t total);
+  // Between the loop's checks (phyxel view, each frame): finite and no phyxel faster than its
+  // wave speed, else the result says so and the loop ends; decides nothing else (rest, sleep).
+  bool check_stability();
   // The result so far (steps, tools, aspiration, energies, largest displacement), writing
   // nothing.
   RunResult snapshot();
@@ -58,6 +61,7 @@ class RunLoop {
   void pacing(int64_t next);
   void switch_loads(int64_t previous);
   bool check();  // false: the state failed (non-finite or running away); the loop ends
+  bool check_finite();
   bool check_runaway(const PointState& state);
   void decide_rest_and_sleep(const std::vector<ObjectMotion>& motion);
   void outputs(bool regular);
