@@ -6,10 +6,13 @@ b="${PHYXEL_BUILD:-.devbin}"
 for f in .gl/*.deb; do dpkg -x "$f" /; done
 ldconfig
 # The shared libraries a bare machine lacks (libav*, their codecs), packed by
-# scripts/device-pack.sh.
+# scripts/device-pack.sh; extra.tar.xz, where present, adds libraries linked since lib.tar.xz
+# was packed (it is 46 MB: repacking it costs minutes of xz).
 if [ -f "$b/lib.tar.xz" ]; then
   mkdir -p /tmp/phyxel-lib
-  tar -C /tmp/phyxel-lib -xJf "$b/lib.tar.xz"
+  for f in "$b"/lib.tar.xz "$b"/extra.tar.xz; do
+    [ -f "$f" ] && tar -C /tmp/phyxel-lib -xJf "$f"
+  done
   # Only what the machine lacks: its own copies (which its GPU driver's libraries may need in
   # their own versions) come first.
   have="$(ldconfig -p)"
