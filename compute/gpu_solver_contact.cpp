@@ -53,7 +53,8 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     shapes.push_back(
         {{float(t.shape.radius), capsule ? float(t.shape.length) : 0.0f, float(t.friction), band},
          {capsule ? kToolCapsule : kToolSphere, 0u, 0u, 0u},
-         {float(suction_pull_density(t)), float(t.suction.reach), 0.0f, 0.0f}});
+         {float(suction_pull_density(t)), float(t.suction.reach), float(t.suction.flow_speed),
+          0.0f}});
   }
   tools_ = tools;
   cutting_ = false;

@@ -351,7 +351,7 @@ struct ContactToolShape {
                  // the band around it whose phyxels span its axial range (m; 0: contacts only)
   uvec4 kind;    // kToolSphere or kToolCapsule, 0, 0, 0
   vec4 suction;  // an aspirator's pull per unit volume in reach 2 F / V_reach (N/m^3; 0: none),
-                 // its reach (m), 0, 0 (engine/solver/suction.h)
+                 // its reach (m), its flow speed (m/s), 0 (engine/solver/suction.h)
 };
 PHYXEL_ASSERT_SIZE(ContactToolShape, 48);
 // The axial range a (candidate, tool) without contact contributes (engine ToolContactSample).

@@ -72,7 +72,14 @@ void main() {
       const vec3 r = x0 + u - m.to_position.xyz;
       const float len = length(r);
       if (dot(r, r) <= suction.y * suction.y && dot(r, m.to_axis.xyz) <= 0.0 && len > 0.0) {
-        const vec3 pull = suction.x * rest[i].w / len * -r;
+        // The flow's factor (suction_flow_factor): w, the speed toward the tip relative to the
+        // tool, and the whole pull's kick against the flow speed suction.z.
+        const vec3 tool_v = (m.to_position.xyz - m.from_position.xyz) / p.dt;
+        const float w = dot(v - tool_v, -r / len);
+        const float kick = p.dt / mass * suction.x * rest[i].w;
+        float factor = clamp(1.0 - w / suction.z, 0.0, 1.0);
+        if (kick > suction.z) factor *= suction.z / kick;
+        const vec3 pull = factor * suction.x * rest[i].w / len * -r;
         v += p.dt / mass * pull;
         felt.xyz += pull;
         moved = true;

@@ -27,7 +27,8 @@ constexpr std::string_view kKeyExpected =
 constexpr std::string_view kBladeExpected =
     "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m}";
 constexpr std::string_view kSuctionExpected =
-    "a suction object {\"pressure\": Pa, \"reach\": m, \"from\": s, \"until\": s}";
+    "a suction object {\"pressure\": Pa, \"reach\": m, \"flow_speed\": m/s, \"from\": s, "
+    "\"until\": s}";
 constexpr std::string_view kGraspExpected =
     "a grasp object {\"reach\": m, \"from\": s, \"until\": s}";
 constexpr std::string_view kCouplingExpected =
@@ -39,6 +40,8 @@ constexpr double kMaxFriction = 10;
 // Surgical aspirators pull with up to about 80 kPa below the atmosphere; above 1 MPa a value is
 // a typo.
 constexpr double kMaxSuctionPressure = 1e6;
+// The air in an aspirator's tube moves at tens of m/s; above this a value is a typo.
+constexpr double kMaxFlowSpeed = 100;
 
 // Cutting forces of scalpels in soft tissue are a few newtons; above this a value is a typo.
 constexpr double kMaxCutForce = 1e3;
@@ -87,10 +90,11 @@ double read_until(const Node& node, double from, const char* open_ended) {
 
 // An aspirator's action: pressure and reach required, on during [from, until).
 Suction read_suction(const Node& node) {
-  node.expect_object(kSuctionExpected, {"pressure", "reach", "from", "until"});
+  node.expect_object(kSuctionExpected, {"pressure", "reach", "flow_speed", "from", "until"});
   Suction s;
   s.pressure = node.number("pressure", {0, kMaxSuctionPressure, false, true}, "Pa");
   s.reach = node.number("reach", Limits::above(0), "m");
+  s.flow_speed = node.number_or("flow_speed", s.flow_speed, {0, kMaxFlowSpeed, false, true}, "m/s");
   s.from = node.number_or("from", 0.0, Limits::at_least(0), "s");
   s.until = read_until(node, s.from, "on to the end");
   return s;

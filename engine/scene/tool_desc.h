@@ -26,9 +26,10 @@ struct Blade {
 // while on, its mouth (the tip) pulls the phyxels within `reach` ahead of it toward itself,
 // `pressure` times the mouth's area (pi radius^2) in all when the reach is full of tissue.
 struct Suction {
-  double pressure = 0;  // Pa (> 0: the tool sucks)
-  double reach = 0;     // m, from the tip
-  double from = 0;      // s: on during [from, until)
+  double pressure = 0;    // Pa (> 0: the tool sucks)
+  double reach = 0;       // m, from the tip
+  double flow_speed = 1;  // m/s: the speed toward the mouth at which the pull vanishes
+  double from = 0;        // s: on during [from, until)
   double until = std::numeric_limits<double>::infinity();
   bool sucks() const { return pressure > 0; }
   bool on_at(double t) const { return sucks() && from <= t && t < until; }

@@ -360,7 +360,13 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
         ++felt[t].contacts;
       }
       if (now[t].suction_on) {  // the aspirator's pull (suction.h), after the contact
-        const V3 pull = suction_pull<Real>(tools_[t], now[t].to, V3(rest_[i] + u_[i]), volume_[i]);
+        const V3 x = rest_[i] + u_[i];
+        const V3 tool_v = ((now[t].to.position - now[t].from.position) / double(dt)).cast<Real>();
+        const V3 to_tip = (now[t].to.position.cast<Real>() - x).normalized();
+        const V3 full = suction_pull<Real>(tools_[t], now[t].to, x, volume_[i]);
+        const V3 pull =
+            full * suction_flow_factor<Real>(tools_[t].suction, to_tip, V3(v_[i] - tool_v),
+                                             dt / mass_[i] * full.norm());
         v_[i] += dt / mass_[i] * pull;
         felt[t].force -= pull.template cast<double>();
       }

@@ -10,7 +10,16 @@
 //   f_i = 2 F V_i / V_reach (tip - x_i) / |tip - x_i|,   F = pressure pi radius^2,
 //   V_reach = 2/3 pi reach^3 (the half ball ahead of the mouth),
 //
-// after the substep's contact correction, as a velocity change dt f_i / m_i. With the half ball
+// after the substep's contact correction, as a velocity change dt f_i / m_i, scaled by the
+// tube's flow (suction_flow_factor)
+//
+//   max(0, 1 - w_i / flow_speed) min(1, flow_speed / (dt |f_i| / m_i)),
+//   w_i = (v_i - v_tool) . (tip - x_i) / |tip - x_i|:
+//
+// tissue at rest relative to the tool feels the whole pull, tissue already moving into the
+// mouth at the flow's speed none, and no substep takes w_i past the flow's speed, so torn
+// fragments are drawn in at that speed instead of accelerating without bound (docs/suction.md,
+// "Flow speed"). With the half ball
 // full of tissue the pulls' vector sum is F along the axis, the pressure on the mouth's area
 // (the mean of cos theta over a half ball is 1/2, hence the 2; their magnitudes add to 2 F);
 // with less tissue in reach the tube pulls on what is there, so the force needs no sum over the
@@ -41,7 +50,21 @@ inline bool in_suction_reach(const ToolPose& pose, double reach, const Vec3& x) 
   return r.squaredNorm() <= reach * reach && r.dot(pose.axis) <= 0;
 }
 
-// f_i of a phyxel of volume `volume` at x (zero outside the reach or at the tip itself).
+// The flow's factor (see the top) of a phyxel moving at v_rel relative to the tool, with to_tip
+// the unit vector from it to the tip and kick = dt |f_i| / m_i the whole pull's velocity change:
+// 1 at rest relative to the tool when kick <= flow_speed.
+template <class Real>
+Real suction_flow_factor(const Suction& suction, const Eigen::Matrix<Real, 3, 1>& to_tip,
+                         const Eigen::Matrix<Real, 3, 1>& v_rel, Real kick) {
+  const Real flow = Real(suction.flow_speed);
+  const Real w = v_rel.dot(to_tip);
+  Real factor = Real(1) - w / flow;
+  factor = factor > Real(0) ? (factor < Real(1) ? factor : Real(1)) : Real(0);
+  return kick > flow ? factor * (flow / kick) : factor;
+}
+
+// f_i of a phyxel of volume `volume` at x at rest relative to the tool (zero outside the reach
+// or at the tip itself); the flow's factor scales it (suction_flow_factor).
 template <class Real>
 Eigen::Matrix<Real, 3, 1> suction_pull(const ContactTool& tool, const ToolPose& pose,
                                        const Eigen::Matrix<Real, 3, 1>& x, Real volume) {

@@ -2,6 +2,7 @@
 // crosses it, and a bar pulled apart by end loads.
 #pragma once
 
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -12,6 +13,23 @@
 #include "engine/surgery/tool_track.h"
 
 namespace phyxel::test {
+
+// Moves the scene's tools over its first `steps` steps as the run loop does, `chunk` steps per
+// advance: set_tools, then per chunk the motions, the advance, and after(the chunk's samples).
+inline void advance_tools_in_chunks(
+    Solver& solver, const Scene& scene, const PhyxelSet& set, int64_t steps, int64_t chunk,
+    const std::function<void(const std::vector<ToolContactSample>&)>& after) {
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  ToolTrack track(scene.tools, {});
+  Tools& tools = *solver.tools();
+  tools.set_tools(contact_tools(scene.tools));
+  for (int64_t s = 0; s < steps; s += chunk) {
+    const int64_t n = std::min<int64_t>(chunk, steps - s) * plan.substeps;
+    tools.set_tool_motion(track.motions(s * plan.substeps, n, plan.dt_used));
+    solver.advance(n, plan.dt_used);
+    after(tools.tool_samples());
+  }
+}
 
 // A beam along x, [0, 0.04] x [0, 0.01] x [0, 0.01] m, spacing 2 mm, clamped at x <= 0.5 mm.
 inline Scene clamped_beam(double young = 5e4, double damping = 0) {

@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <tuple>
@@ -140,6 +142,59 @@ TEST(Suction, AboveTheTearStressAspiratesAndAccountsMassAndVolumeExactly) {
 // The aspirator acts at the end of each tool chunk, on a grid from step 0: frames, point
 // outputs and their splits of the advances change nothing of what is aspirated or where the
 // tissue ends up.
+// The flow's factor (suction.h): the whole pull at rest relative to the tool, none at the flow's
+// speed toward the tip, the whole pull moving away, and no kick past the flow's speed.
+TEST(SuctionPull, TheFlowScalesThePullBySpeedTowardTheTip) {
+  Suction s;
+  s.flow_speed = 0.5;
+  const Vec3 to_tip = Vec3::UnitZ();
+  EXPECT_EQ(suction_flow_factor<double>(s, to_tip, Vec3::Zero(), 0.1), 1.0);
+  EXPECT_DOUBLE_EQ(suction_flow_factor<double>(s, to_tip, Vec3(0.3, 0, 0.25), 0.1), 0.5);
+  EXPECT_EQ(suction_flow_factor<double>(s, to_tip, Vec3(0, 0, 0.5), 0.1), 0.0);
+  EXPECT_EQ(suction_flow_factor<double>(s, to_tip, Vec3(0, 0, 2), 0.1), 0.0);
+  EXPECT_EQ(suction_flow_factor<double>(s, to_tip, Vec3(0, 0, -2), 0.1), 1.0);
+  // A kick of 2 m/s from rest is cut to the flow's 0.5 m/s.
+  EXPECT_DOUBLE_EQ(2 * suction_flow_factor<double>(s, to_tip, Vec3::Zero(), 2.0), 0.5);
+}
+
+// The largest speed toward the mouth of the phyxels in its reach.
+double fastest_into_mouth(const Scene& scene, const PhyxelSet& set, const PointState& state) {
+  const Vec3 tip = scene.tools[0].path[0].position;
+  double fastest = 0;
+  for (size_t i = 0; i < set.size(); ++i) {
+    const Vec3 r = tip - (set.rest[i] + state.displacement[i]);
+    if (r.norm() > scene.tools[0].suction.reach || !(r.norm() > 0)) continue;
+    fastest = std::max(fastest, state.velocity[i].dot(r.normalized()));
+  }
+  return fastest;
+}
+
+// Tissue that no longer holds together (a block of 1 Pa, its fragments all but free) is drawn
+// into the mouth no faster than the flow, whose speed bounds w even where one substep's whole
+// pull (1.08 m/s here) would pass it; without the bound (a flow of 100 m/s) the same pull takes
+// it past 1 m/s within two steps. Until 2026-11-26 nothing bounded it, and fragments torn at the
+// mouth outran the tissue's sound speed (the brain at --refine 2 stopped as unstable).
+TEST(Suction, FragmentsAreDrawnInNoFasterThanTheFlow) {
+  Scene scene = parse_scene(test::suction_block_json(1e6), "block.json");
+  scene.objects[0].material.young = 1;
+  scene.objects[0].material.damping = 0;
+  for (const double flow : {0.2, 100.0}) {
+    scene.tools[0].suction.flow_speed = flow;
+    const PhyxelSet set = sample_scene(scene);
+    const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
+    double fastest = 0;
+    test::advance_tools_in_chunks(*solver, scene, set, 20, 2, [&](const auto&) {
+      fastest = std::max(fastest, fastest_into_mouth(scene, set, solver->read_state(false)));
+    });
+    if (flow < 1)
+      EXPECT_LE(fastest, flow * 1.001);  // the 1 Pa of elasticity adds a little
+    else
+      EXPECT_GT(fastest, 1.0);
+    std::printf("[ suction  ] flow %g m/s: fragments into the mouth at up to %.4g m/s\n", flow,
+                fastest);
+  }
+}
+
 TEST(Suction, FramesAndOutputsChangeNothingThatIsAspirated) {
   const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
   const PhyxelSet set = sample_scene(scene);

@@ -14,6 +14,7 @@
 #include "compute/gpu_solver.h"
 #include "engine/run/simulation.h"
 #include "engine/solver/cpu_solver.h"
+#include "tests/cutting/cutting_fixtures.h"
 #include "tests/physics/physics_fixtures.h"
 #include "tests/vulkan/vulkan_test.h"
 
@@ -121,22 +122,7 @@ AxialAgreement axial_agreement(const std::vector<ToolContactSample>& cpu,
   return a;
 }
 
-// Moves the scene's tools over its first `steps` steps as the run loop does, `chunk` steps per
-// advance: set_tools, then per chunk the motions, the advance, and after(the chunk's samples).
-inline void advance_tools_in_chunks(
-    Solver& solver, const Scene& scene, const PhyxelSet& set, int64_t steps, int64_t chunk,
-    const std::function<void(const std::vector<ToolContactSample>&)>& after) {
-  const TimeStepPlan plan = plan_time_step(scene, set);
-  ToolTrack track(scene.tools, {});
-  Tools& tools = *solver.tools();
-  tools.set_tools(contact_tools(scene.tools));
-  for (int64_t s = 0; s < steps; s += chunk) {
-    const int64_t n = std::min<int64_t>(chunk, steps - s) * plan.substeps;
-    tools.set_tool_motion(track.motions(s * plan.substeps, n, plan.dt_used));
-    solver.advance(n, plan.dt_used);
-    after(tools.tool_samples());
-  }
-}
+using phyxel::test::advance_tools_in_chunks;
 
 class GpuSolverTest : public VulkanTest {};
 

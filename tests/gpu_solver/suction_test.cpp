@@ -55,6 +55,29 @@ TEST_F(GpuSolverTest, SuctionPullsTheTissueAndTheTubeAsTheCpu) {
       scale, max_difference(c.u, g.u), largest, worst);
 }
 
+// The flow's bound (suction.h suction_flow_factor) on both solvers: a block of 1 Pa whose
+// fragments one substep's whole pull (1.08 m/s) would take past the flow of 0.2 m/s, over six
+// steps, before any reaches the mouth (contact would let float and double part).
+TEST_F(GpuSolverTest, SuctionDrawsFragmentsAtTheFlowSpeedAsTheCpu) {
+  Scene scene = parse_scene(phyxel::test::suction_block_json(1e6), "block.json");
+  scene.objects[0].material.young = 1;
+  scene.objects[0].material.damping = 0;
+  scene.tools[0].suction.flow_speed = 0.2;
+  const PhyxelSet set = sample_scene(scene);
+  auto cpu = make_cpu_solver(set, Vec3::Zero(), 1);
+  GpuSolver gpu(ctx(), set, Vec3::Zero());
+  const PullRun c = pull(*cpu, scene, set, 6);
+  const PullRun g = pull(gpu, scene, set, 6);
+  const double scale = max_norm(c.u);
+  EXPECT_GT(scale, 5e-4) << "the suction moved nothing";
+  EXPECT_LE(scale, 1.5 * 6 * 1e-3 * 0.2) << "faster than the flow";
+  EXPECT_LT(max_difference(c.u, g.u), 1e-4 * scale);
+  const std::vector<Vec3> vc = cpu->read_state(false).velocity, vg = gpu.read_state(false).velocity;
+  EXPECT_LT(max_difference(vc, vg), 1e-4 * 0.2);
+  std::printf("[ suction  ] flow 0.2 m/s: |u| up to %.3g m, GPU within %.3g m\n", scale,
+              max_difference(c.u, g.u));
+}
+
 // A mouth on a block whose half ball in reach is full of tissue: in the first substep (tissue
 // at rest, no contact: the tube is thinner than the lattice's gap under its off-lattice tip) the
 // tube feels only -sum f_i, which is pressure x mouth area down the axis on both solvers (the
