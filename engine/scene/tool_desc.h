@@ -28,7 +28,7 @@ struct Blade {
 struct Suction {
   double pressure = 0;    // Pa (> 0: the tool sucks)
   double reach = 0;       // m, from the tip
-  double flow_speed = 1;  // m/s: the speed toward the mouth at which the pull vanishes
+  double flow_speed = 0.5;  // m/s: the speed toward the mouth at which the pull vanishes
   double from = 0;        // s: on during [from, until)
   double until = std::numeric_limits<double>::infinity();
   bool sucks() const { return pressure > 0; }

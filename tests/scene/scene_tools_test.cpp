@@ -260,7 +260,7 @@ TEST(SceneTools, SuctionKeysAreRead) {
   EXPECT_EQ(t.type, ToolDesc::Type::Suction);
   EXPECT_DOUBLE_EQ(t.suction.pressure, 20000);
   EXPECT_DOUBLE_EQ(t.suction.reach, 0.004);
-  EXPECT_DOUBLE_EQ(t.suction.flow_speed, 1);  // the default
+  EXPECT_DOUBLE_EQ(t.suction.flow_speed, 0.5);  // the default
   EXPECT_TRUE(t.suction.on_at(0.1));
   EXPECT_FALSE(t.suction.on_at(0.05));
   EXPECT_FALSE(t.suction.on_at(0.4));
