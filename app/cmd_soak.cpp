@@ -1,6 +1,7 @@
 // phyxel soak SCENE: a long run under surgery (docs/performance.md "Soak"): the run loop of
 // `phyxel run`, headless, sampled at every tenth of its steps for resident memory (VmRSS), GPU
-// memory, the step rate, the kinetic energy and the topology edits so far; DIR/soak.json holds
+// memory, the step rate, the kinetic energy and the topology edits of each tenth (pairs cut,
+// pairs torn, phyxels aspirated, grips closed on tissue); DIR/soak.json holds
 // the samples and a hash of the final u and v, so that two runs and a resumed one can be
 // compared bit for bit. Timing is reported, never judged.
 #include <unistd.h>
@@ -30,9 +31,9 @@ constexpr const char* kSoakHelp =
     "usage: phyxel soak SCENE [options]\n"
     "\n"
     "Runs SCENE headless (no points files, no frames) and samples the run at every tenth of\n"
-    "its steps: resident memory, GPU memory, steps per second, kinetic energy, the pairs\n"
-    "severed and phyxels aspirated so far. Writes DIR/soak.json (the samples and a hash of the\n"
-    "final displacements and velocities) and prints the table.\n"
+    "its steps: resident memory, GPU memory, steps per second, kinetic energy, and the edits\n"
+    "of each tenth: pairs cut, pairs torn, phyxels aspirated, grips. Writes DIR/soak.json (the\n"
+    "samples and a hash of the final displacements and velocities) and prints the table.\n"
     "\n"
     "options:\n"
     "  --steps N             steps (default: the scene's simulation.steps)\n"
@@ -62,6 +63,14 @@ std::string state_hash(const PointState& s) {
   return text;
 }
 
+// Topology edits so far (a resumed soak counts from its checkpoint's).
+struct Edits {
+  size_t cut = 0;        // pairs severed by a blade
+  size_t torn = 0;       // pairs torn
+  size_t aspirated = 0;  // phyxels removed by aspiration
+  size_t grips = 0;      // a grasper closing on tissue (its held count rising from 0)
+};
+
 struct Sample {
   int64_t step = 0;
   double wall = 0;  // s since the soak's loop began
@@ -69,12 +78,12 @@ struct Sample {
   uint64_t gpu_allocated = 0, gpu_available = 0;  // bytes (GPU solvers only)
   double kinetic = 0;                             // J
   bool finite = true;
-  size_t severed = 0;  // pairs cut or torn so far
+  Edits edits;
 };
 
 // The state now: kinetic energy (of the phyxels not aspirated: `removed`), finiteness, memory.
 Sample take_sample(Solver& solver, const PhyxelSet& set, const std::vector<uint8_t>& removed,
-                   int64_t step, double wall) {
+                   int64_t step, double wall, const Edits& edits) {
   Sample s;
   s.step = step;
   s.wall = wall;
@@ -89,16 +98,18 @@ Sample take_sample(Solver& solver, const PhyxelSet& set, const std::vector<uint8
     s.finite = s.finite && v.allFinite() && state.displacement[i].allFinite();
     if (!removed[i]) s.kinetic += 0.5 * set.mass[i] * v.squaredNorm();
   }
-  s.severed = severed_pair_count(solver);
+  s.edits = edits;
   return s;
 }
 
-nlohmann::json report(const std::vector<Sample>& samples, const RunResult& result,
-                      const std::vector<SeveredPair>& severed, const std::string& hash) {
+nlohmann::json report(const std::vector<Sample>& samples, const Edits& start,
+                      const RunResult& result, const std::vector<SeveredPair>& severed,
+                      const std::string& hash) {
   nlohmann::json tenths = nlohmann::json::array();
   for (size_t k = 0; k < samples.size(); ++k) {
     const Sample& s = samples[k];
     const Sample* before = k > 0 ? &samples[k - 1] : nullptr;
+    const Edits& e0 = before ? before->edits : start;
     const double steps = before ? double(s.step - before->step) : double(s.step);
     const double wall = before ? s.wall - before->wall : s.wall;
     tenths.push_back({{"step", s.step},
@@ -109,7 +120,10 @@ nlohmann::json report(const std::vector<Sample>& samples, const RunResult& resul
                       {"gpu_available_bytes", s.gpu_available},
                       {"kinetic_energy_j", s.finite ? s.kinetic : -1.0},
                       {"finite", s.finite},
-                      {"severed_pairs", s.severed}});
+                      {"cut_pairs", s.edits.cut - e0.cut},
+                      {"torn_pairs", s.edits.torn - e0.torn},
+                      {"aspirated_phyxels", s.edits.aspirated - e0.aspirated},
+                      {"grips", s.edits.grips - e0.grips}});
   }
   nlohmann::json j;
   j["tenths"] = tenths;
@@ -132,13 +146,15 @@ nlohmann::json report(const std::vector<Sample>& samples, const RunResult& resul
 }
 
 void print_table(const nlohmann::json& j) {
-  std::printf("%10s %9s %11s %10s %14s %12s %8s\n", "step", "wall s", "steps/s", "RSS KiB",
-              "GPU alloc B", "kinetic J", "severed");
+  std::printf("%10s %9s %11s %10s %14s %12s %6s %6s %6s %6s\n", "step", "wall s", "steps/s",
+              "RSS KiB", "GPU alloc B", "kinetic J", "cut", "torn", "aspir", "grips");
   for (const auto& t : j["tenths"])
-    std::printf("%10lld %9.2f %11.1f %10ld %14llu %12.3e %8zu\n", t["step"].get<long long>(),
-                t["wall_s"].get<double>(), t["steps_per_s"].get<double>(), t["rss_kib"].get<long>(),
-                t["gpu_allocated_bytes"].get<unsigned long long>(),
-                t["kinetic_energy_j"].get<double>(), t["severed_pairs"].get<size_t>());
+    std::printf(
+        "%10lld %9.2f %11.1f %10ld %14llu %12.3e %6zu %6zu %6zu %6zu\n", t["step"].get<long long>(),
+        t["wall_s"].get<double>(), t["steps_per_s"].get<double>(), t["rss_kib"].get<long>(),
+        t["gpu_allocated_bytes"].get<unsigned long long>(), t["kinetic_energy_j"].get<double>(),
+        t["cut_pairs"].get<size_t>(), t["torn_pairs"].get<size_t>(),
+        t["aspirated_phyxels"].get<size_t>(), t["grips"].get<size_t>());
   std::printf("state %s, %lld aspirations\n", j["state_hash"].get<std::string>().c_str(),
               j["aspiration_events"].get<long long>());
 }
@@ -192,8 +208,31 @@ int soak_command(const Args& args) {
   if (checkpoint)
     for (const uint32_t i : checkpoint->aspiration.removed)
       if (i < removed.size()) removed[i] = 1;
+  Edits edits;
+  std::vector<uint32_t> held(scene.tools.size(), 0);  // per tool, at the last step
+  if (checkpoint) {
+    edits.aspirated = checkpoint->aspiration.removed.size();
+    for (const SeveredPair& p : checkpoint->severed) ++(p.torn ? edits.torn : edits.cut);
+    for (size_t t = 0; t < held.size() && t < checkpoint->tool_stats.size(); ++t)
+      held[t] = checkpoint->tool_stats[t].held;
+  }
+  const Edits edits_start = edits;
   options.on_aspiration = [&](const AspirationEvent& e) {
     for (const uint32_t i : e.removed) removed[i] = 1;
+    edits.aspirated += e.removed.size();
+  };
+  options.on_tool_step = [&](int64_t, double, const std::vector<ToolStepRecord>& records) {
+    for (size_t t = 0; t < held.size(); ++t) {
+      edits.grips += held[t] == 0 && records[t].held > 0 ? 1 : 0;
+      held[t] = records[t].held;
+    }
+  };
+  // The pairs severed since the last sample, cut or torn (the solver's log from `logged` on).
+  size_t logged = edits.cut + edits.torn;
+  const auto count_severed = [&] {
+    for (const SeveredPair& p : need(solver->cutting(), *solver, "cut").severed_since(logged))
+      ++(p.torn ? edits.torn : edits.cut);
+    logged = severed_pair_count(*solver);
   };
   const int64_t first = checkpoint ? checkpoint->step : 0;
   const auto start = std::chrono::steady_clock::now();
@@ -204,11 +243,12 @@ int soak_command(const Args& args) {
     if (samples.size() >= 10 || step < next) return;
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    samples.push_back(take_sample(*solver, set, removed, step, wall));
+    count_severed();
+    samples.push_back(take_sample(*solver, set, removed, step, wall, edits));
   };
   const RunResult result = run_simulation(scene, set, *solver, options);
   const nlohmann::json j =
-      report(samples, result, need(solver->cutting(), *solver, "cut").severed_since(0),
+      report(samples, edits_start, result, need(solver->cutting(), *solver, "cut").severed_since(0),
              state_hash(solver->read_state(false)));
   std::ofstream(out_dir / "soak.json") << j.dump(2) << "\n";
   if (!quiet) print_table(j);

@@ -47,6 +47,8 @@ constexpr double kMaxFlowSpeed = 100;
 constexpr double kMaxCutForce = 1e3;
 // A tool's cycle ("repeat"), s.
 constexpr double kMinRepeat = 1e-6, kMaxRepeat = 1e6;
+// A repeating path's shift per cycle ("repeat_shift"), m: at most this along each axis.
+constexpr double kMaxRepeatShift = 1;
 
 ToolDesc::Type read_type(const Node& node) {
   const std::string type = node.choice({"probe", "scalpel", "suction", "grasper"});
@@ -189,10 +191,18 @@ void read_repeat(const Node& node, ToolDesc& tool) {
               "a last key with the first key's position and axis");
 }
 
+// "repeat_shift": the path moved by this much at each new cycle; only with "repeat".
+void read_repeat_shift(const Node& node, ToolDesc& tool) {
+  if (tool.repeat <= 0)
+    node.fail("\"repeat_shift\" applies only to a repeating path",
+              "add \"repeat\": s (the cycle) or remove it");
+  tool.repeat_shift = node.vec3({-kMaxRepeatShift, kMaxRepeatShift, true, true}, "m");
+}
+
 ToolDesc read_tool(const Node& node) {
   node.expect_object(kToolExpected,
                      {"name", "type", "shape", "path", "friction", "control", "coupling", "blade",
-                      "cut_force_threshold", "suction", "grasp", "repeat"});
+                      "cut_force_threshold", "suction", "grasp", "repeat", "repeat_shift"});
   ToolDesc tool;
   tool.name = node.at("name", "a non-empty string").text();
   tool.type = read_type(node.at("type", "\"probe\", \"scalpel\", \"suction\" or \"grasper\""));
@@ -228,6 +238,7 @@ ToolDesc read_tool(const Node& node) {
                                                                    : ToolDesc::Control::Path;
   }
   if (const auto repeat = node.find("repeat")) read_repeat(*repeat, tool);
+  if (const auto shift = node.find("repeat_shift")) read_repeat_shift(*shift, tool);
   if (const auto coupling = node.find("coupling")) {
     if (tool.control != ToolDesc::Control::Haptic) {
       coupling->fail(

@@ -71,6 +71,18 @@ struct ToolDesc {
   // once); the tool at t does what it did at t mod repeat (the path ends where it began).
   double repeat = 0;
   double cycle_time(double t) const { return repeat > 0 ? std::fmod(t, repeat) : t; }
+  // Added to the path at each new cycle ("repeat_shift", m): in cycle k = floor(t / repeat)
+  // the tool follows its path moved by k * repeat_shift (fresh tissue every cycle).
+  Vec3 repeat_shift = Vec3::Zero();
+  double cycle_index(double t) const {
+    return repeat > 0 ? std::round((t - std::fmod(t, repeat)) / repeat) : 0.0;
+  }
+  // The scripted pose at simulated time t: the path at t's cycle time, shifted by its cycle.
+  ToolPose path_pose(double t) const {
+    ToolPose p = pose_at(path, cycle_time(t));
+    p.position += cycle_index(t) * repeat_shift;
+    return p;
+  }
 };
 
 }  // namespace phyxel

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "engine/solver/kernel.h"
@@ -61,11 +62,19 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
   }
   rest_d_ = set.rest;
   size_t regularised = 0;
-#pragma omp parallel for schedule(static) reduction(+ : regularised)
+  // Polled as the search polls it (a precompute over many neighbours takes seconds too).
+  std::atomic<bool> stopped{false};
+#pragma omp parallel for schedule(dynamic, kSetupPollEvery) reduction(+ : regularised)
   for (size_t i = 0; i < n; ++i) {
+    if (stopped.load(std::memory_order_relaxed)) continue;
+    if (i % kSetupPollEvery == 0 && search_stop_requested()) {
+      stopped.store(true, std::memory_order_relaxed);
+      continue;
+    }
     precompute(i);
     regularised += regularised_[i];
   }
+  if (stopped.load()) throw SearchStopped("the MLS precompute");
   regularised_count_ = regularised;
   for (const ObjectRange& o : set.objects) contact_spacing_ = std::max(contact_spacing_, o.spacing);
   contact_.assign(n, 0);

@@ -53,12 +53,16 @@ CellGrid build_grid(const PhyxelSet& set, const std::vector<uint32_t>& members, 
 // set_search_stop's check, and how often the search polls it (in phyxels: the first of each
 // dynamic chunk).
 std::function<bool()> search_stop;
-constexpr size_t kPollEvery = 256;
+constexpr size_t kPollEvery = kSetupPollEvery;
 
 }  // namespace
 
 void set_search_stop(std::function<bool()> stop) {
   search_stop = std::move(stop);
+}
+
+bool search_stop_requested() {
+  return search_stop && search_stop();
 }
 
 NeighbourLists find_rest_neighbours(const PhyxelSet& set) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
@@ -37,11 +38,17 @@ struct NeighbourLists {
 // that takes seconds stops within a fraction of one.
 NeighbourLists find_rest_neighbours(const PhyxelSet& set);
 
+// The same stop ends the solvers' MLS precompute (polled every 256 phyxels; `phase` names it).
 class SearchStopped : public std::runtime_error {
  public:
-  SearchStopped() : std::runtime_error("stopped during the neighbour search") {}
+  explicit SearchStopped(const std::string& phase = "the neighbour search")
+      : std::runtime_error("stopped during " + phase) {}
 };
 // Process-wide; called from the search's threads at once (read atomics only). Empty: never.
 void set_search_stop(std::function<bool()> stop);
+// The stop's answer now (false without one): for the setup passes after the search.
+bool search_stop_requested();
+// Phyxels between two polls of the stop, in the search and the precompute.
+inline constexpr size_t kSetupPollEvery = 256;
 
 }  // namespace phyxel

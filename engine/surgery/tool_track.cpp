@@ -58,7 +58,7 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
         to.position = start.position + s * (target.position - start.position);
         to.axis = slerp_axis(start.axis, target.axis, s);
       } else {
-        to = pose_at(tool.path, tool.cycle_time(double(first + k + 1) * dt));
+        to = tool.path_pose(double(first + k + 1) * dt);
       }
       // A haptic aspirator sucks all the time (the hand holds the pedal); a path one as its
       // suction says, at the substep's middle.
@@ -85,12 +85,14 @@ Bounds ToolTrack::swept_bounds(double from, double to) const {
       swept.extend(tool_bounds(tool.shape, source_(t, to)));
     } else {
       // A repeating path's keys in the cycle's times of (from, to), all of them where it wraps.
+      // Shifted as the cycles of `from` and `to` shift them (repeat_shift).
       const double a = tool.cycle_time(from), z = tool.cycle_time(to);
       const bool wraps = tool.repeat > 0 && (to - from >= tool.repeat || z < a);
-      swept.extend(tool_bounds(tool.shape, pose_at(tool.path, z)));
-      for (const ToolKey& k : tool.path)
-        if (wraps || (k.t > a && k.t < z))
-          swept.extend(tool_bounds(tool.shape, {k.position, k.axis}));
+      swept.extend(tool_bounds(tool.shape, tool.path_pose(to)));
+      for (const double cycle : {tool.cycle_index(from), tool.cycle_index(to)})
+        for (const ToolKey& k : tool.path)
+          if (wraps || (k.t > a && k.t < z))
+            swept.extend(tool_bounds(tool.shape, {k.position + cycle * tool.repeat_shift, k.axis}));
     }
     if (tool.suction.sucks()) swept.grow(tool.suction.reach);  // what its mouth pulls on
     if (tool.grasp.grasps()) swept.grow(tool.grasp.reach);     // what its jaws close on

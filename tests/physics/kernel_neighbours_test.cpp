@@ -6,6 +6,7 @@
 
 #include "engine/solver/kernel.h"
 #include "engine/solver/neighbours.h"
+#include "engine/solver/solver.h"
 #include "tests/physics/physics_fixtures.h"
 
 namespace phyxel {
@@ -103,6 +104,32 @@ TEST(Neighbours, TheSearchPollsItsStopAndEndsOnIt) {
   EXPECT_THROW(find_rest_neighbours(set), SearchStopped);
   set_search_stop({});
   EXPECT_EQ(find_rest_neighbours(set).index, plain.index);
+}
+
+// The CPU solver's MLS precompute polls the same stop every 256 phyxels after the search's
+// polls: a stop there ends it with SearchStopped naming the precompute; without one the solver
+// is built as always.
+TEST(Neighbours, TheCpuPrecomputePollsTheStopAndEndsOnIt) {
+  const Scene scene =
+      test::box_scene(Vec3(0, 0, 0), Vec3(0.03, 0.02, 0.017), 0.0025, test::tissue(), 2.3);
+  const PhyxelSet set = sample_scene(scene);
+  const int search_polls = int((set.size() + 255) / 256);
+  ASSERT_GT(search_polls, 1);
+  std::atomic<int> polls{0};
+  set_search_stop([&] { return ++polls < 0; });
+  const auto plain = make_cpu_solver(set, Vec3::Zero(), 1);
+  EXPECT_EQ(polls.load(), 2 * search_polls);  // the search's, then the precompute's
+  polls = 0;
+  set_search_stop([&] { return ++polls > search_polls; });  // the search runs to its end
+  try {
+    make_cpu_solver(set, Vec3::Zero(), 1);
+    ADD_FAILURE() << "the precompute did not stop";
+  } catch (const SearchStopped& e) {
+    EXPECT_STREQ(e.what(), "stopped during the MLS precompute");
+  }
+  EXPECT_EQ(polls.load(), search_polls + 1);  // one thread: the precompute's first poll ended it
+  set_search_stop({});
+  EXPECT_EQ(make_cpu_solver(set, Vec3::Zero(), 1)->neighbours().index, plain->neighbours().index);
 }
 
 }  // namespace
