@@ -1,0 +1,309 @@
+// slit_static_solve: the slit cantilever (scenes/validation/cantilever_slit.json) by a linear
+// static solve of the MLS model: the small-strain energy of the CPU solver (elastic energy of
+// each phyxel's gradient times its elastic volume, damage as the solver applies it, and the
+// hourglass penalty) assembled as a sparse stiffness matrix and solved by LDLT, in seconds where
+// relaxing takes minutes. The blade's pairs are the ones crossing x = 0.03 above z = 0 (ties
+// through the front kept, as `blade_severs`). It measures how weights for the cut pairs near the
+// front would change the tip deflection, and, with --scni, a stabilised conforming nodal
+// integration instead of the solver's (docs/cutting.md, "Stiffness of a cut body"):
+//   slit_static_solve M [none|transparency S0 POWER|diffraction LAMBDA] [--whole] [--no-damage]
+//                     [--support H_OVER_SPACING] [--scni FACE_POINTS]
+// M odd: spacing 0.02 / M; S0 in spacings. Run from the repository root.
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+#include <unordered_map>
+
+#include "engine/sampling/phyxel_set.h"
+#include "engine/scene/scene.h"
+#include "engine/solver/kernel.h"
+#include "engine/solver/mls_model.h"
+#include "engine/solver/neighbours.h"
+
+using namespace phyxel;
+
+namespace {
+
+constexpr double kSlitX = 0.03, kFrontZ = 0.0, kReferenceTip = -7.0495e-3;
+
+struct Options {
+  int m = 7;
+  std::string weight = "none";  // what a cut pair keeps: none, transparency, diffraction
+  double s0 = 1.5, power = 2, lambda = 1;
+  bool slit = true, damage = true;
+  double support = 0;   // support radius in spacings; 0: the scene's (2)
+  bool scni = false;    // stabilised conforming nodal integration instead of the solver's
+  int face_points = 1;  // per face and direction (1 or 2)
+};
+
+// The weight a pair keeps: w0 unless the slit crosses it above the front.
+double cut_pair_weight(const Options& o, const Vec3& p, const Vec3& q, double w0, double h,
+                       double spacing) {
+  if (!o.slit || (p.x() - kSlitX) * (q.x() - kSlitX) >= 0) return w0;
+  const double t = (kSlitX - p.x()) / (q.x() - p.x());
+  const double above = p.z() + t * (q.z() - p.z()) - kFrontZ;  // crossing over the front
+  if (above < 1e-6) return w0;
+  if (o.weight == "transparency") {  // Organ et al. 1996: fades over s0 behind the front
+    const double s0 = o.s0 * spacing;
+    return above < s0 ? std::pow(1 - above / s0, o.power) * w0 : 0.0;
+  }
+  if (o.weight == "diffraction") {  // the distance around the front line
+    const double s1 = std::hypot(p.x() - kSlitX, p.z() - kFrontZ);
+    const double s2 = std::hypot(q.x() - kSlitX, q.z() - kFrontZ);
+    const double around = std::hypot(s1 + s2, q.y() - p.y()), direct = (q - p).norm();
+    const double d = std::pow(around / direct, o.lambda) * direct;
+    return poly6(d * d, h);
+  }
+  return 0.0;
+}
+
+// V B^T D B: the small-strain elastic energy's stiffness for a gradient G = B u (G_rc at row
+// 3 r + c), W = mu eps:eps + lambda/2 tr(eps)^2.
+Eigen::MatrixXd elastic_stiffness(const Eigen::MatrixXd& b, double volume, double lambda,
+                                  double mu) {
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(9, 9);
+  for (int r = 0; r < 3; ++r)
+    for (int s = 0; s < 3; ++s) {
+      d(3 * r + s, 3 * r + s) += mu;
+      d(3 * r + s, 3 * s + r) += mu;
+      d(4 * r, 4 * s) += lambda;
+    }
+  return volume * b.transpose() * d * b;
+}
+
+// A phyxel's energy over its local dofs `nodes` (3 per node), as the stiffness k.
+struct LocalStiffness {
+  std::vector<uint32_t> nodes;
+  Eigen::MatrixXd k;
+};
+
+struct Model {
+  PhyxelSet set;
+  NeighbourLists nbr;
+  double h = 0, spacing = 0, lambda = 0, mu = 0, hourglass = 0;
+};
+
+// The solver's nodal integration: the MLS gradient of phyxel i from its live pairs, its
+// elastic volume (with damage) and the hourglass penalty.
+LocalStiffness nodal_stiffness(const Model& md, const Options& o, size_t i) {
+  const PhyxelSet& set = md.set;
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), reference = Eigen::Matrix3d::Zero();
+  LocalStiffness out{{uint32_t(i)}, {}};
+  std::vector<double> ws;
+  std::vector<Vec3> xs;
+  bool damaged = false;
+  for (uint32_t k = md.nbr.offset[i]; k < md.nbr.offset[i + 1]; ++k) {
+    const uint32_t j = md.nbr.index[k];
+    const Vec3 x = set.rest[j] - set.rest[i];
+    const double w0 = poly6(x.squaredNorm(), md.h);
+    const double w = cut_pair_weight(o, set.rest[i], set.rest[j], w0, md.h, md.spacing);
+    reference += w0 * x * x.transpose();
+    damaged = damaged || w != w0;
+    if (w == 0) continue;
+    a += w * x * x.transpose();
+    out.nodes.push_back(j);
+    ws.push_back(w);
+    xs.push_back(x);
+  }
+  const double damage = damaged && o.damage ? damage_factor(min_moment_eigenvalue(a),
+                                                            min_moment_eigenvalue(reference))
+                                            : 1.0;
+  const Eigen::Matrix3d a_inv = regularised_inverse(a).inverse;
+  const int nl = int(out.nodes.size());
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(9, 3 * nl);
+  for (int q = 1; q < nl; ++q) {
+    const Vec3 c = ws[q - 1] * a_inv * xs[q - 1];
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s) {
+        b(3 * r + s, 3 * q + r) += c[s];
+        b(3 * r + s, r) -= c[s];
+      }
+  }
+  out.k = elastic_stiffness(b, damage * set.volume[i], md.lambda, md.mu);
+  const double kappa = damage * md.hourglass * md.mu * set.volume[i] / (a.trace() / 3);
+  for (int q = 1; q < nl; ++q) {  // e = G x_ij - (u_j - u_i)
+    Eigen::MatrixXd e = Eigen::MatrixXd::Zero(3, 3 * nl);
+    for (int r = 0; r < 3; ++r) {
+      for (int s = 0; s < 3; ++s) e.row(r) += xs[q - 1][s] * b.row(3 * r + s);
+      e(r, 3 * q + r) -= 1;
+      e(r, r) += 1;
+    }
+    out.k += kappa * ws[q - 1] * e.transpose() * e;
+  }
+  return out;
+}
+
+// The phyxels by lattice point (the beam is one box lattice), for the MLS shape functions at
+// any point.
+struct Lattice {
+  Vec3 origin;
+  double spacing = 0;
+  std::unordered_map<int64_t, uint32_t> at;
+  static int64_t key(int64_t a, int64_t b, int64_t c) { return (a * 4096 + b) * 4096 + c; }
+  Eigen::Vector3i cell(const Vec3& x) const {
+    return ((x - origin) / spacing).array().round().cast<int>();
+  }
+};
+
+// The linear-basis MLS shape functions at x over the phyxels within h, each pair weighted as
+// the cut pairs are (cut_pair_weight): the visibility criterion or diffraction at the slit.
+std::vector<std::pair<uint32_t, double>> mls_shape(const Model& md, const Lattice& lat,
+                                                   const Options& o, const Vec3& x) {
+  const Eigen::Vector3i c = lat.cell(x);
+  const int reach = int(std::ceil(md.h / md.spacing));
+  Eigen::Matrix4d moment = Eigen::Matrix4d::Zero();
+  std::vector<std::pair<uint32_t, double>> out;
+  std::vector<Eigen::Vector4d> basis;
+  for (int a = c.x() - reach; a <= c.x() + reach; ++a)
+    for (int b = c.y() - reach; b <= c.y() + reach; ++b)
+      for (int d = c.z() - reach; d <= c.z() + reach; ++d) {
+        const auto it = lat.at.find(Lattice::key(a, b, d));
+        if (it == lat.at.end()) continue;
+        const Vec3 xj = md.set.rest[it->second];
+        const double w0 = poly6((xj - x).squaredNorm(), md.h);
+        const double w = w0 > 0 ? cut_pair_weight(o, x, xj, w0, md.h, md.spacing) : 0.0;
+        if (w == 0) continue;
+        const Eigen::Vector4d p(1, xj.x() - x.x(), xj.y() - x.y(), xj.z() - x.z());
+        moment += w * p * p.transpose();
+        out.emplace_back(it->second, w);
+        basis.push_back(p);
+      }
+  const Eigen::Vector4d r = moment.ldlt().solve(Eigen::Vector4d::UnitX());
+  for (size_t k = 0; k < out.size(); ++k) out[k].second *= r.dot(basis[k]);
+  return out;
+}
+
+// Stabilised conforming nodal integration (Chen et al. 2001): phyxel i's gradient is the mean
+// over its lattice cell (clipped to the box), the MLS displacement times the outward normal
+// integrated over the cell's faces with `face_points`^2 Gauss points each; no hourglass
+// penalty. A face point on the slit's plane belongs to the cell's side.
+LocalStiffness scni_stiffness(const Model& md, const Lattice& lat, const Options& o, size_t i,
+                              const Vec3& box_min, const Vec3& box_max) {
+  const Vec3 xi = md.set.rest[i];
+  const Vec3 lo = (xi.array() - md.spacing / 2).max(box_min.array());
+  const Vec3 hi = (xi.array() + md.spacing / 2).min(box_max.array());
+  const int np = o.face_points;
+  const double g = np == 1 ? 0.0 : 0.5 / std::sqrt(3.0);  // Gauss points at 1/2 -+ g
+  std::map<uint32_t, Eigen::Matrix<double, 9, 3>> blocks;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u1 = (axis + 1) % 3, u2 = (axis + 2) % 3;
+      const double area = (hi[u1] - lo[u1]) * (hi[u2] - lo[u2]);
+      const double weight = (side ? 1.0 : -1.0) * area / (np * np) / md.set.volume[i];
+      for (int p1 = 0; p1 < np; ++p1)
+        for (int p2 = 0; p2 < np; ++p2) {
+          Vec3 x;
+          x[axis] = side ? hi[axis] : lo[axis];
+          x[u1] = lo[u1] + (0.5 + (p1 ? g : -g)) * (hi[u1] - lo[u1]);
+          x[u2] = lo[u2] + (0.5 + (p2 ? g : -g)) * (hi[u2] - lo[u2]);
+          if (std::abs(x.x() - kSlitX) < 1e-12) x.x() += xi.x() < kSlitX ? -1e-10 : 1e-10;
+          for (const auto& [j, phi] : mls_shape(md, lat, o, x)) {
+            auto& blk = blocks.try_emplace(j, Eigen::Matrix<double, 9, 3>::Zero()).first->second;
+            for (int r = 0; r < 3; ++r) blk(3 * r + axis, r) += weight * phi;  // u_r n_axis
+          }
+        }
+    }
+  LocalStiffness out;
+  Eigen::MatrixXd b(9, 3 * blocks.size());
+  for (const auto& [j, blk] : blocks) {
+    b.block(0, 3 * long(out.nodes.size()), 9, 3) = blk;
+    out.nodes.push_back(j);
+  }
+  out.k = elastic_stiffness(b, md.set.volume[i], md.lambda, md.mu);
+  return out;
+}
+
+double solve_tip(const Options& o) {
+  Scene scene = load_scene("scenes/validation/cantilever_slit.json");
+  ObjectDesc& obj = scene.objects.at(0);
+  obj.support_radius = o.support > 0 ? o.support * obj.spacing : obj.support_radius;
+  obj.support_radius *= 7.0 / o.m;
+  obj.spacing *= 7.0 / o.m;
+  Model md{sample_scene(scene), {}, obj.support_radius, obj.spacing, 0, 0, 0};
+  md.nbr = find_rest_neighbours(md.set);
+  const Material& mat = md.set.materials[0];
+  md.lambda = lame_lambda(mat), md.mu = lame_mu(mat), md.hourglass = mat.hourglass;
+  const size_t n = md.set.size();
+  const PhyxelSet& set = md.set;
+  Lattice lat{obj.shape.min, obj.spacing, {}};
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3i c = lat.cell(set.rest[i]);
+    lat.at[Lattice::key(c.x(), c.y(), c.z())] = uint32_t(i);
+  }
+  std::vector<Eigen::Triplet<double>> entries;
+  for (size_t i = 0; i < n; ++i) {
+    const LocalStiffness l = o.scni ? scni_stiffness(md, lat, o, i, obj.shape.min, obj.shape.max)
+                                    : nodal_stiffness(md, o, i);
+    for (size_t q = 0; q < l.nodes.size(); ++q)
+      for (size_t r = 0; r < l.nodes.size(); ++r) {
+        if ((set.flags[l.nodes[q]] | set.flags[l.nodes[r]]) & kFixed) continue;
+        for (int s = 0; s < 3; ++s)
+          for (int t = 0; t < 3; ++t)
+            entries.emplace_back(3 * l.nodes[q] + s, 3 * l.nodes[r] + t, l.k(3 * q + s, 3 * r + t));
+      }
+  }
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * long(n));
+  for (size_t i = 0; i < n; ++i) {
+    if (set.flags[i] & kFixed)
+      for (int s = 0; s < 3; ++s) entries.emplace_back(3 * i + s, 3 * i + s, 1.0);
+    else
+      f[3 * long(i) + 2] = set.mass[i] * scene.simulation.gravity.z();
+  }
+  Eigen::SparseMatrix<double> stiffness(3 * long(n), 3 * long(n));
+  stiffness.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(stiffness);
+  if (ldlt.info() != Eigen::Success) throw std::runtime_error("the stiffness is singular");
+  const Eigen::VectorXd u = ldlt.solve(f);
+  double sum = 0;  // the mean u_z of the phyxels round the tip's centre line, as the bench
+  int count = 0;
+  for (size_t i = 0; i < n; ++i)
+    if ((set.rest[i] - Vec3(0.1, 0, 0)).norm() < 0.75 * obj.spacing)
+      sum += u[3 * long(i) + 2], ++count;
+  return sum / count;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (argc < 2 || std::atoi(argv[1]) < 3 || std::atoi(argv[1]) % 2 == 0) {
+    std::fprintf(stderr,
+                 "usage: slit_static_solve M [none|transparency S0 POWER|diffraction LAMBDA] "
+                 "[--whole] [--no-damage] [--support H_OVER_SPACING] [--scni 1|2]  (M odd >= 3)\n");
+    return 2;
+  }
+  o.m = std::atoi(argv[1]);
+  for (int k = 2; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg == "--whole") o.slit = false;
+    if (arg == "--no-damage") o.damage = false;
+    if (arg == "--support" && k + 1 < argc) o.support = std::atof(argv[++k]);
+    if (arg == "--scni" && k + 1 < argc)
+      o.scni = true, o.face_points = std::atoi(argv[++k]) == 2 ? 2 : 1;
+    if (arg == "transparency" && k + 2 < argc) {
+      o.weight = arg;
+      o.s0 = std::atof(argv[++k]);
+      o.power = std::atof(argv[++k]);
+    }
+    if (arg == "diffraction" && k + 1 < argc) {
+      o.weight = arg;
+      o.lambda = std::atof(argv[++k]);
+    }
+  }
+  try {
+    const double tip = solve_tip(o);
+    std::printf("M %d spacing %.3f mm, %s%s: tip u_z %.5e m", o.m, 20.0 / o.m,
+                o.scni ? "SCNI, " : "", o.slit ? o.weight.c_str() : "whole beam", tip);
+    if (o.slit) std::printf(", against CalculiX %+.2f %%", 100 * (tip / kReferenceTip - 1));
+    std::printf("\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "slit_static_solve: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
