@@ -66,7 +66,8 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
       const EdgeFrame held = edge_frame(blade, quad, m.to, radius, reach);
       q.axis = to_vec4(held.axis, float(held.length));
-      q.resist = {float(held.stiffness), float(held.depth), 0.0f, 0.0f};
+      q.resist = {float(held.stiffness), float(held.depth), float(held.tip_motion),
+                  float(held.end_motion)};
       const Vec3 end = m.to.position + blade.length * m.to.axis;
       q.p0 = to_vec4(quad.corner[0] - origin, float(radius));
       q.p1 = to_vec4(quad.corner[1] - origin);

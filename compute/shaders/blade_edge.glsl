@@ -13,6 +13,8 @@ struct EdgeFrame {
   float front;  // the body's radius
   float depth;
   float stiffness;
+  float tip_motion;
+  float end_motion;
 };
 
 EdgeFrame edge_frame(CutQuad c) {
@@ -25,14 +27,17 @@ EdgeFrame edge_frame(CutQuad c) {
   f.front = c.p0.w;
   f.depth = c.resist.y;
   f.stiffness = c.resist.x;
+  f.tip_motion = c.resist.z;
+  f.end_motion = c.resist.w;
   return f;
 }
 
 // Whether the edge holds the pair p -> q (canonical order): t its crossing's fraction, behind
-// how far behind the body's front it lies (m).
-bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind) {
+// how far behind the body's front it lies (m), against the motion there (direction +-1).
+bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float direction) {
   t = 0.0;
   behind = 0.0;
+  direction = 0.0;
   const vec3 pt = p - f.tip;
   const float dp = dot(f.normal, pt), dq = dot(f.normal, q - f.tip);
   if ((dp >= 0.0) == (dq >= 0.0)) return false;
@@ -40,7 +45,10 @@ bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind) {
   const vec3 c = pt + t * (q - p);
   const float along = dot(c, f.axis);
   if (along < 0.0 || along > f.span) return false;
-  behind = f.front - dot(c, f.edge);
+  const float moved = f.tip_motion + along / f.span * (f.end_motion - f.tip_motion);
+  if (moved == 0.0) return false;
+  direction = moved > 0.0 ? 1.0 : -1.0;
+  behind = f.front - direction * dot(c, f.edge);
   return behind > 0.0 && behind <= f.depth;
 }
 

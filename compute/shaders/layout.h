@@ -511,7 +511,7 @@ PHYXEL_CONST uint kGraspBindingSamples = 11;
 // pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
 // resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
 // radius p0.w): the axis at the end pose (w: the blade's length, m) and (stiffness N/m^3, 0 where
-// nothing is held; depth m; 0; 0).
+// nothing is held; depth m; the tip's and the end's motion along the edge, m).
 struct CutQuad {
   vec4 p0;
   vec4 p1;

@@ -55,12 +55,15 @@ vec3 held_pairs_force(uint i, EdgeFrame f) {
     const vec3 xj = position(j);
     float t;
     float behind;
-    if (!(i < j ? edge_holds(xi, xj, f, t, behind) : edge_holds(xj, xi, f, t, behind))) continue;
+    float direction;
+    if (!(i < j ? edge_holds(xi, xj, f, t, behind, direction)
+                : edge_holds(xj, xi, f, t, behind, direction)))
+      continue;
     if (s_i < 0.0) s_i = plane_crossings(i, f.normal);
     const float s_j = plane_crossings(j, f.normal);
     const float sum = i < j ? s_i + s_j : s_j + s_i;
     const float area = sum > 0.0 ? (i < j ? rest[i].w + rest[j].w : rest[j].w + rest[i].w) / sum : 0.0;
-    total += (f.stiffness * area * behind * (i < j ? 1.0 - t : t)) * f.edge;
+    total += (f.stiffness * area * behind * (i < j ? 1.0 - t : t) * direction) * f.edge;
   }
   return total;
 }

@@ -79,7 +79,8 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
 bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
   if (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t)) return true;
   float behind;
-  return c.resist.x > 0.0 && edge_holds(p, q, edge_frame(c), t, behind);
+  float direction;
+  return c.resist.x > 0.0 && edge_holds(p, q, edge_frame(c), t, behind, direction);
 }
 
 #include "pair_edit.glsl"

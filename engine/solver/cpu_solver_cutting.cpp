@@ -63,10 +63,10 @@ void CpuSolver<Real>::apply_cuts() {
     const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
-      double behind = 0;
+      double behind = 0, direction = 0;
       return blade_severs<double>(p, q, c, t) ||
              (body > 0 && blade_severs<double>(p, q, strip, t)) ||
-             (edge.stiffness > 0 && edge_holds(p, q, edge, t, &behind));
+             (edge.stiffness > 0 && edge_holds(p, q, edge, t, &behind, &direction));
     };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
@@ -117,14 +117,15 @@ Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge) const 
     if (w_[k] == Real(0)) continue;
     const uint32_t j = nbr_.index[k];
     const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
-    double t = 0, behind = 0;  // in the canonical order, as apply_cuts
-    if (!(i < j ? edge_holds(xi, xj, edge, &t, &behind) : edge_holds(xj, xi, edge, &t, &behind)))
+    double t = 0, behind = 0, direction = 0;  // in the canonical order, as apply_cuts
+    if (!(i < j ? edge_holds(xi, xj, edge, &t, &behind, &direction)
+                : edge_holds(xj, xi, edge, &t, &behind, &direction)))
       continue;
     if (s_i < 0) s_i = plane_crossings(i, edge.normal);
     const double s_j = plane_crossings(j, edge.normal);
     const double area = i < j ? pair_area_share(double(volume_[i]) + double(volume_[j]), s_i + s_j)
                               : pair_area_share(double(volume_[j]) + double(volume_[i]), s_j + s_i);
-    total += (edge.stiffness * area * behind * (i < j ? 1 - t : t)) * edge.edge;
+    total += (edge.stiffness * area * behind * (i < j ? 1 - t : t) * direction) * edge.edge;
   }
   return total;
 }

@@ -38,6 +38,8 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
   auto ahead = [&](double moved) {
     return Vec3((fastest > 0 ? reach * moved / fastest : reach) * q.edge);
   };
+  q.tip_moved = tip_moved;
+  q.end_moved = end_moved;
   q.corner[0] = from.position;
   q.corner[1] = end_from;
   q.corner[2] = end_to + ahead(end_moved);
@@ -56,10 +58,13 @@ EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to
   f.front = radius;
   f.depth = depth;
   f.stiffness = blade.threshold > 0 && quad.sideways ? blade.stiffness : 0.0;
+  f.tip_motion = quad.tip_moved;
+  f.end_motion = quad.end_moved;
   return f;
 }
 
-bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta) {
+bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
+                double* direction) {
   const Vec3 pt = p - f.tip;
   const double dp = f.normal.dot(pt), dq = f.normal.dot(q - f.tip);
   if ((dp >= 0) == (dq >= 0)) return false;  // the tie rule of segment_crosses_triangle
@@ -67,10 +72,15 @@ bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, dou
   const Vec3 c = pt + at * (q - p);
   const double along = c.dot(f.axis);
   if (along < 0 || along > f.length) return false;
-  const double behind = f.front - c.dot(f.edge);
+  // The blade's motion along the edge there (linear from the tip's to the end's).
+  const double moved = f.tip_motion + along / f.length * (f.end_motion - f.tip_motion);
+  if (moved == 0) return false;
+  const double sign = moved > 0 ? 1.0 : -1.0;
+  const double behind = f.front - sign * c.dot(f.edge);
   if (!(behind > 0 && behind <= f.depth)) return false;
   *t = at;
   *delta = behind;
+  *direction = sign;
   return true;
 }
 

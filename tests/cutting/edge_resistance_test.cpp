@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -131,6 +132,36 @@ TEST(EdgeResistance, TheHeldForceIsTheLawsAtEverySpacing) {
               expected);
   EXPECT_NEAR(coarse, expected, 0.03 * expected);
   EXPECT_NEAR(fine, expected, 0.03 * expected);
+}
+
+// A blade turned about a point of its own moves backwards beyond that point: there the pairs
+// behind its own motion hold it, and push the other way. Turned about a point a quarter of its
+// length from the tip, three quarters push back along the middle's motion and one quarter
+// against it: half the held force of a blade moved straight.
+TEST(EdgeResistance, EachPartOfATurnedBladeIsHeldAgainstItsOwnMotion) {
+  Scene scene = test::box_scene(Vec3(0, 0, 0), Vec3(0.02, 0.02, 0.02), 0.001, test::tissue(5e4));
+  scene.simulation.gravity = Vec3::Zero();
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  const double length = 0.008, pivot = 0.25 * length, angle = 1e-3;
+  double sum = 0;
+  const int offsets = 4;
+  for (int k = 0; k < offsets; ++k) {
+    const Vec3 centre(0.0103, 0.01 + 0.002 * (k + 0.5) / offsets, 0.0055 + pivot);
+    const Vec3 turned(0, std::sin(angle), std::cos(angle));
+    ToolDesc t = test::crossing_scalpel(0.0103, 0.0055, length, 0.0, 1.0, 1e3);
+    t.shape.radius = 1e-5;
+    t.blade.reach = 0.004;
+    t.path = {{0.0, centre - pivot * Vec3::UnitZ(), Vec3::UnitZ()},
+              {1e-3, centre - pivot * turned, turned}};
+    ToolStepper<double> run(solver, {t}, 1e-5);
+    run.run(1);
+    sum += edge_force(solver.tool_samples().back().force, Vec3::UnitY()) / offsets;
+  }
+  const double straight = kDefaultEdgeStiffness * length * 0.004 * 0.004 / 2;
+  std::printf("[ resist   ] held force of the turned blade %.4g N, of a straight one %.4g N\n", sum,
+              straight);
+  EXPECT_NEAR(sum, 0.5 * straight, 0.05 * straight);
 }
 
 }  // namespace
