@@ -281,6 +281,8 @@ class GpuSolver final : public SolverWithAllFacets {
   void prepare_cutting();
   void upload_cut_quads(Recorder& rec);
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
+  // tool_resist between tool_contact and its reduction, where a blade has a threshold.
+  void record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp);
   void finish_cutting();
   // Graspers (gpu_solver_grasp.cpp): the grip buffers for set_tools, and the capture, hold and
   // reduction passes of a substep, after the contact reduction.
@@ -393,6 +395,7 @@ class GpuSolver final : public SolverWithAllFacets {
 
   // Cutting (gpu_solver_cutting.cpp).
   bool cutting_ = false;                // a tool has a blade
+  bool resisting_ = false;              // a blade has a threshold and an edge stiffness
   double max_support_ = 0;              // the largest support radius (the broad phase's margin)
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
   Buffer cut_dirty_;                    // uint: count, groups x y z, phyxels (indirect)

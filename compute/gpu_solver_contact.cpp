@@ -19,6 +19,7 @@
 
 #include "compute/gpu_solver.h"
 #include "compute/gpu_solver_kernels.h"
+#include "engine/solver/cutting.h"
 #include "engine/solver/suction.h"
 
 namespace phyxel::gpu {
@@ -59,6 +60,9 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   tools_ = tools;
   cutting_ = false;
   for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
+  resisting_ = false;
+  for (const ContactTool& t : tools_)
+    resisting_ = resisting_ || (t.blade.cuts() && t.blade.threshold > 0 && t.blade.stiffness > 0);
   pending_motion_.clear();
   motion_.clear();
   motion_steps_ = motion_step_ = 0;
@@ -143,9 +147,8 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
   rec.barrier();
   const Bounds b = swept_bounds(tools_, motion_);
   BroadPhasePush push{
-      // A blade severs pairs reaching up to a support radius beyond the phyxels it touches.
       {float(b.min.x()), float(b.min.y()), float(b.min.z()),
-       float(contact_spacing_ + (cutting_ ? max_support_ : 0.0))},
+       float(cut_candidate_reach(tools_, contact_spacing_, max_support_))},
       {float(b.max.x()), float(b.max.y()), float(b.max.z()), float(chunk_duration_)},
       n,
       0u,
@@ -239,6 +242,10 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                      {"Count", contact_count_}},
                     contact_count_, offsetof(ContactCount, groups_x));
   rec.barrier();
+  if (resisting_) {
+    record_resist(rec, step, dt, disp);
+    rec.barrier();
+  }
   dispatch(rec, kernels_->contact_reduce,
            ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
            {{"Force", candidate_force_}, {"Samples", samples_buffer_}, {"Count", contact_count_}},

@@ -12,6 +12,7 @@
 
 #include "compute/gpu_solver.h"
 #include "compute/gpu_solver_kernels.h"
+#include "engine/solver/cutting.h"
 
 namespace phyxel::gpu {
 
@@ -57,12 +58,16 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       }
       ToolMotion m = motion_[std::min(row, motion_steps_ - 1) * nt + t];
       if (row == motion_steps_) m.from = m.to;
-      const phyxel::CutQuad quad =
-          swept_quad(blade, m.from, m.to, blade.reach > 0 ? blade.reach : contact_spacing_);
+      const double reach = blade.reach > 0 ? blade.reach : contact_spacing_;
+      const phyxel::CutQuad quad = swept_quad(blade, m.from, m.to, reach);
       // The w components carry the blade body's strip (CpuSolver's body_strip): its radius,
       // and how far back along the edge the blade's end and tip are from p2 and p3.
       const ToolShape& body = tools_[t].shape;
       const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
+      const EdgeFrame held = edge_frame(blade, quad, m.to, radius, reach);
+      q.axis = to_vec4(held.axis, float(held.length));
+      q.resist = {float(held.stiffness), float(held.depth), float(held.tip_motion),
+                  float(held.end_motion)};
       const Vec3 end = m.to.position + blade.length * m.to.axis;
       q.p0 = to_vec4(quad.corner[0] - origin, float(radius));
       q.p1 = to_vec4(quad.corner[1] - origin);
@@ -106,6 +111,28 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"WeightHi", weight_.hi()}},
                     contact_count_, offsetof(ContactCount, groups_x));
   record_dirty_precompute(rec);
+}
+
+void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
+  const uint64_t k = motion_step_ + uint64_t(step);  // the cut table's row, as record_sever
+  const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_));
+  const ResistPush push{contact_origin_, dt, uint32_t(tools_.size()), row, partial_capacity()};
+  dispatch_indirect(rec, kernels_->resist, push,
+                    {{"List", candidate_list_},
+                     {"Rest", rest_},
+                     {"Disp", disp},
+                     {"Vel", vel_},
+                     {"Ext", ext_},
+                     {"Flags", flags_},
+                     {"Offset", nbr_offset_},
+                     {"IndexLo", nbr_index_.lo()},
+                     {"WeightLo", weight_.lo()},
+                     {"Quads", cut_quads_},
+                     {"Force", candidate_force_},
+                     {"Count", contact_count_},
+                     {"IndexHi", nbr_index_.hi()},
+                     {"WeightHi", weight_.hi()}},
+                    contact_count_, offsetof(ContactCount, groups_x));
 }
 
 void GpuSolver::record_dirty_reset(Recorder& rec) {

@@ -25,6 +25,7 @@
 #include "phyxel_spv/tool_contact.spv.h"
 #include "phyxel_spv/tool_contact_reduce.spv.h"
 #include "phyxel_spv/tool_grasp.spv.h"
+#include "phyxel_spv/tool_resist.spv.h"
 #include "phyxel_spv/tool_sever.spv.h"
 
 namespace phyxel::gpu {
@@ -72,6 +73,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   principal = make(PHYXEL_SHADER(solver_principal), 13, sizeof(StepPush));
   tear = make(PHYXEL_SHADER(solver_tear), 14, sizeof(TearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 14, sizeof(SeverPush));
+  resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));
 }
 
 namespace {

@@ -44,6 +44,7 @@ class SolverKernels {
   Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
+  Pipeline resist;          // layout::ResistPush; kResist* bindings (over the candidates)
   Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
 
  private:

@@ -508,15 +508,20 @@ PHYXEL_CONST uint kGraspBindingSamples = 11;
 
 // The quad one tool's blade swept in one substep (engine swept_quad), relative to the contact
 // origin, row-major [row][tool]; rows are the chunk's substeps then one for holding the last
-// pose. edge.w: the cut force threshold (N), negative for a tool without a blade.
+// pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
+// resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
+// radius p0.w): the axis at the end pose (w: the blade's length, m) and (stiffness N/m^3, 0 where
+// nothing is held; depth m; the tip's and the end's motion along the edge, m).
 struct CutQuad {
   vec4 p0;
   vec4 p1;
   vec4 p2;
   vec4 p3;
   vec4 edge;
+  vec4 axis;
+  vec4 resist;
 };
-PHYXEL_ASSERT_SIZE(CutQuad, 80);
+PHYXEL_ASSERT_SIZE(CutQuad, 112);
 
 // tool_sever: over the candidates, after tool_contact_reduce: for every tool whose sample of
 // this substep presses its edge with at least its threshold, each candidate tests its live
@@ -546,6 +551,34 @@ PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i
 PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount
 PHYXEL_CONST uint kSeverBindingIndexHi = 12;
 PHYXEL_CONST uint kSeverBindingWeightHi = 13;
+
+// tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
+// CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
+// removed sums the forces of the pairs each blade's edge holds (canonical order, its share),
+// adds dt / m times them to its velocity, and each workgroup adds its candidates' sums per tool
+// to tool_contact's partial force[tool * capacity + group].
+struct ResistPush {
+  vec4 origin;  // the motion table's frame (ContactPush.origin)
+  float dt;     // s
+  uint tools;
+  uint row;       // row of the cut table (SeverPush.row)
+  uint capacity;  // stride of the partial force buffer (ContactPush.capacity)
+};
+PHYXEL_ASSERT_SIZE(ResistPush, 32);
+PHYXEL_CONST uint kResistBindingList = 0;  // candidates
+PHYXEL_CONST uint kResistBindingRest = 1;
+PHYXEL_CONST uint kResistBindingDisp = 2;
+PHYXEL_CONST uint kResistBindingVel = 3;
+PHYXEL_CONST uint kResistBindingExt = 4;
+PHYXEL_CONST uint kResistBindingFlags = 5;
+PHYXEL_CONST uint kResistBindingOffset = 6;
+PHYXEL_CONST uint kResistBindingIndex = 7;
+PHYXEL_CONST uint kResistBindingWeight = 8;
+PHYXEL_CONST uint kResistBindingQuads = 9;   // CutQuad [row][tool]
+PHYXEL_CONST uint kResistBindingForce = 10;  // tool_contact's partials
+PHYXEL_CONST uint kResistBindingCount = 11;  // ContactCount
+PHYXEL_CONST uint kResistBindingIndexHi = 12;
+PHYXEL_CONST uint kResistBindingWeightHi = 13;
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

@@ -2,8 +2,8 @@
 // CpuSolver::apply_cuts in engine/solver/cpu_solver_cutting.cpp): each candidate tests its live
 // pairs against the quad each cutting blade swept, in the canonical order (lower index first)
 // with the tie rule of engine/solver/cutting.cpp (an endpoint on the plane is on the positive
-// side; a segment through an edge crosses, except through the front). Positions relative to
-// the motion table's origin.
+// side; a segment through an edge crosses, except through the front), and the pairs its edge
+// holds (blade_edge.glsl). Positions relative to the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -73,8 +73,14 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
   return severs_quad(p, q, tip - radius * e, end - radius * e, end + radius * e, tip + radius * e, t);
 }
 
+#include "blade_edge.glsl"
+
+// The quad, the body's strip, or a pair the edge holds (tool_resist).
 bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
-  return crosses_quad(p, q, c, t) || crosses_body(p, q, c, t);
+  if (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t)) return true;
+  float behind;
+  float direction;
+  return c.resist.x > 0.0 && edge_holds(p, q, edge_frame(c), t, behind, direction);
 }
 
 #include "pair_edit.glsl"

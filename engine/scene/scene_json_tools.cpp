@@ -25,7 +25,7 @@ constexpr std::string_view kPathExpected =
 constexpr std::string_view kKeyExpected =
     "a path key {\"t\": s, \"position\": [x, y, z], \"axis\": [x, y, z]}";
 constexpr std::string_view kBladeExpected =
-    "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m}";
+    "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m, \"stiffness\": N/m^3}";
 constexpr std::string_view kSuctionExpected =
     "a suction object {\"pressure\": Pa, \"reach\": m, \"flow_speed\": m/s, \"from\": s, "
     "\"until\": s}";
@@ -60,10 +60,11 @@ ToolDesc::Type read_type(const Node& node) {
 
 // The blade of a scalpel: its edge made perpendicular to the axis of the path's first key.
 Blade read_blade(const Node& node, const Vec3& first_axis) {
-  node.expect_object(kBladeExpected, {"length", "edge", "reach"});
+  node.expect_object(kBladeExpected, {"length", "edge", "reach", "stiffness"});
   Blade b;
   b.length = node.number("length", Limits::above(0), "m");
   b.reach = node.number_or("reach", 0.0, Limits::at_least(0), "m");
+  b.stiffness = node.number_or("stiffness", kDefaultEdgeStiffness, Limits::at_least(0), "N/m^3");
   const Vec3 edge = node.vec3("edge", Limits::any(), "");
   const Vec3 across = edge - edge.dot(first_axis) * first_axis;
   if (!(across.norm() > 1e-6 * edge.norm())) {

@@ -12,13 +12,18 @@
 
 namespace phyxel {
 
+// The resistance of the pairs a blade with a threshold has crossed, per unit area of the cut
+// plane and metre the edge has passed them (docs/cutting.md, "The edge's resistance").
+inline constexpr double kDefaultEdgeStiffness = 1e7;
+
 // The cutting part of a tool (ToolDesc::blade, ContactTool::blade; engine/solver/cutting.h).
 struct Blade {
-  double length = 0;                    // m, from the tip along the axis (> 0: the tool cuts)
-  Vec3 edge = Vec3::UnitX();            // unit, perpendicular to the axis at the first key
-  Vec3 reference_axis = Vec3::UnitZ();  // the axis at the path's first key
-  double threshold = 0;                 // N: the edge force at which the tissue separates
-  double reach = 0;                     // m: how far ahead of the edge it separates
+  double length = 0;                         // m, from the tip along the axis (> 0: the tool cuts)
+  Vec3 edge = Vec3::UnitX();                 // unit, perpendicular to the axis at the first key
+  Vec3 reference_axis = Vec3::UnitZ();       // the axis at the path's first key
+  double threshold = 0;                      // N: the edge force at which the tissue separates
+  double reach = 0;                          // m: how far ahead of the edge it separates
+  double stiffness = kDefaultEdgeStiffness;  // N/m^3: the edge's resistance (docs/cutting.md)
   bool cuts() const { return length > 0; }
 };
 

@@ -294,6 +294,9 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   tools_ = tools;
   cutting_ = false;
   for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
+  resisting_ = false;
+  for (const ContactTool& t : tools_)
+    resisting_ = resisting_ || (t.blade.cuts() && t.blade.threshold > 0 && t.blade.stiffness > 0);
   grasping_ = false;
   for (const ContactTool& t : tools_) grasping_ = grasping_ || t.grasp.grasps();
   grips_.assign(tools_.size(), Grip{});
@@ -322,8 +325,7 @@ void CpuSolver<Real>::find_candidates() {
   }
   double max_v = 0;
   for (const V3& v : v_) max_v = std::max(max_v, double(v.norm()));
-  // A blade severs pairs reaching up to a support radius beyond the phyxels it touches.
-  const double reach = contact_spacing_ + (cutting_ ? max_support_ : 0.0);
+  const double reach = cut_candidate_reach(tools_, contact_spacing_, max_support_);
   const double margin = contact_margin(reach, max_v, tool_speed_, chunk_duration_);
   candidates_ = phyxel::contact_candidates<Real>(force_list_, flags_, rest_, u_,
                                                  swept_bounds(tools_, motion_), margin);
@@ -386,6 +388,7 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
         felt[t].add_axial((x - now[t].to.position).dot(now[t].to.axis));
     }
   }
+  if (resisting_) apply_edge_resistance(dt, felt);
   if (grasping_) apply_grasps(dt, now, felt);
   samples_.insert(samples_.end(), felt.begin(), felt.end());
 }

@@ -147,6 +147,12 @@ class CpuSolver {
   void apply_contacts(Real dt);  // after the drift of step()
   void find_candidates();        // the chunk's broad phase (contact_candidates)
   void apply_cuts();             // after apply_contacts (cpu_solver_cutting.cpp)
+  // In apply_contacts, after the contacts: the pairs each blade's edge holds push back on it
+  // (cutting.h, EdgeFrame), into v and `felt` (cpu_solver_cutting.cpp).
+  void apply_edge_resistance(Real dt, std::vector<ToolContactSample>& felt);
+  EdgeFrame substep_edge(size_t tool) const;  // this substep's (stiffness 0: holds nothing)
+  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge) const;  // on phyxel i
+  double plane_crossings(uint32_t i, const Vec3& normal) const;    // S_i (pair_area_share)
   // In apply_contacts, after the contacts: the graspers' capture, hold and release, their
   // forces and held counts into `felt` (cpu_solver_grasp.cpp).
   void apply_grasps(Real dt, const std::vector<ToolMotion>& now,
@@ -195,6 +201,7 @@ class CpuSolver {
 
   // Cutting.
   bool cutting_ = false;              // a tool has a blade
+  bool resisting_ = false;            // a blade has a threshold and an edge stiffness
   double max_support_ = 0;            // the largest support radius (the broad phase's margin)
   std::vector<double> support_;       // per object
   std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)

@@ -27,6 +27,11 @@ double blade_body_radius(const ContactTool& tool) {
   return tool.shape.type == ToolShape::Type::Capsule ? tool.shape.radius : 0.0;
 }
 
+// How far ahead the blade's quad reaches: its own reach, else the object's spacing.
+double blade_reach(const Blade& blade, double spacing) {
+  return blade.reach > 0 ? blade.reach : spacing;
+}
+
 }  // namespace
 
 template <class Real>
@@ -49,15 +54,19 @@ void CpuSolver<Real>::apply_cuts() {
     const Blade& blade = tools_[tool].blade;
     if (!blade.cuts()) continue;
     const ToolMotion& m = now_[tool];
-    const CutQuad quad =
-        swept_quad(blade, m.from, m.to, blade.reach > 0 ? blade.reach : contact_spacing_);
+    const double reach = blade_reach(blade, contact_spacing_);
+    const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
     const Vec3 felt = samples_[samples_.size() - nt + tool].force;
     if (cut_force(felt, quad) < blade.threshold) continue;
     const std::array<Vec3, 4>& c = quad.corner;
     const double body = blade_body_radius(tools_[tool]);
     const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
+    const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
-      return blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t));
+      double behind = 0, direction = 0;
+      return blade_severs<double>(p, q, c, t) ||
+             (body > 0 && blade_severs<double>(p, q, strip, t)) ||
+             (edge.stiffness > 0 && edge_holds(p, q, edge, t, &behind, &direction));
     };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
@@ -76,6 +85,64 @@ void CpuSolver<Real>::apply_cuts() {
     }
   }
   if (severed_.size() != first) precompute_touched(touched);
+}
+
+template <class Real>
+EdgeFrame CpuSolver<Real>::substep_edge(size_t tool) const {
+  const Blade& blade = tools_[tool].blade;
+  if (!blade.cuts() || !(blade.threshold > 0) || now_.size() != tools_.size()) return {};
+  const ToolMotion& m = now_[tool];
+  const double reach = blade_reach(blade, contact_spacing_);
+  const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
+  return edge_frame(blade, quad, m.to, blade_body_radius(tools_[tool]), reach);
+}
+
+template <class Real>
+double CpuSolver<Real>::plane_crossings(uint32_t i, const Vec3& normal) const {
+  const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
+  double sum = 0;
+  for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+    const uint32_t j = nbr_.index[k];
+    sum += std::abs(normal.dot(rest_d_[j] + u_[j].template cast<double>() - xi));
+  }
+  return 0.5 * sum;
+}
+
+template <class Real>
+Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge) const {
+  const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
+  Vec3 total = Vec3::Zero();
+  double s_i = -1;
+  for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
+    if (w_[k] == Real(0)) continue;
+    const uint32_t j = nbr_.index[k];
+    const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
+    double t = 0, behind = 0, direction = 0;  // in the canonical order, as apply_cuts
+    if (!(i < j ? edge_holds(xi, xj, edge, &t, &behind, &direction)
+                : edge_holds(xj, xi, edge, &t, &behind, &direction)))
+      continue;
+    if (s_i < 0) s_i = plane_crossings(i, edge.normal);
+    const double s_j = plane_crossings(j, edge.normal);
+    const double area = i < j ? pair_area_share(double(volume_[i]) + double(volume_[j]), s_i + s_j)
+                              : pair_area_share(double(volume_[j]) + double(volume_[i]), s_j + s_i);
+    total += (edge.stiffness * area * behind * (i < j ? 1 - t : t) * direction) * edge.edge;
+  }
+  return total;
+}
+
+template <class Real>
+void CpuSolver<Real>::apply_edge_resistance(Real dt, std::vector<ToolContactSample>& felt) {
+  for (size_t tool = 0; tool < tools_.size(); ++tool) {
+    const EdgeFrame edge = substep_edge(tool);
+    if (!(edge.stiffness > 0)) continue;
+    for (const uint32_t i : candidates_) {
+      if (flags_[i] & (kFixed | kRemoved)) continue;
+      const Vec3 force = held_pairs_force(i, edge);
+      if (force.isZero(0)) continue;
+      v_[i] += dt / mass_[i] * force.template cast<Real>();
+      felt[tool].force -= force;
+    }
+  }
 }
 
 template <class Real>
@@ -140,12 +207,16 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
 }
 
 // The members defined here (the class itself is instantiated in cpu_solver.cpp).
-#define PHYXEL_CUTTING_MEMBERS(Real)                                           \
-  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);             \
-  template void CpuSolver<Real>::apply_cuts();                                 \
-  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);   \
-  template void CpuSolver<Real>::sort_severed_from(size_t);                    \
-  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&); \
+#define PHYXEL_CUTTING_MEMBERS(Real)                                                           \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);                             \
+  template void CpuSolver<Real>::apply_cuts();                                                 \
+  template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                              \
+  template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;               \
+  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&) const;           \
+  template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&); \
+  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                   \
+  template void CpuSolver<Real>::sort_severed_from(size_t);                                    \
+  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);                 \
   template void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>&);
 PHYXEL_CUTTING_MEMBERS(double)
 PHYXEL_CUTTING_MEMBERS(float)

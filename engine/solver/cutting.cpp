@@ -24,7 +24,8 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
   Vec3 side = mid_to - mid_from;
   side -= side.dot(to.axis) * to.axis;
   const double moved = side.norm();
-  if (moved > 1e-9 * std::max(blade.length, 1e-12)) q.edge = side / moved;
+  q.sideways = moved > 1e-9 * std::max(blade.length, 1e-12);
+  if (q.sideways) q.edge = side / moved;
   // Each end of the blade reaches ahead by `reach` times its motion along the edge over the
   // faster end's: a blade moved straight reaches `reach` ahead at both ends; a blade turned
   // about a point of its own reaches ahead in proportion to the distance from that pivot, and
@@ -37,11 +38,64 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
   auto ahead = [&](double moved) {
     return Vec3((fastest > 0 ? reach * moved / fastest : reach) * q.edge);
   };
+  q.tip_moved = tip_moved;
+  q.end_moved = end_moved;
   q.corner[0] = from.position;
   q.corner[1] = end_from;
   q.corner[2] = end_to + ahead(end_moved);
   q.corner[3] = to.position + ahead(tip_moved);
   return q;
+}
+
+EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to, double radius,
+                     double depth) {
+  EdgeFrame f;
+  f.tip = to.position;
+  f.axis = to.axis;
+  f.edge = quad.edge;
+  f.normal = to.axis.cross(quad.edge).normalized();
+  f.length = blade.length;
+  f.front = radius;
+  f.depth = depth;
+  f.stiffness = blade.threshold > 0 && quad.sideways ? blade.stiffness : 0.0;
+  f.tip_motion = quad.tip_moved;
+  f.end_motion = quad.end_moved;
+  return f;
+}
+
+bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
+                double* direction) {
+  const Vec3 pt = p - f.tip;
+  const double dp = f.normal.dot(pt), dq = f.normal.dot(q - f.tip);
+  if ((dp >= 0) == (dq >= 0)) return false;  // the tie rule of segment_crosses_triangle
+  const double at = dp / (dp - dq);
+  const Vec3 c = pt + at * (q - p);
+  const double along = c.dot(f.axis);
+  if (along < 0 || along > f.length) return false;
+  // The blade's motion along the edge there (linear from the tip's to the end's).
+  const double moved = f.tip_motion + along / f.length * (f.end_motion - f.tip_motion);
+  if (moved == 0) return false;
+  const double sign = moved > 0 ? 1.0 : -1.0;
+  const double behind = f.front - sign * c.dot(f.edge);
+  if (!(behind > 0 && behind <= f.depth)) return false;
+  *t = at;
+  *delta = behind;
+  *direction = sign;
+  return true;
+}
+
+double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support) {
+  bool cuts = false;
+  double reach = spacing;
+  for (const ContactTool& t : tools) {
+    cuts = cuts || t.blade.cuts();
+    if (t.blade.cuts()) reach = std::max(reach, t.blade.reach);
+  }
+  return cuts ? reach + support : spacing;
+}
+
+double pair_area_share(double volume_sum, double s_sum) {
+  return s_sum > 0 ? volume_sum / s_sum : 0.0;
 }
 
 double edge_force(const Vec3& on_tool, const Vec3& edge) {

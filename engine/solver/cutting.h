@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "engine/scene/tool_desc.h"
+#include "engine/solver/contact.h"
 
 namespace phyxel {
 
@@ -43,7 +44,9 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose);
 // is pushed, its back too), or blade_edge where it does not move sideways (a stab).
 struct CutQuad {
   std::array<Vec3, 4> corner;
-  Vec3 edge = Vec3::UnitX();  // the edge direction at the end pose
+  Vec3 edge = Vec3::UnitX();            // the edge direction at the end pose
+  bool sideways = false;                // the edge is the blade's sideways motion (not a stab)
+  double tip_moved = 0, end_moved = 0;  // m: the tip's and the end's motion along the edge
 };
 CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach);
 
@@ -84,6 +87,47 @@ bool blade_severs(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 
 // segment's plane crossing to each triangle's edges. Pairs below kCutTieTolerance are the ones
 // CPU and GPU may decide differently.
 double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3, 4>& quad);
+
+// The edge's resistance (docs/cutting.md, "The edge's resistance"): a blade with a threshold
+// that moves sideways is held back by the live pairs its edge has passed. A pair (i, j) whose
+// segment crosses the blade's plane (axis and edge at the substep's end pose) within the
+// blade's length, delta behind the front of its body (0 < delta <= depth; the front lies the
+// body's radius ahead of the axis; behind against that point's motion), is pushed ahead along
+// its motion with stiffness * a_ij * delta
+// (split (1 - t) on i, t on j), a_ij its share of the plane's area (pair_area_share). The tool
+// feels the sum back; once its cutting force reaches the threshold, the held pairs are severed
+// with those the blade swept.
+struct EdgeFrame {
+  Vec3 tip = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();
+  Vec3 edge = Vec3::UnitX();
+  Vec3 normal = Vec3::UnitY();            // axis x edge
+  double length = 0;                      // m: the blade's
+  double front = 0;                       // m: the body's radius
+  double depth = 0;                       // m: how far behind the front a pair is still held
+  double stiffness = 0;                   // N/m^3; 0: nothing is held (a stab, or threshold 0)
+  double tip_motion = 0, end_motion = 0;  // m along the edge (CutQuad's tip_moved, end_moved)
+};
+EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to, double radius,
+                     double depth);
+
+// Whether the edge holds the pair p -> q (canonical order); t: the crossing's fraction along
+// p -> q, delta: how far behind the front it lies (m), direction: +1 or -1, the way the blade
+// moves along the edge where the pair crosses (a blade turned about a point of its own moves
+// backwards beyond it: "behind" is against each point's own motion).
+bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
+                double* direction);
+
+// A pair's share of the area of a plane with unit normal n: (V_i + V_j) / (S_i + S_j), with
+// S = half the sum over a phyxel's neighbours of |(x_k - x_i) . n| (the pairs a unit area of
+// the plane crosses, times the volume, on a regular lattice), so the shares of the pairs
+// crossing any part of the plane add up to its area whatever the spacing.
+double pair_area_share(double volume_sum, double s_sum);
+
+// How far beyond a tool's swept bounds the contact broad phase looks (before the motion's
+// margin): the object spacing, and where a tool cuts, a support radius beyond the farther of
+// it and the blades' reach (the pairs a blade's quad or edge reaches, both ends).
+double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support);
 
 // One severed pair (i < j): where the blade crossed it, as the fraction t along x_i -> x_j.
 // A pair torn apart by its stress (engine/solver/tearing.h) has t = 0.5 and `torn` set.

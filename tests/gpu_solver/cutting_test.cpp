@@ -2,6 +2,9 @@
 // same severed pairs and positions after a scalpel crosses a beam, with the tools' motions
 // given chunk by chunk as the run loop does; two GPU runs give the same bits; a cut along a
 // lattice plane and a second crossing cut leave every value finite.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <set>
 #include <utility>
 
@@ -98,6 +101,65 @@ TEST_F(GpuSolverTest, CuttingBelowAndAboveTheThresholdMatchesTheCpu) {
   const CutRun g = run(gpu, scene, 300);
   EXPECT_GT(c.severed.size(), 0u);
   EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+}
+
+// The edge's resistance (docs/cutting.md): the pairs a blade with a threshold has passed push
+// it back alike on both solvers, nothing separates below the threshold (100 N), and once the
+// force reaches half the largest it felt below, the same pairs are severed.
+void expect_resistance_parity(Context& ctx, Scene scene) {
+  const PhyxelSet set = sample_scene(scene);
+  double peak = 0;
+  for (const bool cuts : {false, true}) {
+    SCOPED_TRACE(cuts ? "above the threshold" : "below it");
+    scene.tools[0].blade.threshold = cuts ? 0.5 * peak : 100.0;
+    auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+    GpuSolver gpu(ctx, set, scene.simulation.gravity);
+    const CutRun c = run(*cpu, scene, 96);
+    const CutRun g = run(gpu, scene, 96);
+    ASSERT_EQ(g.samples.size(), c.samples.size());
+    double worst = 0, largest = 0;
+    for (size_t k = 0; k < c.samples.size(); ++k) {
+      worst = std::max(worst, (g.samples[k].force - c.samples[k].force).norm());
+      largest = std::max(largest, c.samples[k].force.norm());
+    }
+    std::printf("[ resist   ] force on the blade up to %.4g N, GPU - CPU up to %.3g N\n", largest,
+                worst);
+    EXPECT_GT(largest, 0.01);
+    EXPECT_LT(worst, 1e-3 * largest);
+    if (!cuts) {
+      peak = largest;
+      EXPECT_TRUE(c.severed.empty());
+      EXPECT_TRUE(g.severed.empty());
+    } else {
+      EXPECT_GT(c.severed.size(), 20u);
+      EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+    }
+    EXPECT_LT(max_difference(c.u, g.u), 1e-3 * max_norm(c.u));
+  }
+}
+
+TEST_F(GpuSolverTest, TheEdgesResistanceAndItsCutsMatchTheCpu) {
+  Scene scene = clamped_beam(5e4, 5);
+  scene.simulation.gravity = Vec3::Zero();
+  scene.tools.push_back(crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016));
+  expect_resistance_parity(ctx(), scene);
+}
+
+// A blade turned about a point 6 mm from its tip, inside the beam: below that point it moves
+// backwards and is held against its own motion there.
+TEST_F(GpuSolverTest, ATurnedBladesResistanceMatchesTheCpu) {
+  Scene scene = clamped_beam(5e4, 5);
+  scene.simulation.gravity = Vec3::Zero();
+  ToolDesc t = crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016);
+  const Vec3 pivot(0.021, 0.004, 0.003);
+  t.path.clear();
+  for (int k = 0; k <= 8; ++k) {
+    const double a = 0.5 * k / 8;  // rad, about x
+    const Vec3 axis(0, std::sin(a), std::cos(a));
+    t.path.push_back({0.016 * k / 8, pivot - 0.006 * axis, axis});
+  }
+  scene.tools.push_back(t);
+  expect_resistance_parity(ctx(), scene);
 }
 
 TEST_F(GpuSolverTest, TwoGpuRunsOfACutGiveTheSameBits) {

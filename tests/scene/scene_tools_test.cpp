@@ -321,6 +321,7 @@ json& make_scalpel(json& j) {
 TEST(SceneTools, AScalpelsBladeIsRead) {
   json j = with_tools();
   make_scalpel(j)["blade"]["reach"] = 0.001;
+  tool0(j)["blade"]["stiffness"] = 2e6;
   const Scene s = parse_scene(j.dump(), kFile);
   const ToolDesc& t = s.tools[0];
   EXPECT_EQ(t.type, ToolDesc::Type::Scalpel);
@@ -328,6 +329,7 @@ TEST(SceneTools, AScalpelsBladeIsRead) {
   EXPECT_DOUBLE_EQ(t.blade.length, 0.02);
   EXPECT_DOUBLE_EQ(t.blade.threshold, 0.5);
   EXPECT_DOUBLE_EQ(t.blade.reach, 0.001);
+  EXPECT_DOUBLE_EQ(t.blade.stiffness, 2e6);
   // The edge is made perpendicular to the first key's axis (z) and unit.
   EXPECT_NEAR((t.blade.edge - Vec3(1, 0, 0)).norm(), 0, 1e-15);
   EXPECT_NEAR((t.blade.reference_axis - Vec3(0, 0, 1)).norm(), 0, 1e-15);
@@ -352,6 +354,9 @@ TEST(SceneToolsErrors, BadScalpelInput) {
        {"zero edge"}},
       {[](json& j) { make_scalpel(j)["cut_force_threshold"] = -1; },
        "tools[0].cut_force_threshold",
+       {"-1"}},
+      {[](json& j) { make_scalpel(j)["blade"]["stiffness"] = -1; },
+       "tools[0].blade.stiffness",
        {"-1"}},
       {[](json& j) { make_scalpel(j)["blade"]["sharpness"] = 1; },
        "tools[0].blade.sharpness",

@@ -1,0 +1,55 @@
+// The edge's resistance (engine/solver/cutting.h EdgeFrame, edge_holds of cutting.cpp) from a
+// CutQuad, in float: the pairs a blade with a threshold has passed without severing them.
+// Include after layout.h.
+#ifndef PHYXEL_BLADE_EDGE_GLSL
+#define PHYXEL_BLADE_EDGE_GLSL
+
+struct EdgeFrame {
+  vec3 tip;
+  vec3 axis;
+  vec3 edge;
+  vec3 normal;
+  float span;  // the blade's length
+  float front;  // the body's radius
+  float depth;
+  float stiffness;
+  float tip_motion;
+  float end_motion;
+};
+
+EdgeFrame edge_frame(CutQuad c) {
+  EdgeFrame f;
+  f.edge = c.edge.xyz;
+  f.tip = c.p3.xyz + c.p3.w * f.edge;
+  f.axis = c.axis.xyz;
+  f.normal = normalize(cross(f.axis, f.edge));
+  f.span = c.axis.w;
+  f.front = c.p0.w;
+  f.depth = c.resist.y;
+  f.stiffness = c.resist.x;
+  f.tip_motion = c.resist.z;
+  f.end_motion = c.resist.w;
+  return f;
+}
+
+// Whether the edge holds the pair p -> q (canonical order): t its crossing's fraction, behind
+// how far behind the body's front it lies (m), against the motion there (direction +-1).
+bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float direction) {
+  t = 0.0;
+  behind = 0.0;
+  direction = 0.0;
+  const vec3 pt = p - f.tip;
+  const float dp = dot(f.normal, pt), dq = dot(f.normal, q - f.tip);
+  if ((dp >= 0.0) == (dq >= 0.0)) return false;
+  t = dp / (dp - dq);
+  const vec3 c = pt + t * (q - p);
+  const float along = dot(c, f.axis);
+  if (along < 0.0 || along > f.span) return false;
+  const float moved = f.tip_motion + along / f.span * (f.end_motion - f.tip_motion);
+  if (moved == 0.0) return false;
+  direction = moved > 0.0 ? 1.0 : -1.0;
+  behind = f.front - direction * dot(c, f.edge);
+  return behind > 0.0 && behind <= f.depth;
+}
+
+#endif

@@ -1,0 +1,168 @@
+// The edge's resistance (docs/cutting.md, "The edge's resistance"): a blade with a threshold is
+// held back by the pairs its edge has passed, feels their force, and severs them once its
+// cutting force reaches the threshold. The total does not depend on the spacing; at threshold 0
+// nothing changes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "engine/solver/cutting.h"
+#include "tests/cutting/cutting_fixtures.h"
+
+namespace phyxel {
+namespace {
+
+using test::ToolStepper;
+
+// The cutting force of each step of a scalpel crossing the beam (crossing_scalpel: the edge
+// enters the beam's side y = 0 at t = 3 ms and moves 1 mm per ms), and the pairs severed by
+// then.
+struct Crossing {
+  std::vector<double> force;
+  std::vector<size_t> severed;
+  std::vector<Vec3> u;
+};
+
+Crossing cross_beam(double threshold, double stiffness, int steps) {
+  Scene scene = test::clamped_beam(5e4, 5);
+  scene.simulation.gravity = Vec3::Zero();
+  scene.tools.push_back(test::crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016, threshold));
+  scene.tools[0].blade.stiffness = stiffness;
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
+  Crossing out;
+  for (int k = 0; k < steps; ++k) {
+    run.run(1);
+    out.force.push_back(edge_force(solver.tool_samples().back().force, Vec3::UnitY()));
+    out.severed.push_back(solver.severed_count());
+  }
+  out.u = solver.displacement();
+  return out;
+}
+
+double mean(const std::vector<double>& v, size_t from, size_t to) {
+  double sum = 0;
+  for (size_t k = from; k < to; ++k) sum += v[k];
+  return sum / double(to - from);
+}
+
+// Below its threshold the blade separates nothing, and the force it feels rises as its edge
+// goes in: the pairs it has passed hold it back (before, a blade thinner than the spacing felt
+// nothing between the phyxels it touched).
+TEST(EdgeResistance, TheForceRisesWithTheEdgesAdvanceAndNothingSeparatesBelowTheThreshold) {
+  const Crossing c = cross_beam(100.0, kDefaultEdgeStiffness, 55);  // the edge 2.5 mm in
+  EXPECT_EQ(c.severed.back(), 0u);
+  // Windows of 0.5 mm of the edge's advance past y = 0.2 mm (the body's front at the side).
+  std::vector<double> window;
+  for (size_t from = 35; from + 5 <= c.force.size(); from += 5)
+    window.push_back(mean(c.force, from, from + 5));
+  std::printf("[ resist   ] cutting force per 0.5 mm:");
+  for (const double f : window) std::printf(" %.4g", f);
+  std::printf(" N\n");
+  ASSERT_GE(window.size(), 4u);
+  for (size_t k = 1; k < window.size(); ++k) EXPECT_GT(window[k], window[k - 1]) << k;
+  EXPECT_GT(window.back(), 1e-3);
+  // Without the edge's resistance the blade feels (almost) nothing there.
+  const Crossing blunt = cross_beam(100.0, 0.0, 55);
+  EXPECT_LT(mean(blunt.force, 35, 55), 0.2 * mean(c.force, 35, 55));
+}
+
+// Above it, the blade separates tissue, only in substeps whose cutting force reaches the
+// threshold: the force builds up as the edge passes pairs, they are severed, and it builds up
+// again past the slit the quad cut ahead (one reach).
+TEST(EdgeResistance, ThePairsItHoldsAreSeveredOnceTheForcePassesTheThreshold) {
+  const Crossing held = cross_beam(100.0, kDefaultEdgeStiffness, 55);
+  const double threshold = 0.5 * *std::max_element(held.force.begin(), held.force.end());
+  const Crossing c = cross_beam(threshold, kDefaultEdgeStiffness, 130);
+  int cuts = 0;
+  for (size_t k = 0; k < c.force.size(); ++k) {
+    const size_t before = k > 0 ? c.severed[k - 1] : 0;
+    if (c.severed[k] == before) continue;
+    ++cuts;
+    EXPECT_GE(c.force[k], threshold) << k;
+  }
+  EXPECT_GE(cuts, 3);
+  EXPECT_GT(c.severed.back(), 200u);
+}
+
+// At threshold 0 the blade cuts whenever it moves through tissue and holds nothing: the edge's
+// stiffness changes no bit.
+TEST(EdgeResistance, AtThresholdZeroTheStiffnessChangesNothing) {
+  const Crossing stiff = cross_beam(0.0, kDefaultEdgeStiffness, 80);
+  const Crossing none = cross_beam(0.0, 0.0, 80);
+  ASSERT_GT(stiff.severed.back(), 0u);
+  EXPECT_EQ(stiff.severed, none.severed);
+  EXPECT_EQ(stiff.force, none.force);
+  EXPECT_EQ(stiff.u, none.u);
+}
+
+// The law: pairs crossing the blade's plane behind its front, each pushed with k a_ij delta,
+// add up to k L D^2 / 2 for a band of depth D along a blade of length L inside the tissue,
+// whatever the spacing (a_ij: the pair's share of the plane's area). Averaged over four
+// positions of the front within the coarse spacing (the band's rows of crossings sample it).
+double held_force_at_rest(double spacing) {
+  Scene scene = test::box_scene(Vec3(0, 0, 0), Vec3(0.02, 0.02, 0.02), spacing, test::tissue(5e4));
+  scene.simulation.gravity = Vec3::Zero();
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  double sum = 0;
+  const int offsets = 4;
+  for (int k = 0; k < offsets; ++k) {
+    ToolDesc t = test::crossing_scalpel(0.0103, 0.0055, 0.008, 0.0, 1.0, 1e3);
+    t.shape.radius = 1e-5;
+    t.blade.reach = 0.004;  // the band's depth D
+    const Vec3 tip(0.0103, 0.012 + 0.002 * (k + 0.5) / offsets, 0.0055);
+    t.path = {{0.0, tip, Vec3::UnitZ()}, {1.0, tip + Vec3(0, 0.001, 0), Vec3::UnitZ()}};
+    ToolStepper<double> run(solver, {t}, 1e-5);
+    run.run(1);
+    EXPECT_EQ(solver.tool_samples().back().contacts, 0u);  // only the held pairs push
+    sum += edge_force(solver.tool_samples().back().force, Vec3::UnitY());
+  }
+  return sum / offsets;
+}
+
+TEST(EdgeResistance, TheHeldForceIsTheLawsAtEverySpacing) {
+  const double expected = kDefaultEdgeStiffness * 0.008 * 0.004 * 0.004 / 2;
+  const double coarse = held_force_at_rest(0.002), fine = held_force_at_rest(0.001);
+  std::printf("[ resist   ] held force %.4g N (2 mm), %.4g N (1 mm), law %.4g N\n", coarse, fine,
+              expected);
+  EXPECT_NEAR(coarse, expected, 0.03 * expected);
+  EXPECT_NEAR(fine, expected, 0.03 * expected);
+}
+
+// A blade turned about a point of its own moves backwards beyond that point: there the pairs
+// behind its own motion hold it, and push the other way. Turned about a point a quarter of its
+// length from the tip, three quarters push back along the middle's motion and one quarter
+// against it: half the held force of a blade moved straight.
+TEST(EdgeResistance, EachPartOfATurnedBladeIsHeldAgainstItsOwnMotion) {
+  Scene scene = test::box_scene(Vec3(0, 0, 0), Vec3(0.02, 0.02, 0.02), 0.001, test::tissue(5e4));
+  scene.simulation.gravity = Vec3::Zero();
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  const double length = 0.008, pivot = 0.25 * length, angle = 1e-3;
+  double sum = 0;
+  const int offsets = 4;
+  for (int k = 0; k < offsets; ++k) {
+    const Vec3 centre(0.0103, 0.01 + 0.002 * (k + 0.5) / offsets, 0.0055 + pivot);
+    const Vec3 turned(0, std::sin(angle), std::cos(angle));
+    ToolDesc t = test::crossing_scalpel(0.0103, 0.0055, length, 0.0, 1.0, 1e3);
+    t.shape.radius = 1e-5;
+    t.blade.reach = 0.004;
+    t.path = {{0.0, centre - pivot * Vec3::UnitZ(), Vec3::UnitZ()},
+              {1e-3, centre - pivot * turned, turned}};
+    ToolStepper<double> run(solver, {t}, 1e-5);
+    run.run(1);
+    sum += edge_force(solver.tool_samples().back().force, Vec3::UnitY()) / offsets;
+  }
+  const double straight = kDefaultEdgeStiffness * length * 0.004 * 0.004 / 2;
+  std::printf("[ resist   ] held force of the turned blade %.4g N, of a straight one %.4g N\n", sum,
+              straight);
+  EXPECT_NEAR(sum, 0.5 * straight, 0.05 * straight);
+}
+
+}  // namespace
+}  // namespace phyxel
