@@ -45,6 +45,7 @@ class SolverKernels {
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
   Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
+  Pipeline near;            // layout::NearPush; kNear* bindings (aspiration's reads)
 
  private:
   void make_pair_pipelines(Context& ctx);

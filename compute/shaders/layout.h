@@ -440,6 +440,26 @@ PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
 // tool_broad_scan: {group, count}
 PHYXEL_CONST uint kBroadScanBindingGroup = 0;
 PHYXEL_CONST uint kBroadScanBindingCount = 1;
+// solver_near (aspiration's reads, engine/surgery/aspiration.h): mode 0 counts, per workgroup of
+// phyxels, those whose current position rest + u lies in [lo, hi]; tool_broad_scan (given a
+// BroadPhasePush with the same groups) turns the counts into offsets and the total; mode 1
+// writes each hit's index and (u, largest principal stress) at its offset, ascending; mode 2
+// writes (u, principal) of ids[k] for k < count (a gather by index).
+struct NearPush {
+  vec4 lo;         // xyz: box min (world, m)
+  vec4 hi;         // xyz: box max (world, m)
+  uint count;      // phyxels (modes 0, 1), ids (mode 2)
+  uint mode;       // 0, 1, 2 (above)
+  uint groups;     // workgroups of modes 0 and 1 (entries of group[])
+  uint principal;  // 1: the principal stress buffer is bound and on; 0: write 0
+};
+PHYXEL_ASSERT_SIZE(NearPush, 48);
+PHYXEL_CONST uint kNearBindingRest = 0;
+PHYXEL_CONST uint kNearBindingDisp = 1;
+PHYXEL_CONST uint kNearBindingPrincipal = 2;  // float per phyxel
+PHYXEL_CONST uint kNearBindingGroup = 3;      // uint per workgroup: hits (mode 0), offset (1)
+PHYXEL_CONST uint kNearBindingIds = 4;        // out (mode 1), in (mode 2)
+PHYXEL_CONST uint kNearBindingOut = 5;        // vec4 (u, principal) per id
 // The candidate count and tool_contact's indirect dispatch (x, y, z groups), after the scan.
 struct ContactCount {
   uint total;
