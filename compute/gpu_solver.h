@@ -331,6 +331,11 @@ class GpuSolver final : public SolverWithAllFacets {
   // Persistent host-visible buffers of topology edits (gpu_solver_edit.cpp), on first use.
   Buffer edit_upload_, edit_readback_;
   Buffer list_upload_;  // the pass lists' upload (build_pass_lists), on first use
+  // remove_phyxels' flag edits, pair slots and precompute list (Upload) and the flag counts
+  // (Readback), on first use.
+  Buffer removal_edits_, removal_slots_, removal_list_, removal_counts_;
+  void apply_removal(const std::vector<uint32_t>& edits, const std::vector<uint32_t>& slots,
+                     const std::vector<uint32_t>& touched);
 
   // Pass selection (gpu_solver_passes.cpp). Invariant between calls: every phyxel outside the
   // force list has the same u in both displacement buffers (compute_forces copies [0] to [1]),

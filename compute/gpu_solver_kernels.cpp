@@ -9,6 +9,7 @@
 #include "phyxel_spv/scan_add.spv.h"
 #include "phyxel_spv/scan_block.spv.h"
 #include "phyxel_spv/solver_check.spv.h"
+#include "phyxel_spv/solver_edit.spv.h"
 #include "phyxel_spv/solver_energy.spv.h"
 #include "phyxel_spv/solver_force.spv.h"
 #include "phyxel_spv/solver_kick_drift.spv.h"
@@ -74,6 +75,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   principal = make(PHYXEL_SHADER(solver_principal), 13, sizeof(StepPush));
   tear = make(PHYXEL_SHADER(solver_tear), 14, sizeof(TearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 14, sizeof(SeverPush));
+  edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }
 
 namespace {

@@ -440,6 +440,27 @@ PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
 // tool_broad_scan: {group, count}
 PHYXEL_CONST uint kBroadScanBindingGroup = 0;
 PHYXEL_CONST uint kBroadScanBindingCount = 1;
+// solver_edit (GpuSolver::remove_phyxels): mode 0 ORs edits[2k + 1] into flags[edits[2k]] for
+// k < count and zeroes the pair weight of slots[k] for k < slots; mode 1 (after
+// solver_precompute) counts over every phyxel those flagged kFlagRegularised and
+// kFlagPairsEdited into counts[0] and counts[1] (a fixed tree per workgroup, then one atomic
+// add each), as GpuSolver::count_flags does on the host.
+struct EditPush {
+  uint count;    // flag edits (mode 0), phyxels (mode 1)
+  uint slots;    // pair slots to zero (mode 0)
+  uint mode;     // 0, 1 (above)
+  uint unused;
+};
+PHYXEL_ASSERT_SIZE(EditPush, 16);
+PHYXEL_CONST uint kEditBindingFlags = 0;
+PHYXEL_CONST uint kEditBindingEdits = 1;   // uint pairs (phyxel, flag bits)
+PHYXEL_CONST uint kEditBindingSlots = 2;   // uint pair slot
+PHYXEL_CONST uint kEditBindingCounts = 3;  // uint[2], zeroed before mode 1
+PHYXEL_CONST uint kEditBindingIndex = 4;
+PHYXEL_CONST uint kEditBindingIndexHi = 5;
+PHYXEL_CONST uint kEditBindingWeight = 6;
+PHYXEL_CONST uint kEditBindingWeightHi = 7;
+
 // solver_near (aspiration's reads, engine/surgery/aspiration.h): mode 0 counts, per workgroup of
 // phyxels, those whose current position rest + u lies in [lo, hi]; tool_broad_scan (given a
 // BroadPhasePush with the same groups) turns the counts into offsets and the total; mode 1
