@@ -446,9 +446,9 @@ PHYXEL_CONST uint kBroadScanBindingCount = 1;
 // kFlagPairsEdited into counts[0] and counts[1] (a fixed tree per workgroup, then one atomic
 // add each), as GpuSolver::count_flags does on the host.
 struct EditPush {
-  uint count;    // flag edits (mode 0), phyxels (mode 1)
-  uint slots;    // pair slots to zero (mode 0)
-  uint mode;     // 0, 1 (above)
+  uint count;  // flag edits (mode 0), phyxels (mode 1)
+  uint slots;  // pair slots to zero (mode 0)
+  uint mode;   // 0, 1 (above)
   uint unused;
 };
 PHYXEL_ASSERT_SIZE(EditPush, 16);
