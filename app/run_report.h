@@ -11,14 +11,23 @@
 
 namespace phyxel::app {
 
-// {"advance", "checks", "callbacks", "pacing", "outputs"}: seconds (RunResult::WallSplit).
+// {"advance", "checks", "callbacks", "pacing", "outputs"}: seconds (RunResult::WallSplit);
+// where the run aspirated, "aspiration": the callbacks' aspiration parts (AspirationTimes).
 // Inline: bench/ uses it without linking app/.
 inline nlohmann::json wall_split_json(const RunResult::WallSplit& split) {
-  return {{"advance", split.advance},
-          {"checks", split.checks},
-          {"callbacks", split.callbacks},
-          {"pacing", split.pacing},
-          {"outputs", split.outputs}};
+  nlohmann::json j = {{"advance", split.advance},
+                      {"checks", split.checks},
+                      {"callbacks", split.callbacks},
+                      {"pacing", split.pacing},
+                      {"outputs", split.outputs}};
+  const AspirationTimes& a = split.aspiration;
+  if (a.reads > 0)
+    j["aspiration"] = {{"reads", a.reads},
+                       {"read", a.read},
+                       {"sphere", a.sphere},
+                       {"rest_map", a.rest_map},
+                       {"removal", a.removal}};
+  return j;
 }
 
 // The summary as JSON (what write_run_summary writes).

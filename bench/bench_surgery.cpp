@@ -211,6 +211,14 @@ void print_row(const nlohmann::json& r) {
     passes += text;
   }
   std::printf("  %s\n", passes.c_str());
+  if (h.contains("aspiration")) {
+    const nlohmann::json& a = h["aspiration"];
+    std::printf(
+        "%36s aspiration: %lld reads, s: read %.3f, sphere %.3f, rest map %.3f, "
+        "removal %.3f\n",
+        "", static_cast<long long>(a["reads"].get<int64_t>()), a["read"].get<double>(),
+        a["sphere"].get<double>(), a["rest_map"].get<double>(), a["removal"].get<double>());
+  }
   std::string outcome;
   for (const auto& [name, v] : b["outcome"].items()) outcome += " " + name + " " + v.dump();
   if (!outcome.empty()) std::printf("%36s outcome:%s\n", "", outcome.c_str());

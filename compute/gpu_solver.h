@@ -215,6 +215,11 @@ class GpuSolver final : public SolverWithAllFacets {
   void set_advance_readback(bool on) override;
   void read_advanced_state(std::vector<Vec3>& displacement,
                            std::vector<double>& principal) override;
+  // Aspiration's reads (gpu_solver_near.cpp): solver_near selects the phyxels in the box (and
+  // gathers by id) on the device; only those come back, written straight into read-back
+  // buffers (20 bytes per phyxel that comes back, one submission).
+  NearState read_near(const PhyxelSet& set, const Bounds& box) override;
+  std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids) override;
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
   // median time per pass name ("kick_drift" once, then "stress", "principal" while on, and
@@ -328,6 +333,11 @@ class GpuSolver final : public SolverWithAllFacets {
   // Persistent host-visible buffers of topology edits (gpu_solver_edit.cpp), on first use.
   Buffer edit_upload_, edit_readback_;
   Buffer list_upload_;  // the pass lists' upload (build_pass_lists), on first use
+  // remove_phyxels' flag edits, pair slots and precompute list (Upload) and the flag counts
+  // (Readback), on first use.
+  Buffer removal_edits_, removal_slots_, removal_list_, removal_counts_;
+  void apply_removal(const std::vector<uint32_t>& edits, const std::vector<uint32_t>& slots,
+                     const std::vector<uint32_t>& touched);
 
   // Pass selection (gpu_solver_passes.cpp). Invariant between calls: every phyxel outside the
   // force list has the same u in both displacement buffers (compute_forces copies [0] to [1]),
@@ -385,6 +395,12 @@ class GpuSolver final : public SolverWithAllFacets {
   // Records the copies of u (from disp_[0]) and the principal stress into state_readback_.
   void record_state_copies(Recorder& rec, bool velocity, bool von_mises, bool contact);
   Buffer motion_upload_;
+  // read_near and read_displacements, made on first use: per solver_near workgroup its hits,
+  // then offsets; the count (ContactCount); ids and (u, principal) per hit (Readback, room for
+  // every phyxel); the ids of a gather (Upload).
+  Buffer near_groups_, near_count_, near_ids_, near_state_, near_upload_;
+  void ensure_near_buffers();
+  void record_near(Recorder& rec, layout::NearPush push);
 
   // Graspers (gpu_solver_grasp.cpp); allocated by set_tools only when a tool grasps.
   bool grasping_ = false;             // a tool grasps

@@ -4,7 +4,7 @@
 // changed (the indexed mode of solver_precompute). The step passes read the stored weights of
 // the phyxels flagged kFlagPairsEdited and recompute everyone else's from x0.
 #include <cstring>
-#include <set>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -36,35 +36,74 @@ void GpuSolver::read_flags_and_weights(std::vector<uint32_t>& flags, std::vector
   std::memcpy(weights.data(), base + flag_bytes, weight_bytes);
 }
 
+// Everything of a removal is local to the removed phyxels and their pairs: the host lists the
+// flag bits to set (per touched phyxel) and the pair slots to zero from the CSR it keeps, and
+// one submission applies them (solver_edit), reruns the precompute over the touched phyxels
+// and counts the flags (solver_edit, mode 1). Nothing per phyxel or per pair crosses the bus.
 void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
   settle();
   if (ids.empty()) return;
-  std::vector<uint32_t> flags;
-  std::vector<float> weights;
-  read_flags_and_weights(flags, weights);
   const NeighbourLists& nbr = neighbours_;
-  std::set<uint32_t> touched;
+  std::map<uint32_t, uint32_t> bits;  // touched phyxel -> flag bits to set, ascending
+  std::vector<uint32_t> slots;
   for (uint32_t i : ids) {
     if (i >= count_) throw std::out_of_range("remove_phyxels: no phyxel " + std::to_string(i));
-    flags[i] |= kFlagRemoved | kFlagPairsEdited;
+    bits[i] |= kFlagRemoved | kFlagPairsEdited;
     phyxel_flags_[i] |= kRemoved;
-    touched.insert(i);
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
       const uint32_t j = nbr.index[k];
-      weights[k] = 0.0f;
+      slots.push_back(k);
       const size_t back = nbr.slot(j, i);
-      if (back != NeighbourLists::kNoSlot) weights[back] = 0.0f;
+      if (back != NeighbourLists::kNoSlot) slots.push_back(static_cast<uint32_t>(back));
       if (!alive_.empty()) {  // pair_alive() answers from the log's mask once there is one
         alive_[k] = 0;
         if (back != NeighbourLists::kNoSlot) alive_[back] = 0;
       }
-      flags[j] |= kFlagPairsEdited;
-      touched.insert(j);
+      bits[j] |= kFlagPairsEdited;
     }
   }
-  apply_edit(flags, weights, std::vector<uint32_t>(touched.begin(), touched.end()));
+  std::vector<uint32_t> edits, touched;  // edits: (phyxel, bits) pairs
+  for (const auto& [phyxel, set] : bits) {
+    edits.insert(edits.end(), {phyxel, set});
+    touched.push_back(phyxel);
+  }
+  apply_removal(edits, slots, touched);
   build_pass_lists();  // removed phyxels leave every pass
   compute_forces();
+}
+
+void GpuSolver::apply_removal(const std::vector<uint32_t>& edits,
+                              const std::vector<uint32_t>& slots,
+                              const std::vector<uint32_t>& touched) {
+  auto stage = [&](Buffer& b, const void* data, uint64_t bytes, const char* name) {
+    if (b.size() < std::max<uint64_t>(bytes, 4))
+      b = Buffer(*ctx_, std::max<uint64_t>({bytes, 2 * b.size(), 64}), MemoryIntent::Upload, name);
+    std::memcpy(b.mapped(), data, bytes);
+  };
+  stage(removal_edits_, edits.data(), edits.size() * 4, "removal: flag edits");
+  stage(removal_slots_, slots.data(), slots.size() * 4, "removal: pair slots");
+  stage(removal_list_, touched.data(), touched.size() * 4, "removal: precompute list");
+  if (!removal_counts_)
+    removal_counts_ = Buffer(*ctx_, 2 * 4, MemoryIntent::Readback, "removal: flag counts");
+  Recorder& rec = *rec_[0];
+  const std::initializer_list<BufferRef> bindings = {
+      {"Flags", flags_},           {"Edits", removal_edits_},    {"Slots", removal_slots_},
+      {"Counts", removal_counts_}, {"IndexLo", nbr_index_.lo()}, {"IndexHi", nbr_index_.hi()},
+      {"WeightLo", weight_.lo()},  {"WeightHi", weight_.hi()}};
+  const auto n = static_cast<uint32_t>(touched.size()), s = static_cast<uint32_t>(slots.size());
+  rec.fill(removal_counts_, 0);
+  rec.barrier();  // the work before, and the fill
+  dispatch(rec, kernels_->edit, EditPush{n, s, 0u, 0u}, bindings, std::max(n, s));
+  rec.barrier();
+  record_precompute(rec, PrecomputePush{n, 1}, removal_list_, n);
+  rec.barrier();
+  dispatch(rec, kernels_->edit, EditPush{count_, 0u, 1u, 0u}, bindings, count_);
+  rec.submit_and_wait();
+  removal_counts_.invalidate();
+  uint32_t counts[2];
+  std::memcpy(counts, removal_counts_.mapped(), sizeof counts);
+  regularised_ = counts[0];
+  edited_ = counts[1];
 }
 
 // One submission: the edited flags, weights and the touched list copied up from a persistent

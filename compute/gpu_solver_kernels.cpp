@@ -9,11 +9,13 @@
 #include "phyxel_spv/scan_add.spv.h"
 #include "phyxel_spv/scan_block.spv.h"
 #include "phyxel_spv/solver_check.spv.h"
+#include "phyxel_spv/solver_edit.spv.h"
 #include "phyxel_spv/solver_energy.spv.h"
 #include "phyxel_spv/solver_force.spv.h"
 #include "phyxel_spv/solver_kick_drift.spv.h"
 #include "phyxel_spv/solver_max_norm.spv.h"
 #include "phyxel_spv/solver_motion.spv.h"
+#include "phyxel_spv/solver_near.spv.h"
 #include "phyxel_spv/solver_precompute.spv.h"
 #include "phyxel_spv/solver_principal.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
@@ -47,6 +49,7 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
       grasp(ctx, PHYXEL_SHADER(tool_grasp), 12, sizeof(GraspPush)),
+      near(ctx, PHYXEL_SHADER(solver_near), 6, sizeof(NearPush)),
       pairs_split_(pairs_split),
       pairs_lo_(pairs_lo) {
   make_pair_pipelines(ctx);
@@ -74,6 +77,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   tear = make(PHYXEL_SHADER(solver_tear), 14, sizeof(TearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 14, sizeof(SeverPush));
   resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));
+  edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }
 
 namespace {

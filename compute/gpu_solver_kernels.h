@@ -46,6 +46,8 @@ class SolverKernels {
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
   Pipeline resist;          // layout::ResistPush; kResist* bindings (over the candidates)
   Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
+  Pipeline near;            // layout::NearPush; kNear* bindings (aspiration's reads)
+  Pipeline edit;            // layout::EditPush; kEdit* bindings (remove_phyxels)
 
  private:
   void make_pair_pipelines(Context& ctx);

@@ -440,6 +440,47 @@ PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
 // tool_broad_scan: {group, count}
 PHYXEL_CONST uint kBroadScanBindingGroup = 0;
 PHYXEL_CONST uint kBroadScanBindingCount = 1;
+// solver_edit (GpuSolver::remove_phyxels): mode 0 ORs edits[2k + 1] into flags[edits[2k]] for
+// k < count and zeroes the pair weight of slots[k] for k < slots; mode 1 (after
+// solver_precompute) counts over every phyxel those flagged kFlagRegularised and
+// kFlagPairsEdited into counts[0] and counts[1] (a fixed tree per workgroup, then one atomic
+// add each), as GpuSolver::count_flags does on the host.
+struct EditPush {
+  uint count;  // flag edits (mode 0), phyxels (mode 1)
+  uint slots;  // pair slots to zero (mode 0)
+  uint mode;   // 0, 1 (above)
+  uint unused;
+};
+PHYXEL_ASSERT_SIZE(EditPush, 16);
+PHYXEL_CONST uint kEditBindingFlags = 0;
+PHYXEL_CONST uint kEditBindingEdits = 1;   // uint pairs (phyxel, flag bits)
+PHYXEL_CONST uint kEditBindingSlots = 2;   // uint pair slot
+PHYXEL_CONST uint kEditBindingCounts = 3;  // uint[2], zeroed before mode 1
+PHYXEL_CONST uint kEditBindingIndex = 4;
+PHYXEL_CONST uint kEditBindingIndexHi = 5;
+PHYXEL_CONST uint kEditBindingWeight = 6;
+PHYXEL_CONST uint kEditBindingWeightHi = 7;
+
+// solver_near (aspiration's reads, engine/surgery/aspiration.h): mode 0 counts, per workgroup of
+// phyxels, those whose current position rest + u lies in [lo, hi]; tool_broad_scan (given a
+// BroadPhasePush with the same groups) turns the counts into offsets and the total; mode 1
+// writes each hit's index and (u, largest principal stress) at its offset, ascending; mode 2
+// writes (u, principal) of ids[k] for k < count (a gather by index).
+struct NearPush {
+  vec4 lo;         // xyz: box min (world, m)
+  vec4 hi;         // xyz: box max (world, m)
+  uint count;      // phyxels (modes 0, 1), ids (mode 2)
+  uint mode;       // 0, 1, 2 (above)
+  uint groups;     // workgroups of modes 0 and 1 (entries of group[])
+  uint principal;  // 1: the principal stress buffer is bound and on; 0: write 0
+};
+PHYXEL_ASSERT_SIZE(NearPush, 48);
+PHYXEL_CONST uint kNearBindingRest = 0;
+PHYXEL_CONST uint kNearBindingDisp = 1;
+PHYXEL_CONST uint kNearBindingPrincipal = 2;  // float per phyxel
+PHYXEL_CONST uint kNearBindingGroup = 3;      // uint per workgroup: hits (mode 0), offset (1)
+PHYXEL_CONST uint kNearBindingIds = 4;        // out (mode 1), in (mode 2)
+PHYXEL_CONST uint kNearBindingOut = 5;        // vec4 (u, principal) per id
 // The candidate count and tool_contact's indirect dispatch (x, y, z groups), after the scan.
 struct ContactCount {
   uint total;

@@ -574,6 +574,7 @@ RunResult RunLoop::snapshot() {
   result_.tools = tools_.stats();
   result_.aspirating = aspirator_.active();
   result_.aspiration = aspirator_.totals();
+  result_.split.aspiration = aspirator_.times();
   if (!result_.non_finite && !result_.unstable) {
     result_.energies = solver_.energies();
     result_.max_displacement = max_norm(solver_.read_state(false).displacement);

@@ -119,6 +119,7 @@ struct RunResult {
   // tools.csv), sleeping to keep pace with the clock, and outputs and frames.
   struct WallSplit {
     double advance = 0, checks = 0, callbacks = 0, pacing = 0, outputs = 0;
+    AspirationTimes aspiration;  // the aspirations' part of callbacks
   } split;
   int64_t resumed_from = -1;  // the checkpoint's step, or -1
   // Suction tools in a scene that can tear: what the aspirations took (aspiration.h).

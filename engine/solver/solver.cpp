@@ -1,6 +1,7 @@
 #include "engine/solver/solver.h"
 
 #include <algorithm>
+#include <string>
 
 namespace phyxel {
 
@@ -14,6 +15,32 @@ std::pair<double, double> Solver::max_norms() {
 
 std::vector<ObjectMotion> Solver::object_motion(const PhyxelSet& set) {
   return sum_object_motion(set, read_state(false).velocity);
+}
+
+NearState Solver::read_near(const PhyxelSet& set, const Bounds& box) {
+  std::vector<Vec3> u;
+  std::vector<double> principal;
+  read_advanced_state(u, principal);
+  if (u.size() != set.size())
+    throw std::invalid_argument("Solver::read_near: the set has " + std::to_string(set.size()) +
+                                " phyxels, the solver " + std::to_string(u.size()));
+  NearState near;
+  for (size_t i = 0; i < u.size(); ++i) {
+    const Vec3 x = set.rest[i] + u[i];
+    if ((x.array() < box.min.array()).any() || (x.array() > box.max.array()).any()) continue;
+    near.ids.push_back(static_cast<uint32_t>(i));
+    near.displacement.push_back(u[i]);
+    if (principal.size() == u.size()) near.principal.push_back(principal[i]);
+  }
+  return near;
+}
+
+std::vector<Vec3> Solver::read_displacements(const std::vector<uint32_t>& ids) {
+  const std::vector<Vec3> u = read_state(false).displacement;
+  std::vector<Vec3> out;
+  out.reserve(ids.size());
+  for (const uint32_t i : ids) out.push_back(u.at(i));
+  return out;
 }
 
 }  // namespace phyxel

@@ -25,6 +25,14 @@ struct PointState {
   std::vector<double> max_principal_stress;
 };
 
+// What aspiration reads near the mouths (Solver::read_near): ascending phyxel ids, and per id
+// u and the largest principal stress (as read_advanced_state gives them; empty while off).
+struct NearState {
+  std::vector<uint32_t> ids;
+  std::vector<Vec3> displacement;
+  std::vector<double> principal;
+};
+
 // One object's motion (its phyxels' range in the PhyxelSet): what the run loop's rest, sleep
 // and runaway checks need.
 struct ObjectMotion {
@@ -190,6 +198,14 @@ class Solver {
     displacement = std::move(s.displacement);
     principal = std::move(s.max_principal_stress);
   }
+
+  // Aspiration's reads without the whole state: the phyxels of `set` (the solver's) whose
+  // current position rest + u lies in `box`, with u and the principal stress. The GPU solver
+  // selects them on the device, in float (callers test exactly, in a box with a margin), and
+  // downloads only those; by default this filters read_advanced_state.
+  virtual NearState read_near(const PhyxelSet& set, const Bounds& box);
+  // u of each of `ids`, in their order (a gather on the GPU; by default from read_state).
+  virtual std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids);
 
   // The facets (above): nullptr where the solver lacks the ability.
   virtual PassSelection* pass_selection() { return nullptr; }

@@ -1,6 +1,7 @@
 #include "engine/surgery/aspiration.h"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
 #include "engine/solver/mls_gradient.h"
@@ -10,6 +11,13 @@
 namespace phyxel {
 namespace {
 
+// Adds the time since `mark` to `into` and moves the mark.
+void lap(double& into, std::chrono::steady_clock::time_point& mark) {
+  const auto now = std::chrono::steady_clock::now();
+  into += std::chrono::duration<double>(now - mark).count();
+  mark = now;
+}
+
 double tear_stress_of(const PhyxelSet& set, uint32_t i) {
   return set.materials[set.material[i]].tear_stress.value_or(0.0);
 }
@@ -18,12 +26,12 @@ double tear_stress_of(const PhyxelSet& set, uint32_t i) {
 
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
                                 const std::vector<uint8_t>& surface,
-                                const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
-                                const std::vector<double>& principal, const ToolPose& mouth,
-                                double reach, double shell) {
+                                const std::vector<uint8_t>& torn, const MouthPhyxels& near,
+                                const ToolPose& mouth, double reach, double shell) {
   const size_t n = set.size();
-  if (removed.size() != n || surface.size() != n || torn.size() != n || x.size() != n ||
-      principal.size() != n)
+  const size_t m = near.ids.size();
+  if (removed.size() != n || surface.size() != n || torn.size() != n || near.x.size() != m ||
+      near.principal.size() != m)
     throw std::invalid_argument("fracture_sphere: per-phyxel arrays of different sizes");
   AspirationEvent e;
   e.mouth = e.centre = mouth.position;
@@ -33,10 +41,12 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
   };
   // Steps 1 and 2: the overstressed phyxels in reach; the farthest of those on a surface.
   double radius = -1;
-  for (uint32_t i = 0; i < n; ++i) {
-    if (!takes(i) || !(surface[i] || torn[i]) || !in_suction_reach(mouth, reach, x[i])) continue;
-    const double d = (x[i] - mouth.position).norm();
-    if ((torn[i] || principal[i] >= tear_stress_of(set, i)) && d > radius) {
+  for (size_t k = 0; k < m; ++k) {
+    const uint32_t i = near.ids[k];
+    if (!takes(i) || !(surface[i] || torn[i]) || !in_suction_reach(mouth, reach, near.x[k]))
+      continue;
+    const double d = (near.x[k] - mouth.position).norm();
+    if ((torn[i] || near.principal[k] >= tear_stress_of(set, i)) && d > radius) {
       radius = d;
       e.breaking = i;
     }
@@ -44,29 +54,46 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
   if (radius < 0) return e;
   e.radius = e.rest_radius = radius;
   // Step 3: inside the sphere aspirated, the shell outside it exposed.
-  for (uint32_t i = 0; i < n; ++i) {
+  for (size_t k = 0; k < m; ++k) {
+    const uint32_t i = near.ids[k];
     if (removed[i]) continue;
-    const double d = (x[i] - mouth.position).norm();
+    const double d = (near.x[k] - mouth.position).norm();
     if (d <= radius && takes(i))
       e.removed.push_back(i);
     else if (d > radius && d <= radius + shell && !(set.flags[i] & kFixed)) {
       e.exposed.push_back(i);
-      e.exposed_normal.push_back((mouth.position - x[i]) / d);
+      e.exposed_normal.push_back((mouth.position - near.x[k]) / d);
     }
   }
   return e;
+}
+
+AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
+                                const std::vector<uint8_t>& surface,
+                                const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
+                                const std::vector<double>& principal, const ToolPose& mouth,
+                                double reach, double shell) {
+  if (x.size() != set.size() || principal.size() != set.size())
+    throw std::invalid_argument("fracture_sphere: per-phyxel arrays of different sizes");
+  MouthPhyxels all;
+  all.ids.resize(set.size());
+  for (size_t i = 0; i < all.ids.size(); ++i) all.ids[i] = static_cast<uint32_t>(i);
+  all.x = x;
+  all.principal = principal;
+  return fracture_sphere(set, removed, surface, torn, all, mouth, reach, shell);
 }
 
 void map_fracture_to_rest(AspirationEvent& e, const PhyxelSet& set, const NeighbourLists& nbr,
                           const std::vector<Vec3>& u, const std::vector<uint8_t>& removed,
                           const SeveredKeys& severed) {
   if (e.removed.empty()) return;
-  std::vector<uint8_t> going(set.size(), 0);
-  for (const uint32_t i : e.removed) going[i] = 1;
+  auto going = [&](uint32_t j) {  // e.removed is ascending
+    return std::binary_search(e.removed.begin(), e.removed.end(), j);
+  };
   auto deformation = [&](uint32_t i, bool after) {
     const double h = set.objects[set.object[i]].support_radius;
     return mls_deformation(set.rest, nbr, u, i, h, [&](uint32_t, uint32_t j) {
-      return !removed[j] && !(after && going[j]) && !severed.count(pair_key(i, j));
+      return !removed[j] && !(after && going(j)) && !severed.count(pair_key(i, j));
     });
   };
   // The centre and axis: each aspirated phyxel's first-order preimage of the mouth,
@@ -102,6 +129,7 @@ Aspirator::Aspirator(const Scene& scene, const PhyxelSet& set)
   for (const ToolDesc& t : scene.tools) suction = suction || t.suction.sucks();
   active_ = suction && scene.tearing_possible();
   for (const ObjectRange& o : set.objects) shell_ = std::max(shell_, o.spacing);
+  if (active_) u_.assign(set.size(), Vec3::Zero());
   for (size_t i = 0; i < set.size(); ++i) {
     removed_[i] = (set.flags[i] & kRemoved) != 0;
     surface_[i] = (set.flags[i] & kSurface) != 0;
@@ -135,44 +163,87 @@ void Aspirator::account(const AspirationEvent& e) {
   }
 }
 
+void Aspirator::read_severed(Solver& solver) {
+  // What tore or was cut since the last aspiration: torn phyxels have failed, and every
+  // severed pair opened a face (a surface).
+  Cutting* cut = solver.cutting();
+  if (!cut || cut->severed_pairs() <= log_cursor_) return;
+  for (const SeveredPair& p : cut->severed_since(log_cursor_)) {
+    surface_[p.i] = surface_[p.j] = 1;
+    if (p.torn) torn_[p.i] = torn_[p.j] = 1;
+    severed_.insert(pair_key(p.i, p.j));
+  }
+  log_cursor_ = cut->severed_pairs();
+}
+
+MouthPhyxels Aspirator::read_mouths(Solver& solver, const Bounds& box) {
+  NearState state = solver.read_near(*set_, box);
+  if (state.principal.size() != state.ids.size())
+    throw std::logic_error(solver.device() + " gave no principal stresses for aspiration");
+  MouthPhyxels near;
+  near.x.resize(state.ids.size());
+  for (size_t k = 0; k < state.ids.size(); ++k) {
+    const uint32_t i = state.ids[k];
+    u_[i] = state.displacement[k];
+    near.x[k] = set_->rest[i] + state.displacement[k];
+  }
+  near.ids = std::move(state.ids);
+  near.principal = std::move(state.principal);
+  return near;
+}
+
+void Aspirator::read_event_displacements(Solver& solver, const AspirationEvent& e) {
+  // map_fracture_to_rest's F of the removed and exposed phyxels reads u of their neighbours.
+  const NeighbourLists& nbr = solver.neighbours();
+  std::vector<uint32_t> ids;
+  for (const std::vector<uint32_t>* list : {&e.removed, &e.exposed})
+    for (const uint32_t i : *list) {
+      ids.push_back(i);
+      ids.insert(ids.end(), nbr.index.begin() + nbr.offset[i],
+                 nbr.index.begin() + nbr.offset[i + 1]);
+    }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  const std::vector<Vec3> u = solver.read_displacements(ids);
+  for (size_t k = 0; k < ids.size(); ++k) u_[ids[k]] = u[k];
+}
+
 std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
                                                       const std::vector<ToolPose>& poses,
                                                       double t) {
   std::vector<AspirationEvent> events;
   if (!active_) return events;
-  // What tore or was cut since the last aspiration: torn phyxels have failed, and every
-  // severed pair opened a face (a surface).
-  Cutting* cut = solver.cutting();
-  if (cut && cut->severed_pairs() > log_cursor_) {
-    for (const SeveredPair& p : cut->severed_since(log_cursor_)) {
-      surface_[p.i] = surface_[p.j] = 1;
-      if (p.torn) torn_[p.i] = torn_[p.j] = 1;
-      severed_.insert(pair_key(p.i, p.j));
-    }
-    log_cursor_ = cut->severed_pairs();
-  }
-  std::vector<Vec3> u, x;
-  std::vector<double> principal;
+  read_severed(solver);
+  // The suction tools on at t, and a box around their mouths holding every phyxel that
+  // fracture_sphere looks at (within reach + shell), with a margin for the solver's float test.
+  std::vector<size_t> on;
+  Bounds box;
   for (size_t k = 0; k < scene_->tools.size() && k < poses.size(); ++k) {
     const Suction& s = scene_->tools[k].suction;
     const bool haptic = scene_->tools[k].control == ToolDesc::Control::Haptic;
     if (!s.sucks() || !(haptic || s.on_at(scene_->tools[k].cycle_time(t)))) continue;
-    if (x.empty()) {                      // one read of the state for every tool
-      solver.set_advance_readback(true);  // from the next advance on, if the solver can
-      solver.read_advanced_state(u, principal);
-      x.resize(set_->size());
-      for (size_t i = 0; i < x.size(); ++i) x[i] = set_->rest[i] + u[i];
-      if (principal.size() != x.size())
-        throw std::logic_error(solver.device() + " gave no principal stresses for aspiration");
-    }
-    AspirationEvent e =
-        fracture_sphere(*set_, removed_, surface_, torn_, x, principal, poses[k], s.reach, shell_);
+    on.push_back(k);
+    const Vec3 r = Vec3::Constant(1.01 * (s.reach + shell_) + 1e-6);
+    box.extend(Bounds{poses[k].position - r, poses[k].position + r});
+  }
+  if (on.empty()) return events;
+  auto mark = std::chrono::steady_clock::now();
+  const MouthPhyxels near = read_mouths(solver, box);  // one read for every tool
+  ++times_.reads;
+  lap(times_.read, mark);
+  for (const size_t k : on) {
+    AspirationEvent e = fracture_sphere(*set_, removed_, surface_, torn_, near, poses[k],
+                                        scene_->tools[k].suction.reach, shell_);
+    lap(times_.sphere, mark);
     if (e.removed.empty()) continue;
-    map_fracture_to_rest(e, *set_, solver.neighbours(), u, removed_, severed_);
+    read_event_displacements(solver, e);
+    map_fracture_to_rest(e, *set_, solver.neighbours(), u_, removed_, severed_);
+    lap(times_.rest_map, mark);
     e.tool = k;
     e.time = t;
     need(solver.removal(), solver, "remove phyxels").remove_phyxels(e.removed);
     account(e);
+    lap(times_.removal, mark);
     events.push_back(std::move(e));
   }
   return events;

@@ -33,9 +33,9 @@
 
 #include "engine/geometry/tool.h"
 #include "engine/sampling/phyxel_set.h"
-#include "engine/solver/neighbours.h"
 #include "engine/scene/tool_desc.h"
 #include "engine/solver/cutting.h"
+#include "engine/solver/neighbours.h"
 
 namespace phyxel {
 
@@ -65,11 +65,25 @@ inline uint64_t pair_key(uint32_t i, uint32_t j) {
   return i < j ? (uint64_t{i} << 32) | j : (uint64_t{j} << 32) | i;
 }
 
-// Steps 1-3 for one mouth. removed, surface, torn: per phyxel (1: removed; 1: on a surface;
-// 1: a pair of its tore); x: current positions; principal: the largest principal stress per
-// phyxel (Pa); shell: delta.
+// The phyxels a fracture sphere looks at (Aspirator: those near the mouths): ascending ids and
+// per id the current position and the largest principal stress (Pa).
+struct MouthPhyxels {
+  std::vector<uint32_t> ids;
+  std::vector<Vec3> x;
+  std::vector<double> principal;
+};
+
+// Steps 1-3 for one mouth, over the phyxels of `near` (those within reach + shell of the mouth
+// at least; the result is as over every phyxel). removed, surface, torn: per phyxel (1:
+// removed; 1: on a surface; 1: a pair of its tore); shell: delta.
 // Returns an event with no removed phyxel when nothing tears. Its rest-space fields are still
 // in current positions (centre = mouth): map_fracture_to_rest maps them.
+AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
+                                const std::vector<uint8_t>& surface,
+                                const std::vector<uint8_t>& torn, const MouthPhyxels& near,
+                                const ToolPose& mouth, double reach, double shell);
+
+// The same over every phyxel: x the current positions, principal the stresses, per phyxel.
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
                                 const std::vector<uint8_t>& surface,
                                 const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
@@ -77,7 +91,8 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
                                 double reach, double shell);
 
 // The event's rest-space fields from the current ones, with the displacement u, the rest
-// neighbour lists, the phyxels removed before it and the pairs severed (see the top).
+// neighbour lists, the phyxels removed before it and the pairs severed (see the top). Reads u
+// of the event's phyxels (removed and exposed) and of their neighbours only.
 void map_fracture_to_rest(AspirationEvent& e, const PhyxelSet& set, const NeighbourLists& nbr,
                           const std::vector<Vec3>& u, const std::vector<uint8_t>& removed,
                           const SeveredKeys& severed);
@@ -103,6 +118,14 @@ struct AspiratorState {
   std::vector<double> removed_mass, removed_volume;  // per material, kg and m^3
 };
 
+// Where an Aspirator's host time went (s): reading the state near the mouths, the fracture
+// sphere (steps 1-3), the rest-space map (its displacements read too) and the solver's removal
+// of the event's phyxels; per read (one after each tool chunk with a suction tool on).
+struct AspirationTimes {
+  double read = 0, sphere = 0, rest_map = 0, removal = 0;
+  int64_t reads = 0;
+};
+
 class Aspirator {
  public:
   Aspirator(const Scene& scene, const PhyxelSet& set);
@@ -113,6 +136,7 @@ class Aspirator {
   std::vector<AspirationEvent> after_advance(Solver& solver, const std::vector<ToolPose>& poses,
                                              double t);
   const AspirationTotals& totals() const { return totals_; }
+  const AspirationTimes& times() const { return times_; }
   // For checkpoints: the state, and back (before the solver's state is set): the removed
   // phyxels leave `solver` again and the log's first log_cursor pairs (`severed`, the solver's
   // log) are read as after_advance read them. Throws std::invalid_argument on a mismatch.
@@ -122,6 +146,11 @@ class Aspirator {
 
  private:
   void account(const AspirationEvent& e);
+  void read_severed(Solver& solver);
+  // The phyxels in `box` (Solver::read_near), u_ set at them.
+  MouthPhyxels read_mouths(Solver& solver, const Bounds& box);
+  // u_ at the event's phyxels and their neighbours (Solver::read_displacements).
+  void read_event_displacements(Solver& solver, const AspirationEvent& e);
 
   const Scene* scene_;
   const PhyxelSet* set_;
@@ -129,9 +158,13 @@ class Aspirator {
   double shell_ = 0;
   std::vector<uint8_t> removed_, surface_;
   std::vector<uint8_t> torn_;  // a pair of the phyxel has torn
-  size_t log_cursor_ = 0;      // of the solver's severed log
-  SeveredKeys severed_;        // the log's pairs
+  // u as last read, valid only where read (the phyxels near the mouths, an event's and their
+  // neighbours): what map_fracture_to_rest looks at.
+  std::vector<Vec3> u_;
+  size_t log_cursor_ = 0;  // of the solver's severed log
+  SeveredKeys severed_;    // the log's pairs
   AspirationTotals totals_;
+  AspirationTimes times_;
 };
 
 }  // namespace phyxel
