@@ -24,6 +24,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -84,6 +85,10 @@ struct GpuSolverOptions {
   // 0, the device's limit (maxStorageBufferRange). Tests lower it to split a small scene's
   // pairs in two, as a scene past about 41M phyxels is.
   uint64_t pair_part_bytes = 0;
+  // Phyxels per submission of the setup's passes (neighbour search, MLS precompute), which
+  // poll the setup's stop (set_search_stop) before each: 0, sized from the measured rate to
+  // about 20 ms of wall time each; tests fix it. Any size gives the same bits.
+  uint32_t setup_chunk = 0;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -250,6 +255,10 @@ class GpuSolver final : public SolverWithAllFacets {
   void build(const PhyxelSet& set, const Vec3& gravity);
   void settle();  // waits for the submission advance() left in flight, if any
   void build_neighbours(const std::vector<layout::vec4>& rest_lo);
+  // `record(rec, first, count)` over phyxels [0, count_), a submission per chunk, the stop
+  // polled before each (SearchStopped naming `phase`).
+  using ChunkRecorder = std::function<void(Recorder&, uint32_t first, uint32_t count)>;
+  void run_in_chunks(Recorder& rec, const char* phase, const ChunkRecorder& record);
   void count_flags();                       // downloads the flags
   void count_flags(const uint32_t* flags);  // of count_ flags read back already
   void read_flags_and_weights(std::vector<uint32_t>& flags, std::vector<float>& weights);

@@ -143,7 +143,7 @@ void GpuSolver::record_dirty_reset(Recorder& rec) {
 
 void GpuSolver::record_dirty_precompute(Recorder& rec) {
   rec.indirect_barrier();
-  record_precompute(rec, PrecomputePush{0u, kPrecomputeCutList}, cut_dirty_, 0, true);
+  record_precompute(rec, PrecomputePush{0u, kPrecomputeCutList, 0, 0}, cut_dirty_, 0, true);
 }
 
 void GpuSolver::record_precompute(Recorder& rec, const PrecomputePush& pc, const Buffer& list,

@@ -95,7 +95,7 @@ void GpuSolver::apply_removal(const std::vector<uint32_t>& edits,
   rec.barrier();  // the work before, and the fill
   dispatch(rec, kernels_->edit, EditPush{n, s, 0u, 0u}, bindings, std::max(n, s));
   rec.barrier();
-  record_precompute(rec, PrecomputePush{n, 1}, removal_list_, n);
+  record_precompute(rec, PrecomputePush{n, 1, 0, 0}, removal_list_, n);
   rec.barrier();
   dispatch(rec, kernels_->edit, EditPush{count_, 0u, 1u, 0u}, bindings, count_);
   rec.submit_and_wait();
@@ -132,7 +132,7 @@ void GpuSolver::apply_edit(const std::vector<uint32_t>& flags, const std::vector
   if (list_bytes > 0) rec.copy(edit_upload_, list_, list_bytes, flag_bytes + weight_bytes, 0);
   rec.barrier();
   if (!touched.empty()) {
-    record_precompute(rec, PrecomputePush{uint32_t(touched.size()), 1}, list_,
+    record_precompute(rec, PrecomputePush{uint32_t(touched.size()), 1, 0, 0}, list_,
                       uint32_t(touched.size()));
     rec.barrier();
   }

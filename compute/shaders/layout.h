@@ -106,10 +106,10 @@ PHYXEL_ASSERT_SIZE(SolverClass, 64);
 // Neighbour search (nbr_cells, nbr_scatter, nbr_pairs). Buckets of the spatial hash: a power
 // of two; cell = floor(x_local / cell size) per axis, hashed with the object index.
 struct NbrPush {
-  uint count;        // phyxels
+  uint end;          // phyxels [first, end) (the setup runs in chunks of phyxels)
   uint bucket_mask;  // buckets - 1
   uint mode;         // nbr_pairs: kNbrCount or kNbrFill
-  uint pad;
+  uint first;
 };
 PHYXEL_ASSERT_SIZE(NbrPush, 16);
 PHYXEL_CONST uint kNbrCount = 0u;
@@ -167,12 +167,15 @@ PHYXEL_CONST uint kScanAddBindingSums = 1;
 // phyxels they touch.
 struct PrecomputePush {
   uint count;
-  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = invocation; kPrecomputeCutList:
-                 // the count and phyxels of a CutDirty list (list[0], list[4 + invocation]),
-                 // dispatched indirectly from list[1..3], clearing kFlagCutDirty
+  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = first + invocation;
+                 // kPrecomputeCutList: the count and phyxels of a CutDirty list (list[0],
+                 // list[4 + invocation]), dispatched indirectly from list[1..3], clearing
+                 // kFlagCutDirty
+  uint first;    // indexed 0: the phyxel of invocation 0 (the setup runs in chunks)
+  uint pad;
 };
 PHYXEL_CONST uint kPrecomputeCutList = 2u;
-PHYXEL_ASSERT_SIZE(PrecomputePush, 8);
+PHYXEL_ASSERT_SIZE(PrecomputePush, 16);
 PHYXEL_CONST uint kPrecomputeBindingOffset = 0;
 PHYXEL_CONST uint kPrecomputeBindingIndex = 1;
 PHYXEL_CONST uint kPrecomputeBindingWeight = 2;

@@ -20,8 +20,8 @@ layout(std430, binding = kNbrCellsBindingSlot) writeonly buffer Slot { uint slot
 layout(std430, binding = kNbrCellsBindingBucketCount) buffer BucketCount { uint bucket_count[]; };
 
 void main() {
-  const uint i = PHYXEL_GLOBAL_INDEX;
-  if (i >= p.count) return;
+  const uint i = p.first + PHYXEL_GLOBAL_INDEX;
+  if (i >= p.end) return;
   const uint fl = flags[i];
   if ((fl & kFlagRemoved) != 0u) {
     cell_of[i] = ivec4(0, 0, 0, -1);

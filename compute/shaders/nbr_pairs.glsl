@@ -33,8 +33,8 @@ layout(std430, binding = kNbrPairsBindingOffset) readonly buffer Offset { uint o
 #include "pair_buffers.glsl"
 
 void main() {
-  const uint i = PHYXEL_GLOBAL_INDEX;
-  if (i >= p.count) return;
+  const uint i = p.first + PHYXEL_GLOBAL_INDEX;
+  if (i >= p.end) return;
   const ivec4 ci = cell_of[i];
   if (ci.w < 0) {
     if (p.mode == kNbrCount) pair_count[i] = 0u;

@@ -17,8 +17,8 @@ layout(std430, binding = kNbrScatterBindingBucketStart) readonly buffer Start {
 layout(std430, binding = kNbrScatterBindingSorted) writeonly buffer Sorted { uint sorted_ids[]; };
 
 void main() {
-  const uint i = PHYXEL_GLOBAL_INDEX;
-  if (i >= p.count) return;
+  const uint i = p.first + PHYXEL_GLOBAL_INDEX;
+  if (i >= p.end) return;
   const ivec4 c = cell_of[i];
   if (c.w < 0) return;
   sorted_ids[bucket_start[cell_bucket(c.xyz, uint(c.w), p.bucket_mask)] + slot[i]] = i;

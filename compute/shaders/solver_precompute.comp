@@ -35,7 +35,8 @@ void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const bool cut_list = p.indexed == kPrecomputeCutList;
   if (invocation >= (cut_list ? list[0] : p.count)) return;
-  const uint i = cut_list ? list[4u + invocation] : p.indexed != 0u ? list[invocation] : invocation;
+  const uint i = cut_list ? list[4u + invocation]
+                          : (p.indexed != 0u ? list[invocation] : p.first + invocation);
   const vec3 xi = local_pos[i].xyz;
   const uint fl = flags[i];
   const SolverClass cls = classes[fl >> kFlagClassShift];
