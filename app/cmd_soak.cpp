@@ -1,9 +1,11 @@
 // phyxel soak SCENE: a long run under surgery (docs/performance.md "Soak"): the run loop of
 // `phyxel run`, headless, sampled at every tenth of its steps for resident memory (VmRSS), GPU
 // memory, the step rate, the kinetic energy and the topology edits of each tenth (pairs cut,
-// pairs torn, phyxels aspirated, grips closed on tissue); DIR/soak.json holds
+// pairs torn, phyxels aspirated, grips closed on tissue), and what of the memory the edits
+// hold (the severed pairs, kept for good; the heap in use); DIR/soak.json holds
 // the samples and a hash of the final u and v, so that two runs and a resumed one can be
 // compared bit for bit. Timing is reported, never judged.
+#include <malloc.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -32,8 +34,11 @@ constexpr const char* kSoakHelp =
     "\n"
     "Runs SCENE headless (no points files, no frames) and samples the run at every tenth of\n"
     "its steps: resident memory, GPU memory, steps per second, kinetic energy, and the edits\n"
-    "of each tenth: pairs cut, pairs torn, phyxels aspirated, grips. Writes DIR/soak.json (the\n"
-    "samples and a hash of the final displacements and velocities) and prints the table.\n"
+    "of each tenth: pairs cut, pairs torn, phyxels aspirated, grips. Beside the resident\n"
+    "memory: the heap in use (malloc's count) and the severed pairs held so far, which the run\n"
+    "keeps for good (checkpoints, rest-space maps): memory that grows with the edits. Writes\n"
+    "DIR/soak.json (the samples and a hash of the final displacements and velocities) and\n"
+    "prints the table.\n"
     "\n"
     "options:\n"
     "  --steps N             steps (default: the scene's simulation.steps)\n"
@@ -52,6 +57,13 @@ long resident_kib() {
   long size = 0, resident = 0;
   statm >> size >> resident;
   return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// Bytes the process has allocated through malloc and not freed (all arenas, mmap'ed blocks
+// too): unlike the resident size, not rounded to pages nor kept up by freed memory.
+size_t heap_in_use() {
+  const struct mallinfo2 m = mallinfo2();
+  return m.uordblks + m.hblkhd;
 }
 
 // FNV-1a 64 over the bytes of u and v: equal hashes, equal states (for the tests' comparisons).
@@ -75,6 +87,8 @@ struct Sample {
   int64_t step = 0;
   double wall = 0;  // s since the soak's loop began
   long rss_kib = 0;
+  size_t heap_bytes = 0;
+  size_t severed_held = 0;                        // pairs severed so far (the solver's log)
   uint64_t gpu_allocated = 0, gpu_available = 0;  // bytes (GPU solvers only)
   double kinetic = 0;                             // J
   bool finite = true;
@@ -88,6 +102,7 @@ Sample take_sample(Solver& solver, const PhyxelSet& set, const std::vector<uint8
   s.step = step;
   s.wall = wall;
   s.rss_kib = resident_kib();
+  s.heap_bytes = heap_in_use();
   if (auto* gpu = dynamic_cast<gpu::GpuSolver*>(&solver)) {
     s.gpu_allocated = gpu->context().allocated_bytes();
     s.gpu_available = gpu->context().available_device_memory();
@@ -116,6 +131,8 @@ nlohmann::json report(const std::vector<Sample>& samples, const Edits& start,
                       {"wall_s", s.wall},
                       {"steps_per_s", wall > 0 ? steps / wall : 0.0},
                       {"rss_kib", s.rss_kib},
+                      {"heap_bytes", s.heap_bytes},
+                      {"severed_pairs_held", s.severed_held},
                       {"gpu_allocated_bytes", s.gpu_allocated},
                       {"gpu_available_bytes", s.gpu_available},
                       {"kinetic_energy_j", s.finite ? s.kinetic : -1.0},
@@ -146,15 +163,18 @@ nlohmann::json report(const std::vector<Sample>& samples, const Edits& start,
 }
 
 void print_table(const nlohmann::json& j) {
-  std::printf("%10s %9s %11s %10s %14s %12s %6s %6s %6s %6s\n", "step", "wall s", "steps/s",
-              "RSS KiB", "GPU alloc B", "kinetic J", "cut", "torn", "aspir", "grips");
+  std::printf("%10s %9s %11s %10s %10s %8s %14s %12s %6s %6s %6s %6s\n", "step", "wall s",
+              "steps/s", "RSS KiB", "heap KiB", "severed", "GPU alloc B", "kinetic J", "cut",
+              "torn", "aspir", "grips");
   for (const auto& t : j["tenths"])
-    std::printf(
-        "%10lld %9.2f %11.1f %10ld %14llu %12.3e %6zu %6zu %6zu %6zu\n", t["step"].get<long long>(),
-        t["wall_s"].get<double>(), t["steps_per_s"].get<double>(), t["rss_kib"].get<long>(),
-        t["gpu_allocated_bytes"].get<unsigned long long>(), t["kinetic_energy_j"].get<double>(),
-        t["cut_pairs"].get<size_t>(), t["torn_pairs"].get<size_t>(),
-        t["aspirated_phyxels"].get<size_t>(), t["grips"].get<size_t>());
+    std::printf("%10lld %9.2f %11.1f %10ld %10zu %8zu %14llu %12.3e %6zu %6zu %6zu %6zu\n",
+                t["step"].get<long long>(), t["wall_s"].get<double>(),
+                t["steps_per_s"].get<double>(), t["rss_kib"].get<long>(),
+                t["heap_bytes"].get<size_t>() / 1024, t["severed_pairs_held"].get<size_t>(),
+                t["gpu_allocated_bytes"].get<unsigned long long>(),
+                t["kinetic_energy_j"].get<double>(), t["cut_pairs"].get<size_t>(),
+                t["torn_pairs"].get<size_t>(), t["aspirated_phyxels"].get<size_t>(),
+                t["grips"].get<size_t>());
   std::printf("state %s, %lld aspirations\n", j["state_hash"].get<std::string>().c_str(),
               j["aspiration_events"].get<long long>());
 }
@@ -245,6 +265,7 @@ int soak_command(const Args& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     count_severed();
     samples.push_back(take_sample(*solver, set, removed, step, wall, edits));
+    samples.back().severed_held = logged;
   };
   const RunResult result = run_simulation(scene, set, *solver, options);
   const nlohmann::json j =

@@ -1,7 +1,8 @@
 // The soak on the CPU (`phyxel soak`, docs/performance.md "Soak"): scenes/soak.json, whose
 // scalpel, grasper and aspirator repeat a 0.4 s cycle (cut, tear, aspirate, grasp and release)
 // 0.4 mm further along the block each time ("repeat_shift"), for soak_steps() steps: resident
-// memory flat after the first tenth (the warm-up), the kinetic energy finite and bounded in
+// memory flat after the first tenth (the warm-up; the heap in use grows only by what the
+// severed pairs hold), the kinetic energy finite and bounded in
 // every tenth, every kind of topology edit done in every tenth, the last included, and the final
 // state bit-identical between the uninterrupted run and a second run stopped half-way and
 // resumed from its checkpoint. The step rate per tenth is recorded, never judged.
@@ -33,6 +34,11 @@ int64_t soak_steps() {
 }
 // Resident memory may grow this much from the end of the first tenth to the end of the last.
 constexpr long kRssGrowthKib = 4096;
+// The heap in use after the first tenth grows only by what the severed pairs hold (the
+// solver's log entry, 16 B, and the aspirator's set node and bucket, ~40 B; both vectors and
+// the set's buckets grow by doubling) and by at most this besides.
+constexpr long kHeapBytesPerSeveredPair = 128;
+constexpr long kHeapSlackBytes = 64 * 1024;
 
 nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
@@ -81,6 +87,14 @@ TEST(Soak, MemoryFlatEnergyBoundedAndResumedBitIdentical) {
   const long growth = tenths[9]["rss_kib"].get<long>() - tenths[0]["rss_kib"].get<long>();
   EXPECT_LE(growth, kRssGrowthKib) << full.dump(2);
   RecordProperty("rss_growth_kib", std::to_string(growth));
+  const long heap_growth =
+      tenths[9]["heap_bytes"].get<long>() - tenths[1]["heap_bytes"].get<long>();
+  const long pairs_added =
+      tenths[9]["severed_pairs_held"].get<long>() - tenths[1]["severed_pairs_held"].get<long>();
+  EXPECT_GT(pairs_added, 0);
+  EXPECT_LE(heap_growth, kHeapBytesPerSeveredPair * pairs_added + kHeapSlackBytes) << full.dump(2);
+  RecordProperty("heap_growth_bytes", std::to_string(heap_growth));
+  RecordProperty("severed_pairs_added", std::to_string(pairs_added));
   RecordProperty("steps_per_s_second_tenth",
                  std::to_string(tenths[1]["steps_per_s"].get<double>()));
   RecordProperty("steps_per_s_last_tenth", std::to_string(tenths[9]["steps_per_s"].get<double>()));
