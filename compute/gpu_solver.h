@@ -295,6 +295,8 @@ class GpuSolver final : public SolverWithAllFacets {
   void prepare_cutting();
   void upload_cut_quads(Recorder& rec);
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
+  // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
+  uint32_t cut_table_row(int64_t step) const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.
   void record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp);
   void finish_cutting();

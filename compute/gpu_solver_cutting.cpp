@@ -87,9 +87,12 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
   rec.copy(cut_quad_upload_, cut_quads_, bytes);
 }
 
+uint32_t GpuSolver::cut_table_row(int64_t step) const {
+  return static_cast<uint32_t>(std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_));
+}
+
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
-  const uint64_t k = motion_step_ + uint64_t(step);
-  const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_));
+  const uint32_t row = cut_table_row(step);
   rec.barrier();  // the samples of this substep
   record_dirty_reset(rec);
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
@@ -114,8 +117,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
 }
 
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
-  const uint64_t k = motion_step_ + uint64_t(step);  // the cut table's row, as record_sever
-  const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_));
+  const uint32_t row = cut_table_row(step);
   const ResistPush push{contact_origin_, dt, uint32_t(tools_.size()), row, partial_capacity()};
   dispatch_indirect(rec, kernels_->resist, push,
                     {{"List", candidate_list_},

@@ -1,7 +1,8 @@
 // The edge's resistance after a substep's contacts (ResistPush in layout.h; the CPU twin is
 // CpuSolver::apply_edge_resistance in engine/solver/cpu_solver_cutting.cpp): each candidate
 // sums, per blade, the forces stiffness * a_ij * behind of the pairs the edge holds (canonical
-// order, its share (1 - t) or t), a_ij = (V_i + V_j) / (S_i + S_j) (pair_area_share), adds
+// order, its share (1 - t) or t), a_ij = (V_i + V_j) / (S_i + S_j) (pair_area_share), bounds
+// the sum by the threshold (bounded_edge_push), adds
 // dt / m times them to its velocity, and each workgroup adds its sums to tool_contact's partials
 // (tool_contact_reduce turns them into the force on the tool). Reads positions, writes only its
 // own velocity: no atomics.
@@ -82,6 +83,9 @@ void main() {
     vec3 force = vec3(0.0);
     if (takes && quad.edge.w >= 0.0 && quad.resist.x > 0.0) {
       force = held_pairs_force(i, edge_frame(quad));
+      // bounded_edge_push: at most the blade's threshold (quad.edge.w) on one phyxel.
+      const float size = length(force);
+      if (size > quad.edge.w) force *= quad.edge.w / size;
       if (force != vec3(0.0)) {
         v += p.dt / ext[i].w * force;
         moved = true;

@@ -137,7 +137,7 @@ void CpuSolver<Real>::apply_edge_resistance(Real dt, std::vector<ToolContactSamp
     if (!(edge.stiffness > 0)) continue;
     for (const uint32_t i : candidates_) {
       if (flags_[i] & (kFixed | kRemoved)) continue;
-      const Vec3 force = held_pairs_force(i, edge);
+      const Vec3 force = bounded_edge_push(held_pairs_force(i, edge), tools_[tool].blade.threshold);
       if (force.isZero(0)) continue;
       v_[i] += dt / mass_[i] * force.template cast<Real>();
       felt[tool].force -= force;

@@ -98,6 +98,11 @@ double pair_area_share(double volume_sum, double s_sum) {
   return s_sum > 0 ? volume_sum / s_sum : 0.0;
 }
 
+Vec3 bounded_edge_push(const Vec3& force, double threshold) {
+  const double size = force.norm();
+  return size > threshold ? Vec3(force * (threshold / size)) : force;
+}
+
 double edge_force(const Vec3& on_tool, const Vec3& edge) {
   return std::max(0.0, -on_tool.dot(edge));
 }

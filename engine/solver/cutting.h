@@ -118,6 +118,12 @@ EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to
 bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
                 double* direction);
 
+// The edge's push on one phyxel, bounded by the blade's threshold (docs/cutting.md, "The edge's
+// resistance"): pairs that alone would push a phyxel harder than the whole blade's threshold
+// fail in this substep, so they carry at most that force while they do (a blade that meets
+// pairs already behind it, after a stab, would otherwise throw the phyxel at omega * delta).
+Vec3 bounded_edge_push(const Vec3& force, double threshold);
+
 // A pair's share of the area of a plane with unit normal n: (V_i + V_j) / (S_i + S_j), with
 // S = half the sum over a phyxel's neighbours of |(x_k - x_i) . n| (the pairs a unit area of
 // the plane crosses, times the volume, on a regular lattice), so the shares of the pairs
