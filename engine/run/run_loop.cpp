@@ -175,10 +175,10 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   else if (options.checkpoint_every > 0 || options.resume)
     scene_hash_ = scene.file.empty() ? 0 : file_hash(scene.file);
   polled_ = options.stop_requested && tools_.empty();
-  // Steps of many substeps are polled between substeps too (engine/run/long_step.h).
-  long_steps_ = polled_ && !tearing && result_.plan.substeps >= kLongStepSubsteps;
-  long_tool_steps_ = options.stop_requested && (tearing || !tools_.empty()) &&
-                     result_.plan.substeps >= kLongStepSubsteps;
+  // Steps of many substeps, or slow ones, are polled between substeps too (long_step.h).
+  long_steps_ = polled_ && !tearing && result_.plan.substeps > 1;
+  long_tool_steps_ =
+      options.stop_requested && (tearing || !tools_.empty()) && result_.plan.substeps > 1;
   if (options.resume) {
     resume(*options.resume);
     checkpointed_ = step_;
@@ -284,6 +284,15 @@ void RunLoop::step(int64_t until) {
   outputs(regular);
 }
 
+// Whether the next advance polls the stop between substeps: steps of many substeps, and
+// steps measured (or, before the first, assumed) to take longer than a poll. Chunked advances
+// give the same states bit for bit (long_step.h), so timing decides only where a stop lands.
+bool RunLoop::polled_within_steps() const {
+  if (!long_steps_ && !long_tool_steps_) return false;
+  return result_.plan.substeps >= kLongStepSubsteps || step_seconds_ < 0 ||
+         step_seconds_ >= 2.5 * options_.stop_poll_seconds;
+}
+
 // Advance to the next step at which something has to be looked at.
 int64_t RunLoop::next_stop() const {
   int64_t next = std::min(total_, next_multiple(step_, check_));
@@ -311,11 +320,12 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
   mark_ = std::chrono::steady_clock::now();
   const auto advance_start = mark_;
   std::vector<ToolStepRecord> records;
-  if (long_steps_)  // a stop mid-step ends the run at the last whole step
+  const bool within = polled_within_steps();
+  if (within && long_steps_)  // a stop mid-step ends the run at the last whole step
     next = step_ + advance_long_steps(solver_, next - step_, result_.plan.substeps,
                                       result_.plan.dt_used, options_.stop_requested,
                                       options_.stop_poll_seconds, options_.on_substep_rate);
-  else if (long_tool_steps_) {
+  else if (within && long_tool_steps_) {
     PolledToolSteps r = advance_long_tool_steps(
         solver_, tools_, step_, next - step_, result_.plan.substeps, result_.plan.dt_used,
         options_.stop_requested, options_.stop_poll_seconds);
@@ -332,6 +342,10 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
   if (polled_)
     poll_steps_ =
         steps_within(options_.stop_poll_seconds, next - step_, advance_start, poll_steps_);
+  if (next > step_)
+    step_seconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - advance_start).count() /
+        double(next - step_);
   lap(result_.split.advance);
   return records;
 }

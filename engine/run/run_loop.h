@@ -55,6 +55,7 @@ class RunLoop {
  private:
   void resume(const Checkpoint& c);  // phase "resume"
   int64_t next_stop() const;         // phase "next stop"
+  bool polled_within_steps() const;  // the next advance polls between substeps
   std::vector<ToolStepRecord> advance(int64_t& next);
   void surgery_events(int64_t next, const std::vector<ToolStepRecord>& records);
   void tool_rows(int64_t next, const std::vector<ToolStepRecord>& records);
@@ -95,12 +96,13 @@ class RunLoop {
   std::optional<uint64_t> scene_hash_;
   // Advances without tools split exactly, so they can be cut short to see a stop promptly.
   bool polled_ = false;
-  bool long_steps_ = false;  // polled between substeps too (engine/run/long_step.h)
+  bool long_steps_ = false;  // may be polled between substeps too (polled_within_steps)
   // With tools or tearing, polled between substeps without going back (long_step.h); a stop
   // inside a step ends the run there, writing nothing of that state.
   bool long_tool_steps_ = false;
   bool within_step_ = false;
-  int64_t poll_steps_ = 1;  // steps per advance while polled, from the measured rate
+  double step_seconds_ = -1;  // wall seconds per step of the last advance; -1 before the first
+  int64_t poll_steps_ = 1;    // steps per advance while polled, from the measured rate
   int64_t step_ = 0;
   size_t next_event_ = 0;
   int64_t checkpointed_ = -1;  // the step of the last checkpoint

@@ -276,7 +276,9 @@ TEST(RunLoop, StoppableRunSplitsAdvancesExactly) {
   auto b = make_cpu_solver(set, scene.simulation.gravity, 1);
   const RunResult ra = run_simulation(scene, set, *a, plain);
   const RunResult rb = run_simulation(scene, set, *b, stoppable);
-  EXPECT_EQ(polls, 119);  // one advance per step, the stop asked about after each but the last
+  // One advance per step, each taken as longer than a poll (stop_poll_seconds 0): the stop is
+  // asked about after each of its first two substeps and after each step but the last.
+  EXPECT_EQ(polls, 120 * 2 + 119);
   EXPECT_FALSE(rb.stopped);
   EXPECT_EQ(ra.steps_done, rb.steps_done);
   const PointState sa = a->read_state(false), sb = b->read_state(false);
@@ -285,6 +287,44 @@ TEST(RunLoop, StoppableRunSplitsAdvancesExactly) {
     ASSERT_EQ(sa.displacement[i], sb.displacement[i]) << "phyxel " << i;
     ASSERT_EQ(sa.velocity[i], sb.velocity[i]) << "phyxel " << i;
   }
+}
+
+// A step slower than a poll is polled between its substeps (a large scene on a slow device has
+// steps of seconds with few substeps): the stop ends it after its first substep and puts the
+// solver back to the step's start.
+TEST(RunLoop, AStopIsSeenInsideASlowStepOfFewSubsteps) {
+  Scene scene = cube_scene();
+  scene.simulation.gravity = Vec3(0, 0, -9.81);
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = 2.5 * plan_time_step(scene, set).dt_stable;  // 3 substeps per step
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  RunOptions options;
+  options.steps = 10;
+  int polls = 0;
+  options.stop_requested = [&polls] { return ++polls >= 1; };
+  options.stop_poll_seconds = 0;  // every step slower than a poll
+  const RunResult r = run_simulation(scene, set, *solver, options);
+  EXPECT_TRUE(r.stopped);
+  EXPECT_EQ(polls, 2);  // after the first substep, then the loop's own look at the stop
+  EXPECT_EQ(r.steps_done, 0);
+  for (const Vec3& u : solver->read_state(false).displacement) ASSERT_EQ(u, Vec3::Zero());
+}
+
+// Steps measured faster than a poll go whole: only the first, not yet timed, is split.
+TEST(RunLoop, FastStepsAreNotSplitOnceTimed) {
+  Scene scene = cube_scene();
+  const PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = 2.5 * plan_time_step(scene, set).dt_stable;  // 3 substeps per step
+  auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
+  RunOptions options;
+  options.steps = 120;
+  int polls = 0;
+  options.stop_requested = [&polls] { return ++polls < 0; };
+  options.stop_poll_seconds = 1e9;
+  const RunResult r = run_simulation(scene, set, *solver, options);
+  EXPECT_EQ(r.steps_done, 120);
+  // Two polls inside the first step, then advances of 4, 16, 64 and 35 steps polled between.
+  EXPECT_EQ(polls, 2 + 4);
 }
 
 TEST(RunLoop, StopRequestEndsTheRunWithTheLastStateAndFrame) {
