@@ -331,11 +331,9 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 void GpuSolver::advance(int64_t substeps, double dt) {
   settle();
   if (substeps <= 0) return;
-  // Where the host has nothing to finish after it (no tool samples, cut log or read-back to
-  // take), the advance returns while its last submission runs.
-  const bool finish_here = !tools_.empty() || cutting_ || tearing_ || advance_readback_;
-  advanced_state_ = false;
-  bool copied = false;  // the last chunk copied u and the principal stress (advance read-back)
+  // Where the host has nothing to finish after it (no tool samples or cut log to take), the
+  // advance returns while its last submission runs.
+  const bool finish_here = !tools_.empty() || cutting_ || tearing_;
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
   // The advance's log starts empty (begin_contact empties it for cuts).
   if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
@@ -357,12 +355,6 @@ void GpuSolver::advance(int64_t substeps, double dt) {
       Recorder& rec = *rec_[which];
       rec.barrier();  // the previous submission's writes (same queue, submission order)
       record_steps(rec, done, next, substeps, fdt, cur, nullptr);
-      if (advance_readback_ && next == substeps) {
-        ensure_state_readback();
-        rec.barrier();
-        record_state_copies(rec, false, false, false);
-        copied = true;
-      }
       ctx_->test_note_substeps(substeps_run_ + next);
       rec.submit();
       pending[which] = true;
@@ -402,16 +394,12 @@ void GpuSolver::advance(int64_t substeps, double dt) {
   substeps_run_ += substeps;
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
-  const uint64_t version = state_version_;
   if (!tools_.empty()) finish_contact(substeps, true);
   if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
-  advanced_state_ = copied && state_version_ == version;
 }
 
 void GpuSolver::compute_forces() {
   settle();
-  ++state_version_;  // every host change of the state (set_state, edits, pass selection)
-  advanced_state_ = false;
   Recorder& rec = *rec_[0];
   // The step passes write u only for the force list; the others must match in both buffers.
   rec.copy(disp_[0], disp_[1]);

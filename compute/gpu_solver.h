@@ -111,7 +111,7 @@ class GpuSolver final : public SolverWithAllFacets {
   // Solver.
   std::string device() const override;  // "gpu:0 NVIDIA H100 80GB HBM3 (float32)"
   // Returns once its last command buffer is submitted where the host has nothing left to do
-  // for it (no tools, cutting, tearing or advance read-back); every other non-const member
+  // for it (no tools, cutting or tearing); every other non-const member
   // waits for that submission first (settle()), and so does finish().
   void advance(int64_t substeps, double dt) override;
   void finish() override { settle(); }
@@ -209,12 +209,6 @@ class GpuSolver final : public SolverWithAllFacets {
   // phyxel keeps its u and v and no longer moves. The CSR (and neighbours()) is unchanged:
   // removed pairs stay in it with weight 0.
   void remove_phyxels(const std::vector<uint32_t>& ids) override;
-  // The last chunk of each advance also copies u and the principal stress into the state's
-  // read-back buffer, so read_advanced_state needs no submission of its own until something
-  // changes the state between advances (an edit, set_state: then it reads).
-  void set_advance_readback(bool on) override;
-  void read_advanced_state(std::vector<Vec3>& displacement,
-                           std::vector<double>& principal) override;
   // Aspiration's reads (gpu_solver_near.cpp): solver_near selects the phyxels in the box (and
   // gathers by id) on the device; only those come back, written straight into read-back
   // buffers (20 bytes per phyxel that comes back, one submission).
@@ -254,6 +248,9 @@ class GpuSolver final : public SolverWithAllFacets {
   void count_flags(const uint32_t* flags);  // of count_ flags read back already
   void read_flags_and_weights(std::vector<uint32_t>& flags, std::vector<float>& weights);
   void build_pass_lists();  // host lists from flags, awake objects and CSR; uploads them
+  void remove_from_pass_lists(const std::vector<uint32_t>& ids);  // the same, after a removal
+  void upload_pass_lists();
+  bool in_stress(size_t i) const;
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
   void record_stress(Recorder& rec, const Buffer& disp);
@@ -350,6 +347,11 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<uint8_t> awake_;  // per object
   bool select_ = true;
   size_t stress_count_ = 0, force_count_ = 0;
+  // The pass lists on the host (ascending), membership of the force list, and per phyxel how
+  // many force-list phyxels have it in their row (the stress pass's neighbourhood).
+  std::vector<uint32_t> stress_list_host_, force_list_host_;
+  std::vector<uint8_t> in_force_;
+  std::vector<uint32_t> stress_refs_;
   int64_t substeps_run_ = 0;         // by advance(), over the solver's life (the device-loss hook)
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
   bool principal_ = false;           // set_principal_stress
@@ -387,9 +389,6 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use
   Buffer state_readback_;     // Readback for read_state (gpu_solver_queries.cpp), on first use
-  bool advance_readback_ = false;  // set_advance_readback
-  bool advanced_state_ = false;    // state_readback_ holds u and the principal stress of now
-  uint64_t state_version_ = 0;     // counts the host's changes of the state (compute_forces)
   struct StateLayout;
   void ensure_state_readback();
   // Records the copies of u (from disp_[0]) and the principal stress into state_readback_.

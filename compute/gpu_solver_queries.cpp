@@ -168,32 +168,6 @@ void GpuSolver::record_state_copies(Recorder& rec, bool velocity, bool von_mises
     rec.copy(contact_flag_, state_readback_, at.word_bytes, 0, at.contact);
 }
 
-void GpuSolver::set_advance_readback(bool on) {
-  settle();
-  advance_readback_ = on;
-  if (!on) advanced_state_ = false;
-}
-
-void GpuSolver::read_advanced_state(std::vector<Vec3>& displacement,
-                                    std::vector<double>& principal) {
-  settle();
-  if (!advanced_state_) {  // something changed the state since the last advance: read it
-    PointState s = read_state(true);
-    displacement = std::move(s.displacement);
-    principal = std::move(s.max_principal_stress);
-    return;
-  }
-  const StateLayout at(count_);
-  state_readback_.invalidate();
-  const char* base = static_cast<const char*>(state_readback_.mapped());
-  displacement = to_vec3(reinterpret_cast<const vec4*>(base), count_);
-  principal.clear();
-  if (principal_) {
-    const auto* sigma = reinterpret_cast<const float*>(base + at.principal);
-    principal.assign(sigma, sigma + count_);
-  }
-}
-
 PointState GpuSolver::read_state(bool with_stress) {
   settle();
   // One submission: the von Mises pass (with stress), then copies of every field into one
@@ -210,7 +184,6 @@ PointState GpuSolver::read_state(bool with_stress) {
   rec.barrier();
   record_state_copies(rec, true, with_stress, true);
   rec.submit_and_wait();
-  advanced_state_ = true;  // the buffer holds u and the principal stress of now
   state_readback_.invalidate();
   const char* base = static_cast<const char*>(state_readback_.mapped());
   PointState s;
