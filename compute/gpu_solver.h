@@ -138,7 +138,7 @@ class GpuSolver final : public SolverWithAllFacets {
   size_t stress_pass_size() const override { return stress_count_; }
   size_t force_pass_size() const override { return force_count_; }
   // Invocations per phyxel of a gathering pass over `count` phyxels (GpuSolverOptions::lanes).
-  enum class Gather { Stress, Force };  // Stress: the stress and principal-stress passes
+  enum class Gather { Stress, Force };
   uint32_t lanes_for(Gather pass, uint32_t count) const;
   // Replaces the loads (per phyxel, N; gravity stays): ext = m g + load, uploaded, and the
   // forces recomputed for the current u.
@@ -164,12 +164,12 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<Grip> grips() override;
   void restore_grips(const std::vector<Grip>& grips) override;
   // Principal stress (tearing), with CpuSolver's semantics (engine/solver/cpu_solver.h): while
-  // on, solver_principal follows every stress pass over the stress list, on the same u, into a
-  // float per phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
-  // Off (the default): the pass is not recorded.
+  // on, every stress pass also writes it, from the same gather of grad u, into a float per
+  // phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
+  // Off (the default): the stress pass writes D only.
   void set_principal_stress(bool on) override;
   bool principal_stress_on() const { return principal_; }
-  // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the principal
+  // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the stress
   // pass also keeps each phyxel's Cauchy tensor, and solver_tear follows every substep's force
   // pass over the stress list (on the u that pass read), then solver_precompute over the
   // phyxels it touched (indirect, as the cut): nothing is read back during the advance; the
@@ -216,9 +216,10 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids) override;
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
-  // median time per pass name ("kick_drift" once, then "stress", "principal" while on, and
-  // "force" per step, and "contact" after every drift while tools touch the candidates'
-  // chunk). Empty where the device has no timestamps. Advances the state like advance(steps, dt).
+  // median time per pass name ("kick_drift" once, then "stress" (with the principal stress
+  // while on) and "force" per step, and "contact" after every drift while tools touch the
+  // candidates' chunk). Empty where the device has no timestamps. Advances the state like
+  // advance(steps, dt).
   std::vector<PassTime> profile(int64_t steps, double dt);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
@@ -254,8 +255,7 @@ class GpuSolver final : public SolverWithAllFacets {
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
   void record_stress(Recorder& rec, const Buffer& disp);
-  void record_principal(Recorder& rec, const Buffer& disp);  // gpu_solver_passes.cpp
-  void record_tear(Recorder& rec, const Buffer& disp);       // gpu_solver_tearing.cpp
+  void record_tear(Recorder& rec, const Buffer& disp);  // gpu_solver_tearing.cpp
   // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
   void record_dirty_reset(Recorder& rec);
   // The precompute over the dirty list (indirect), after a pass that filled it.

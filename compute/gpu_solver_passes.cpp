@@ -6,8 +6,7 @@
 // and uploaded; the step passes read their phyxel index from them (solver_kick_drift and
 // solver_force from the force list, solver_stress from the stress list) and are dispatched
 // over the list's length. The queries (energies, check, von Mises) still visit every phyxel.
-// The principal stress pass (tearing) is optional too: recorded only while it is on. A removal
-// updates the lists in place (remove_from_pass_lists) instead of rebuilding them.
+// A removal updates the lists in place (remove_from_pass_lists) instead of rebuilding them.
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -158,28 +157,6 @@ void GpuSolver::set_principal_stress(bool on) {
   rec.fill(principal_stress_, 0);  // as the CPU's: 0 until a phyxel is in the stress pass
   rec.barrier();                   // compute_forces() records into the same command buffer
   compute_forces();
-}
-
-void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
-  const uint32_t n = static_cast<uint32_t>(stress_count_);
-  // Without tearing the tensor is not written: the principal buffer stands in for its binding.
-  const StepPush pc =
-      push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u, lanes_for(Gather::Stress, n));
-  dispatch(rec, kernels_->principal, pc,
-           {{"Offset", nbr_offset_},
-            {"IndexLo", nbr_index_.lo()},
-            {"WeightLo", weight_.lo()},
-            {"Local", local_},
-            {"Disp", disp},
-            {"Ainv", ainv_},
-            {"Flags", flags_},
-            {"Classes", classes_},
-            {"Out", principal_stress_},
-            {"List", stress_list_},
-            {"Cauchy", tearing_ ? cauchy_ : principal_stress_},
-            {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()}},
-           n * pc.lanes);
 }
 
 }  // namespace phyxel::gpu

@@ -231,10 +231,9 @@ std::vector<float> GpuSolver::pair_weights() {
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {
   settle();
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
-  // kick_drift once; per step stress, principal while on, force, tear while on, and contact
-  // and cut where there are tools.
-  const int64_t per_step =
-      2 + (principal_ ? 1 : 0) + (tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
+  // kick_drift once; per step stress (with the principal stress while on), force, tear while
+  // on, and contact and cut where there are tools.
+  const int64_t per_step = 2 + (tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
   PassTimer timer(*ctx_, static_cast<uint32_t>(2 + per_step * steps));
   Recorder& rec = *rec_[0];
   if (!tools_.empty()) begin_contact(steps, dt);  // its uploads go first

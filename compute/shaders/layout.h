@@ -222,8 +222,12 @@ PHYXEL_CONST uint kKickDriftBindingExt = 4;
 PHYXEL_CONST uint kKickDriftBindingFlags = 5;
 PHYXEL_CONST uint kKickDriftBindingClasses = 6;
 PHYXEL_CONST uint kKickDriftBindingList = 7;  // the force pass list
-// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress, list}
-// stress = D_i as 3 vec4 columns (xyz; w unused).
+// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress, list,
+// principal, cauchy}; stress = D_i as 3 vec4 columns (xyz; w = u_i). With mode
+// kStressWithPrincipal (GpuSolver::set_principal_stress on) also principal[i] = the largest
+// principal value of the Cauchy stress of phyxel i (float, Pa), and with kStressWithTensor
+// (tearing on) the symmetrised tensor into cauchy[2 i] = (xx, yy, zz, xy), cauchy[2 i + 1] =
+// (xz, yz, 0, 0): one gather for the three. Buffers not written are bound by stand-ins.
 PHYXEL_CONST uint kStressBindingOffset = 0;
 PHYXEL_CONST uint kStressBindingIndex = 1;
 PHYXEL_CONST uint kStressBindingWeight = 2;
@@ -234,9 +238,14 @@ PHYXEL_CONST uint kStressBindingResid = 6;
 PHYXEL_CONST uint kStressBindingFlags = 7;
 PHYXEL_CONST uint kStressBindingClasses = 8;
 PHYXEL_CONST uint kStressBindingStress = 9;
-PHYXEL_CONST uint kStressBindingList = 10;  // the stress pass list
-PHYXEL_CONST uint kStressBindingIndexHi = 11;
-PHYXEL_CONST uint kStressBindingWeightHi = 12;
+PHYXEL_CONST uint kStressBindingList = 10;       // the stress pass list
+PHYXEL_CONST uint kStressBindingPrincipal = 11;  // float per phyxel
+PHYXEL_CONST uint kStressBindingCauchy = 12;     // vec4[2 N]
+PHYXEL_CONST uint kStressBindingIndexHi = 13;
+PHYXEL_CONST uint kStressBindingWeightHi = 14;
+PHYXEL_CONST uint kStressOnly = 0u;           // StepPush.mode of solver_stress
+PHYXEL_CONST uint kStressWithPrincipal = 1u;  // ... and the largest principal stress
+PHYXEL_CONST uint kStressWithTensor = 2u;     // ... and the Cauchy tensor (tearing)
 // solver_force: {offset, index, weight, local, disp_in, disp_out, stress, vel, force, ext, flags,
 // classes, list}
 PHYXEL_CONST uint kForceBindingOffset = 0;
@@ -272,27 +281,6 @@ PHYXEL_CONST uint kEnergyBindingOut = 10;
 PHYXEL_CONST uint kEnergyBindingIndexHi = 11;
 PHYXEL_CONST uint kEnergyBindingWeightHi = 12;
 
-// solver_principal (tearing; only while GpuSolver::set_principal_stress is on), over the stress
-// pass list with StepPush (dt unused): out[i] = the largest principal value of the Cauchy
-// stress of phyxel i (float, Pa), for the u in disp; with mode kPrincipalWithTensor (tearing on)
-// also the symmetrised tensor into cauchy[2 i] = (xx, yy, zz, xy), cauchy[2 i + 1] = (xz, yz,
-// 0, 0). {offset, index, weight, local, disp, ainv, flags, classes, out, list, cauchy}
-PHYXEL_CONST uint kPrincipalBindingOffset = 0;
-PHYXEL_CONST uint kPrincipalBindingIndex = 1;
-PHYXEL_CONST uint kPrincipalBindingWeight = 2;
-PHYXEL_CONST uint kPrincipalBindingLocal = 3;
-PHYXEL_CONST uint kPrincipalBindingDisp = 4;
-PHYXEL_CONST uint kPrincipalBindingAinv = 5;
-PHYXEL_CONST uint kPrincipalBindingFlags = 6;
-PHYXEL_CONST uint kPrincipalBindingClasses = 7;
-PHYXEL_CONST uint kPrincipalBindingOut = 8;
-PHYXEL_CONST uint kPrincipalBindingList = 9;  // the stress pass list
-// vec4[2 N]; without tearing the principal buffer is bound here and never written.
-PHYXEL_CONST uint kPrincipalBindingCauchy = 10;
-PHYXEL_CONST uint kPrincipalBindingIndexHi = 11;
-PHYXEL_CONST uint kPrincipalBindingWeightHi = 12;
-PHYXEL_CONST uint kPrincipalWithTensor = 1u;  // StepPush.mode
-
 // solver_tear (engine/solver/tearing.h), over the stress pass list after the force pass of a
 // substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices
 // (each pair has one owner: no atomics on the weights); a pair whose mean normal stress
@@ -312,8 +300,8 @@ PHYXEL_CONST uint kTearBindingIndex = 4;
 PHYXEL_CONST uint kTearBindingWeight = 5;  // the pair weights, as uint bits
 PHYXEL_CONST uint kTearBindingFlags = 6;
 PHYXEL_CONST uint kTearBindingClasses = 7;
-PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_principal)
-PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_principal)
+PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_stress)
+PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_stress)
 PHYXEL_CONST uint kTearBindingDirty = 10;     // tool_sever's dirty list
 PHYXEL_CONST uint kTearBindingLog = 11;       // the cut log
 PHYXEL_CONST uint kTearBindingIndexHi = 12;
