@@ -9,8 +9,7 @@
 //                 the last); per step a stress pass (D_i) and a force pass (gather, half
 //                 kick, and fused with the next step's half kick and drift), each over its
 //                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp);
-//                 while principal stress is on (tearing), a principal pass after the stress
-//                 pass
+//                 while principal stress is on (tearing), the stress pass also writes it
 //   contact       with tools (set_tools), after every drift: the tools' correction of u and v
 //                 over the chunk's candidate list, per-tool force samples by a fixed-order
 //                 reduction (gpu_solver_contact.cpp; CpuSolver's semantics)

@@ -162,7 +162,7 @@ void GpuSolver::record_state_copies(Recorder& rec, bool velocity, bool von_mises
   rec.copy(disp_[0], state_readback_, at.vec_bytes, 0, 0);
   if (velocity) rec.copy(vel_, state_readback_, at.vec_bytes, 0, at.vec_bytes);
   if (von_mises) rec.copy(von_mises_, state_readback_, at.word_bytes, 0, at.von_mises);
-  // Computed by the last substep's principal pass, while on.
+  // Computed by the last substep's stress pass, while on.
   if (principal_) rec.copy(principal_stress_, state_readback_, at.word_bytes, 0, at.principal);
   if (contact && contact_flag_)
     rec.copy(contact_flag_, state_readback_, at.word_bytes, 0, at.contact);
