@@ -231,9 +231,15 @@ uint32_t GpuSolver::lanes_for(Gather pass, uint32_t count) const {
   return lanes;
 }
 
+// With the principal stress on, the same gather also writes it (and the tensor while tearing);
+// buffers not written are bound by stand-ins of the right kind.
 void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
-  const StepPush pc = push(n, 0.0f, 0, lanes_for(Gather::Stress, n));
+  const uint32_t mode = !principal_ ? kStressOnly
+                        : tearing_  ? kStressWithTensor
+                                    : kStressWithPrincipal;
+  const StepPush pc = push(n, 0.0f, mode, lanes_for(Gather::Stress, n));
+  const Buffer& principal = principal_ ? principal_stress_ : von_mises_;
   dispatch(rec, kernels_->stress, pc,
            {{"Offset", nbr_offset_},
             {"IndexLo", nbr_index_.lo()},
@@ -246,6 +252,8 @@ void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
             {"Classes", classes_},
             {"Stress", stress_},
             {"List", stress_list_},
+            {"Principal", principal},
+            {"Cauchy", tearing_ ? cauchy_ : energy_},
             {"IndexHi", nbr_index_.hi()},
             {"WeightHi", weight_.hi()}},
            n * pc.lanes);
@@ -311,7 +319,6 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       }
     }
     timed("stress", [&] { record_stress(rec, disp_[cur]); });
-    if (principal_) timed("principal", [&] { record_principal(rec, disp_[cur]); });
     if (step == total - 1) {
       timed("force", [&] { record_force(rec, kForceKick, dt, disp_[cur], disp_[cur]); });
       if (tearing_) timed("tear", [&] { record_tear(rec, disp_[cur]); });
@@ -331,11 +338,9 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 void GpuSolver::advance(int64_t substeps, double dt) {
   settle();
   if (substeps <= 0) return;
-  // Where the host has nothing to finish after it (no tool samples, cut log or read-back to
-  // take), the advance returns while its last submission runs.
-  const bool finish_here = !tools_.empty() || cutting_ || tearing_ || advance_readback_;
-  advanced_state_ = false;
-  bool copied = false;  // the last chunk copied u and the principal stress (advance read-back)
+  // Where the host has nothing to finish after it (no tool samples or cut log to take), the
+  // advance returns while its last submission runs.
+  const bool finish_here = !tools_.empty() || cutting_ || tearing_;
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
   // The advance's log starts empty (begin_contact empties it for cuts).
   if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
@@ -357,12 +362,6 @@ void GpuSolver::advance(int64_t substeps, double dt) {
       Recorder& rec = *rec_[which];
       rec.barrier();  // the previous submission's writes (same queue, submission order)
       record_steps(rec, done, next, substeps, fdt, cur, nullptr);
-      if (advance_readback_ && next == substeps) {
-        ensure_state_readback();
-        rec.barrier();
-        record_state_copies(rec, false, false, false);
-        copied = true;
-      }
       ctx_->test_note_substeps(substeps_run_ + next);
       rec.submit();
       pending[which] = true;
@@ -402,22 +401,17 @@ void GpuSolver::advance(int64_t substeps, double dt) {
   substeps_run_ += substeps;
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
-  const uint64_t version = state_version_;
   if (!tools_.empty()) finish_contact(substeps, true);
   if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
-  advanced_state_ = copied && state_version_ == version;
 }
 
 void GpuSolver::compute_forces() {
   settle();
-  ++state_version_;  // every host change of the state (set_state, edits, pass selection)
-  advanced_state_ = false;
   Recorder& rec = *rec_[0];
   // The step passes write u only for the force list; the others must match in both buffers.
   rec.copy(disp_[0], disp_[1]);
   rec.barrier();
-  record_stress(rec, disp_[0]);
-  if (principal_) record_principal(rec, disp_[0]);  // reads u only, as the stress pass
+  record_stress(rec, disp_[0]);  // and the principal stress, while on
   rec.barrier();
   record_force(rec, kForceOnly, 0.0f, disp_[0], disp_[0]);
   rec.submit_and_wait();
@@ -450,9 +444,8 @@ double GpuSolver::bytes_per_phyxel_step() const {
       4 + 4 + 16 + 16 + 4 + 32 + 32 * regularised + 48 + per_pair * pairs_per_phyxel;
   // force: list 4, offset 4, local 16, u in 16, D 48, ext 16, flags 4, v 16 + 16, f 16, u out 16
   const double force = 4 + 4 + 16 + 16 + 48 + 16 + 4 + 32 + 16 + 16 + per_pair * pairs_per_phyxel;
-  // principal (tearing): list 4, offset 4, local 16, u 16, flags 4, A^-1 32, out 4
-  const double principal =
-      principal_ ? 4 + 4 + 16 + 16 + 4 + 32 + 4 + per_pair * pairs_per_phyxel : 0.0;
+  // the principal stress (tearing), in the stress pass's gather: out 4 (+ tensor 32)
+  const double principal = principal_ ? 4.0 + (tearing_ ? 32.0 : 0.0) : 0.0;
   return ((stress + principal) * double(stress_count_) + force * double(force_count_)) / n;
 }
 

@@ -9,8 +9,7 @@
 //                 the last); per step a stress pass (D_i) and a force pass (gather, half
 //                 kick, and fused with the next step's half kick and drift), each over its
 //                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp);
-//                 while principal stress is on (tearing), a principal pass after the stress
-//                 pass
+//                 while principal stress is on (tearing), the stress pass also writes it
 //   contact       with tools (set_tools), after every drift: the tools' correction of u and v
 //                 over the chunk's candidate list, per-tool force samples by a fixed-order
 //                 reduction (gpu_solver_contact.cpp; CpuSolver's semantics)
@@ -116,7 +115,7 @@ class GpuSolver final : public SolverWithAllFacets {
   // Solver.
   std::string device() const override;  // "gpu:0 NVIDIA H100 80GB HBM3 (float32)"
   // Returns once its last command buffer is submitted where the host has nothing left to do
-  // for it (no tools, cutting, tearing or advance read-back); every other non-const member
+  // for it (no tools, cutting or tearing); every other non-const member
   // waits for that submission first (settle()), and so does finish().
   void advance(int64_t substeps, double dt) override;
   void finish() override { settle(); }
@@ -143,7 +142,7 @@ class GpuSolver final : public SolverWithAllFacets {
   size_t stress_pass_size() const override { return stress_count_; }
   size_t force_pass_size() const override { return force_count_; }
   // Invocations per phyxel of a gathering pass over `count` phyxels (GpuSolverOptions::lanes).
-  enum class Gather { Stress, Force };  // Stress: the stress and principal-stress passes
+  enum class Gather { Stress, Force };
   uint32_t lanes_for(Gather pass, uint32_t count) const;
   // Replaces the loads (per phyxel, N; gravity stays): ext = m g + load, uploaded, and the
   // forces recomputed for the current u.
@@ -169,12 +168,12 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<Grip> grips() override;
   void restore_grips(const std::vector<Grip>& grips) override;
   // Principal stress (tearing), with CpuSolver's semantics (engine/solver/cpu_solver.h): while
-  // on, solver_principal follows every stress pass over the stress list, on the same u, into a
-  // float per phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
-  // Off (the default): the pass is not recorded.
+  // on, every stress pass also writes it, from the same gather of grad u, into a float per
+  // phyxel (allocated when first turned on, zeroed); read_state(true) downloads it.
+  // Off (the default): the stress pass writes D only.
   void set_principal_stress(bool on) override;
   bool principal_stress_on() const { return principal_; }
-  // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the principal
+  // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the stress
   // pass also keeps each phyxel's Cauchy tensor, and solver_tear follows every substep's force
   // pass over the stress list (on the u that pass read), then solver_precompute over the
   // phyxels it touched (indirect, as the cut): nothing is read back during the advance; the
@@ -214,12 +213,6 @@ class GpuSolver final : public SolverWithAllFacets {
   // phyxel keeps its u and v and no longer moves. The CSR (and neighbours()) is unchanged:
   // removed pairs stay in it with weight 0.
   void remove_phyxels(const std::vector<uint32_t>& ids) override;
-  // The last chunk of each advance also copies u and the principal stress into the state's
-  // read-back buffer, so read_advanced_state needs no submission of its own until something
-  // changes the state between advances (an edit, set_state: then it reads).
-  void set_advance_readback(bool on) override;
-  void read_advanced_state(std::vector<Vec3>& displacement,
-                           std::vector<double>& principal) override;
   // Aspiration's reads (gpu_solver_near.cpp): solver_near selects the phyxels in the box (and
   // gathers by id) on the device; only those come back, written straight into read-back
   // buffers (20 bytes per phyxel that comes back, one submission).
@@ -227,9 +220,10 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids) override;
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
-  // median time per pass name ("kick_drift" once, then "stress", "principal" while on, and
-  // "force" per step, and "contact" after every drift while tools touch the candidates'
-  // chunk). Empty where the device has no timestamps. Advances the state like advance(steps, dt).
+  // median time per pass name ("kick_drift" once, then "stress" (with the principal stress
+  // while on) and "force" per step, and "contact" after every drift while tools touch the
+  // candidates' chunk). Empty where the device has no timestamps. Advances the state like
+  // advance(steps, dt).
   std::vector<PassTime> profile(int64_t steps, double dt);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
@@ -263,11 +257,13 @@ class GpuSolver final : public SolverWithAllFacets {
   void count_flags(const uint32_t* flags);  // of count_ flags read back already
   void read_flags_and_weights(std::vector<uint32_t>& flags, std::vector<float>& weights);
   void build_pass_lists();  // host lists from flags, awake objects and CSR; uploads them
+  void remove_from_pass_lists(const std::vector<uint32_t>& ids);  // the same, after a removal
+  void upload_pass_lists();
+  bool in_stress(size_t i) const;
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
   void record_stress(Recorder& rec, const Buffer& disp);
-  void record_principal(Recorder& rec, const Buffer& disp);  // gpu_solver_passes.cpp
-  void record_tear(Recorder& rec, const Buffer& disp);       // gpu_solver_tearing.cpp
+  void record_tear(Recorder& rec, const Buffer& disp);  // gpu_solver_tearing.cpp
   // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
   void record_dirty_reset(Recorder& rec);
   // The precompute over the dirty list (indirect), after a pass that filled it.
@@ -361,6 +357,11 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<uint8_t> awake_;  // per object
   bool select_ = true;
   size_t stress_count_ = 0, force_count_ = 0;
+  // The pass lists on the host (ascending), membership of the force list, and per phyxel how
+  // many force-list phyxels have it in their row (the stress pass's neighbourhood).
+  std::vector<uint32_t> stress_list_host_, force_list_host_;
+  std::vector<uint8_t> in_force_;
+  std::vector<uint32_t> stress_refs_;
   int64_t substeps_run_ = 0;         // by advance(), over the solver's life (the device-loss hook)
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
   bool principal_ = false;           // set_principal_stress
@@ -398,9 +399,6 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use
   Buffer state_readback_;     // Readback for read_state (gpu_solver_queries.cpp), on first use
-  bool advance_readback_ = false;  // set_advance_readback
-  bool advanced_state_ = false;    // state_readback_ holds u and the principal stress of now
-  uint64_t state_version_ = 0;     // counts the host's changes of the state (compute_forces)
   struct StateLayout;
   void ensure_state_readback();
   // Records the copies of u (from disp_[0]) and the principal stress into state_readback_.

@@ -68,7 +68,7 @@ void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
     touched.push_back(phyxel);
   }
   apply_removal(edits, slots, touched);
-  build_pass_lists();  // removed phyxels leave every pass
+  remove_from_pass_lists(ids);  // removed phyxels leave every pass
   compute_forces();
 }
 

@@ -17,7 +17,6 @@
 #include "phyxel_spv/solver_motion.spv.h"
 #include "phyxel_spv/solver_near.spv.h"
 #include "phyxel_spv/solver_precompute.spv.h"
-#include "phyxel_spv/solver_principal.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
 #include "phyxel_spv/solver_stress.spv.h"
 #include "phyxel_spv/solver_tear.spv.h"
@@ -69,11 +68,10 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   nbr_pairs = make(PHYXEL_SHADER(nbr_pairs), 13, sizeof(NbrPush));
   if (ctx.float64()) nbr_pairs_f64 = make(PHYXEL_SHADER(nbr_pairs_f64), 13, sizeof(NbrPush));
   precompute = make(PHYXEL_SHADER(solver_precompute), 12, sizeof(PrecomputePush));
-  stress = make(PHYXEL_SHADER(solver_stress), 13, sizeof(StepPush));
+  stress = make(PHYXEL_SHADER(solver_stress), 15, sizeof(StepPush));
   force = make(PHYXEL_SHADER(solver_force), 15, sizeof(StepPush));
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
-  principal = make(PHYXEL_SHADER(solver_principal), 13, sizeof(StepPush));
   tear = make(PHYXEL_SHADER(solver_tear), 14, sizeof(TearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 14, sizeof(SeverPush));
   resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));

@@ -35,7 +35,6 @@ class SolverKernels {
   Pipeline reduce;          // layout::ReducePush; kReduce* bindings
   Pipeline check;           // layout::CheckPush; kCheck* bindings
   Pipeline von_mises;       // layout::StepPush; kEnergy* bindings
-  Pipeline principal;       // layout::StepPush; kPrincipal* bindings (over the stress list)
   Pipeline tear;            // layout::TearPush; kTear* bindings (over the stress list)
   Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
   Pipeline motion;          // layout::MotionPush; kMotion* bindings

@@ -6,7 +6,7 @@
 // and uploaded; the step passes read their phyxel index from them (solver_kick_drift and
 // solver_force from the force list, solver_stress from the stress list) and are dispatched
 // over the list's length. The queries (energies, check, von Mises) still visit every phyxel.
-// The principal stress pass (tearing) is optional too: recorded only while it is on.
+// A removal updates the lists in place (remove_from_pass_lists) instead of rebuilding them.
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -22,40 +22,83 @@ using namespace layout;
 void GpuSolver::build_pass_lists() {
   const size_t n = count_;
   const NeighbourLists& nbr = neighbours_;
-  std::vector<uint32_t> stress_list, force_list;
-  std::vector<uint8_t> stress(n, 0);
+  in_force_.assign(n, 0);
+  stress_refs_.assign(n, 0);
   for (size_t i = 0; i < n; ++i) {
     if (!awake_[object_[i]] || (phyxel_flags_[i] & kRemoved)) continue;
     // Without selection, fixed phyxels get forces too (reactions; they do not move).
     if (!select_ || !(phyxel_flags_[i] & kFixed)) {
-      force_list.push_back(static_cast<uint32_t>(i));
-      stress[i] = 1;
+      in_force_[i] = 1;
       if (!select_) continue;
       // Pairs to removed phyxels stay in the CSR with weight 0 (remove_phyxels); the CPU's
-      // lists of a cut set have no such pairs, so they add nothing here either.
-      for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k)
-        if (!(phyxel_flags_[nbr.index[k]] & kRemoved)) stress[nbr.index[k]] = 1;
+      // lists of a cut set have no such pairs, so they add nothing (in_stress tests it).
+      for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) ++stress_refs_[nbr.index[k]];
     }
   }
-  for (size_t i = 0; i < n; ++i)
-    if (stress[i]) stress_list.push_back(static_cast<uint32_t>(i));
-  // Both lists in one submission through a persistent upload buffer (removals rebuild them
-  // dozens of times a run).
-  const VkDeviceSize stress_bytes = stress_list.size() * 4, force_bytes = force_list.size() * 4;
+  force_list_host_.clear();
+  stress_list_host_.clear();
+  for (size_t i = 0; i < n; ++i) {
+    if (in_force_[i]) force_list_host_.push_back(static_cast<uint32_t>(i));
+    if (in_stress(i)) stress_list_host_.push_back(static_cast<uint32_t>(i));
+  }
+  upload_pass_lists();
+}
+
+// A phyxel is in the stress pass where it is in the force pass or, with selection, in the
+// neighbourhood of one that is, and not removed.
+bool GpuSolver::in_stress(size_t i) const {
+  return !(phyxel_flags_[i] & kRemoved) && (in_force_[i] || (select_ && stress_refs_[i] > 0));
+}
+
+// After a removal the lists only shrink: the removed phyxels leave them, and their force-list
+// neighbours' references go with them. O(removed x neighbours) plus one filter of each list
+// (the full build walks every pair: O(N + pairs) on the host per event).
+void GpuSolver::remove_from_pass_lists(const std::vector<uint32_t>& ids) {
+  const NeighbourLists& nbr = neighbours_;
+  for (uint32_t i : ids) {
+    if (!in_force_[i]) continue;  // not in the force list, or listed twice
+    in_force_[i] = 0;
+    if (!select_) continue;
+    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) --stress_refs_[nbr.index[k]];
+  }
+  auto drop = [](std::vector<uint32_t>& list, auto&& keep) {
+    list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t i) { return !keep(i); }),
+               list.end());
+  };
+  drop(force_list_host_, [&](uint32_t i) { return in_force_[i] != 0; });
+  drop(stress_list_host_, [&](uint32_t i) { return in_stress(i); });
+  upload_pass_lists();
+}
+
+// Both lists through a persistent upload buffer (removals change them dozens of times a run),
+// recorded ahead of the forces that every caller recomputes next (compute_forces submits them);
+// while the solver is being built, in a submission of their own.
+void GpuSolver::upload_pass_lists() {
+  const VkDeviceSize stress_bytes = stress_list_host_.size() * 4,
+                     force_bytes = force_list_host_.size() * 4;
   if (stress_bytes + force_bytes > 0) {
     if (list_upload_.size() < stress_bytes + force_bytes)
       list_upload_ =
           Buffer(*ctx_, VkDeviceSize{count_} * 8, MemoryIntent::Upload, "pass list upload");
     auto* up = static_cast<char*>(list_upload_.mapped());
-    std::memcpy(up, stress_list.data(), stress_bytes);
-    std::memcpy(up + stress_bytes, force_list.data(), force_bytes);
-    Recorder rec(*ctx_, "pass lists");
-    if (stress_bytes > 0) rec.copy(list_upload_, stress_list_, stress_bytes, 0, 0);
-    if (force_bytes > 0) rec.copy(list_upload_, force_list_, force_bytes, stress_bytes, 0);
-    rec.submit_and_wait();
+    std::memcpy(up, stress_list_host_.data(), stress_bytes);
+    std::memcpy(up + stress_bytes, force_list_host_.data(), force_bytes);
+    auto record = [&](Recorder& rec) {
+      rec.barrier();  // the passes that read the lists before
+      if (stress_bytes > 0) rec.copy(list_upload_, stress_list_, stress_bytes, 0, 0);
+      if (force_bytes > 0) rec.copy(list_upload_, force_list_, force_bytes, stress_bytes, 0);
+      rec.barrier();
+    };
+    if (rec_[0]) {
+      record(*rec_[0]);
+    } else {
+      Recorder rec(*ctx_, "pass lists");
+      record(rec);
+      rec.submit_and_wait();
+    }
   }
-  stress_count_ = stress_list.size();
-  force_count_ = force_list.size();
+  stress_count_ = stress_list_host_.size();
+  force_count_ = force_list_host_.size();
 }
 
 void GpuSolver::set_pass_selection(bool enabled) {
@@ -114,28 +157,6 @@ void GpuSolver::set_principal_stress(bool on) {
   rec.fill(principal_stress_, 0);  // as the CPU's: 0 until a phyxel is in the stress pass
   rec.barrier();                   // compute_forces() records into the same command buffer
   compute_forces();
-}
-
-void GpuSolver::record_principal(Recorder& rec, const Buffer& disp) {
-  const uint32_t n = static_cast<uint32_t>(stress_count_);
-  // Without tearing the tensor is not written: the principal buffer stands in for its binding.
-  const StepPush pc =
-      push(n, 0.0f, tearing_ ? kPrincipalWithTensor : 0u, lanes_for(Gather::Stress, n));
-  dispatch(rec, kernels_->principal, pc,
-           {{"Offset", nbr_offset_},
-            {"IndexLo", nbr_index_.lo()},
-            {"WeightLo", weight_.lo()},
-            {"Local", local_},
-            {"Disp", disp},
-            {"Ainv", ainv_},
-            {"Flags", flags_},
-            {"Classes", classes_},
-            {"Out", principal_stress_},
-            {"List", stress_list_},
-            {"Cauchy", tearing_ ? cauchy_ : principal_stress_},
-            {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()}},
-           n * pc.lanes);
 }
 
 }  // namespace phyxel::gpu

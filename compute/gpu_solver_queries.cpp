@@ -162,36 +162,10 @@ void GpuSolver::record_state_copies(Recorder& rec, bool velocity, bool von_mises
   rec.copy(disp_[0], state_readback_, at.vec_bytes, 0, 0);
   if (velocity) rec.copy(vel_, state_readback_, at.vec_bytes, 0, at.vec_bytes);
   if (von_mises) rec.copy(von_mises_, state_readback_, at.word_bytes, 0, at.von_mises);
-  // Computed by the last substep's principal pass, while on.
+  // Computed by the last substep's stress pass, while on.
   if (principal_) rec.copy(principal_stress_, state_readback_, at.word_bytes, 0, at.principal);
   if (contact && contact_flag_)
     rec.copy(contact_flag_, state_readback_, at.word_bytes, 0, at.contact);
-}
-
-void GpuSolver::set_advance_readback(bool on) {
-  settle();
-  advance_readback_ = on;
-  if (!on) advanced_state_ = false;
-}
-
-void GpuSolver::read_advanced_state(std::vector<Vec3>& displacement,
-                                    std::vector<double>& principal) {
-  settle();
-  if (!advanced_state_) {  // something changed the state since the last advance: read it
-    PointState s = read_state(true);
-    displacement = std::move(s.displacement);
-    principal = std::move(s.max_principal_stress);
-    return;
-  }
-  const StateLayout at(count_);
-  state_readback_.invalidate();
-  const char* base = static_cast<const char*>(state_readback_.mapped());
-  displacement = to_vec3(reinterpret_cast<const vec4*>(base), count_);
-  principal.clear();
-  if (principal_) {
-    const auto* sigma = reinterpret_cast<const float*>(base + at.principal);
-    principal.assign(sigma, sigma + count_);
-  }
 }
 
 PointState GpuSolver::read_state(bool with_stress) {
@@ -210,7 +184,6 @@ PointState GpuSolver::read_state(bool with_stress) {
   rec.barrier();
   record_state_copies(rec, true, with_stress, true);
   rec.submit_and_wait();
-  advanced_state_ = true;  // the buffer holds u and the principal stress of now
   state_readback_.invalidate();
   const char* base = static_cast<const char*>(state_readback_.mapped());
   PointState s;
@@ -258,10 +231,9 @@ std::vector<float> GpuSolver::pair_weights() {
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {
   settle();
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
-  // kick_drift once; per step stress, principal while on, force, tear while on, and contact
-  // and cut where there are tools.
-  const int64_t per_step =
-      2 + (principal_ ? 1 : 0) + (tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
+  // kick_drift once; per step stress (with the principal stress while on), force, tear while
+  // on, and contact and cut where there are tools.
+  const int64_t per_step = 2 + (tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
   PassTimer timer(*ctx_, static_cast<uint32_t>(2 + per_step * steps));
   Recorder& rec = *rec_[0];
   if (!tools_.empty()) begin_contact(steps, dt);  // its uploads go first

@@ -225,8 +225,12 @@ PHYXEL_CONST uint kKickDriftBindingExt = 4;
 PHYXEL_CONST uint kKickDriftBindingFlags = 5;
 PHYXEL_CONST uint kKickDriftBindingClasses = 6;
 PHYXEL_CONST uint kKickDriftBindingList = 7;  // the force pass list
-// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress, list}
-// stress = D_i as 3 vec4 columns (xyz; w unused).
+// solver_stress: {offset, index, weight, local, disp, ainv, resid, flags, classes, stress, list,
+// principal, cauchy}; stress = D_i as 3 vec4 columns (xyz; w = u_i). With mode
+// kStressWithPrincipal (GpuSolver::set_principal_stress on) also principal[i] = the largest
+// principal value of the Cauchy stress of phyxel i (float, Pa), and with kStressWithTensor
+// (tearing on) the symmetrised tensor into cauchy[2 i] = (xx, yy, zz, xy), cauchy[2 i + 1] =
+// (xz, yz, 0, 0): one gather for the three. Buffers not written are bound by stand-ins.
 PHYXEL_CONST uint kStressBindingOffset = 0;
 PHYXEL_CONST uint kStressBindingIndex = 1;
 PHYXEL_CONST uint kStressBindingWeight = 2;
@@ -237,9 +241,14 @@ PHYXEL_CONST uint kStressBindingResid = 6;
 PHYXEL_CONST uint kStressBindingFlags = 7;
 PHYXEL_CONST uint kStressBindingClasses = 8;
 PHYXEL_CONST uint kStressBindingStress = 9;
-PHYXEL_CONST uint kStressBindingList = 10;  // the stress pass list
-PHYXEL_CONST uint kStressBindingIndexHi = 11;
-PHYXEL_CONST uint kStressBindingWeightHi = 12;
+PHYXEL_CONST uint kStressBindingList = 10;       // the stress pass list
+PHYXEL_CONST uint kStressBindingPrincipal = 11;  // float per phyxel
+PHYXEL_CONST uint kStressBindingCauchy = 12;     // vec4[2 N]
+PHYXEL_CONST uint kStressBindingIndexHi = 13;
+PHYXEL_CONST uint kStressBindingWeightHi = 14;
+PHYXEL_CONST uint kStressOnly = 0u;           // StepPush.mode of solver_stress
+PHYXEL_CONST uint kStressWithPrincipal = 1u;  // ... and the largest principal stress
+PHYXEL_CONST uint kStressWithTensor = 2u;     // ... and the Cauchy tensor (tearing)
 // solver_force: {offset, index, weight, local, disp_in, disp_out, stress, vel, force, ext, flags,
 // classes, list}
 PHYXEL_CONST uint kForceBindingOffset = 0;
@@ -275,27 +284,6 @@ PHYXEL_CONST uint kEnergyBindingOut = 10;
 PHYXEL_CONST uint kEnergyBindingIndexHi = 11;
 PHYXEL_CONST uint kEnergyBindingWeightHi = 12;
 
-// solver_principal (tearing; only while GpuSolver::set_principal_stress is on), over the stress
-// pass list with StepPush (dt unused): out[i] = the largest principal value of the Cauchy
-// stress of phyxel i (float, Pa), for the u in disp; with mode kPrincipalWithTensor (tearing on)
-// also the symmetrised tensor into cauchy[2 i] = (xx, yy, zz, xy), cauchy[2 i + 1] = (xz, yz,
-// 0, 0). {offset, index, weight, local, disp, ainv, flags, classes, out, list, cauchy}
-PHYXEL_CONST uint kPrincipalBindingOffset = 0;
-PHYXEL_CONST uint kPrincipalBindingIndex = 1;
-PHYXEL_CONST uint kPrincipalBindingWeight = 2;
-PHYXEL_CONST uint kPrincipalBindingLocal = 3;
-PHYXEL_CONST uint kPrincipalBindingDisp = 4;
-PHYXEL_CONST uint kPrincipalBindingAinv = 5;
-PHYXEL_CONST uint kPrincipalBindingFlags = 6;
-PHYXEL_CONST uint kPrincipalBindingClasses = 7;
-PHYXEL_CONST uint kPrincipalBindingOut = 8;
-PHYXEL_CONST uint kPrincipalBindingList = 9;  // the stress pass list
-// vec4[2 N]; without tearing the principal buffer is bound here and never written.
-PHYXEL_CONST uint kPrincipalBindingCauchy = 10;
-PHYXEL_CONST uint kPrincipalBindingIndexHi = 11;
-PHYXEL_CONST uint kPrincipalBindingWeightHi = 12;
-PHYXEL_CONST uint kPrincipalWithTensor = 1u;  // StepPush.mode
-
 // solver_tear (engine/solver/tearing.h), over the stress pass list after the force pass of a
 // substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices
 // (each pair has one owner: no atomics on the weights); a pair whose mean normal stress
@@ -315,8 +303,8 @@ PHYXEL_CONST uint kTearBindingIndex = 4;
 PHYXEL_CONST uint kTearBindingWeight = 5;  // the pair weights, as uint bits
 PHYXEL_CONST uint kTearBindingFlags = 6;
 PHYXEL_CONST uint kTearBindingClasses = 7;
-PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_principal)
-PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_principal)
+PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_stress)
+PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_stress)
 PHYXEL_CONST uint kTearBindingDirty = 10;     // tool_sever's dirty list
 PHYXEL_CONST uint kTearBindingLog = 11;       // the cut log
 PHYXEL_CONST uint kTearBindingIndexHi = 12;
@@ -341,317 +329,6 @@ struct CheckPush {
 };
 PHYXEL_ASSERT_SIZE(CheckPush, 8);
 
-// ---------------------------------------------------------------------------------------
-// Tool contact (compute/gpu_solver_contact.cpp; shaders/tool_contact*.comp, solver_max_norm.comp;
-// the math in shaders/tool_contact.glsl mirrors engine/geometry/tool.cpp and
-// engine/solver/contact.cpp).
-
-// A tool's shape and friction (engine ContactTool), one per tool.
-PHYXEL_CONST uint kToolSphere = 0u;
-PHYXEL_CONST uint kToolCapsule = 1u;
-struct ContactToolShape {
-  vec4 shape;    // radius (m), length (m; 0 for a sphere), Coulomb friction mu, and for a blade
-                 // the band around it whose phyxels span its axial range (m; 0: contacts only)
-  uvec4 kind;    // kToolSphere or kToolCapsule, 0, 0, 0
-  vec4 suction;  // an aspirator's pull per unit volume in reach 2 F / V_reach (N/m^3; 0: none),
-                 // its reach (m), its flow speed (m/s), 0 (engine/solver/suction.h)
-};
-PHYXEL_ASSERT_SIZE(ContactToolShape, 48);
-// The axial range a (candidate, tool) without contact contributes (engine ToolContactSample).
-PHYXEL_CONST float kNoContactAxial = 1e30;
-
-// One substep's motion of one tool (engine ToolMotion), row-major [substep][tool]. Positions
-// are relative to ContactPush.origin (a point near the tools, so the small per-substep motion
-// keeps its precision in float); axes are unit vectors (w unused).
-struct ContactMotion {
-  vec4 from_position;
-  vec4 from_axis;
-  vec4 to_position;  // w: 1 where an aspirator sucks in the substep (ToolMotion::suction_on)
-  vec4 to_axis;
-};
-PHYXEL_ASSERT_SIZE(ContactMotion, 64);
-
-// tool_contact: over the candidate list, after a drift: the correction of every tool in turn
-// (u += dx, v += dv on the displacement buffer that holds the new u), the contact forces
-// m dv / dt of each workgroup's candidates summed per tool into force[tool * capacity + group]
-// (xyz; w: the contacts) and their axial range into force[(tools + tool) * capacity + group],
-// and the per-phyxel contact flag (1 touched, 0 not).
-struct ContactPush {
-  vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
-  uint unused;    // (the candidates are counted on the GPU: ContactCount.total)
-  float dt;       // s
-  uint tools;     // tools
-  uint motion;    // row of the motion table (substep of the chunk, clamped to its last)
-  uint hold;      // 1 past the chunk's motions: the tools stay at the row's end pose
-  uint capacity;  // stride of the per-workgroup force buffer (>= its workgroups)
-  uint pad0;
-  uint pad1;
-};
-PHYXEL_ASSERT_SIZE(ContactPush, 48);
-// tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact}
-PHYXEL_CONST uint kContactBindingList = 0;  // candidate phyxels, ascending
-PHYXEL_CONST uint kContactBindingRest = 1;
-PHYXEL_CONST uint kContactBindingDisp = 2;
-PHYXEL_CONST uint kContactBindingVel = 3;
-PHYXEL_CONST uint kContactBindingExt = 4;
-PHYXEL_CONST uint kContactBindingFlags = 5;
-PHYXEL_CONST uint kContactBindingTools = 6;
-PHYXEL_CONST uint kContactBindingMotion = 7;
-PHYXEL_CONST uint kContactBindingForce = 8;
-PHYXEL_CONST uint kContactBindingContact = 9;
-PHYXEL_CONST uint kContactBindingCount = 10;  // ContactCount (tool_broad_scan)
-
-// tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
-// tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
-// fixed tree) and writes samples[sample * tools + tool] = (minus the summed force: the force on the
-// tool, contacts).
-struct ContactReducePush {
-  uint unused;  // (ContactCount.total)
-  uint tools;
-  uint capacity;
-  uint substep;  // of the advance: the row of the samples
-};
-PHYXEL_ASSERT_SIZE(ContactReducePush, 16);
-PHYXEL_CONST uint kContactReduceBindingForce = 0;
-PHYXEL_CONST uint kContactReduceBindingSamples = 1;
-PHYXEL_CONST uint kContactReduceBindingCount = 2;
-
-// The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
-// of the force list (moving phyxels of awake objects) that are not fixed or removed and whose
-// current position rest + u lies inside the tools' swept bounds grown by the margin
-// 2 duration max(max|v|, tool speed) + spacing (contact_margin in engine/solver/contact.h;
-// max|v| from the solver_max_norm reduction). tool_broad_phase runs twice over the list: mode 0
-// counts each workgroup's hits into group[g]; tool_broad_scan turns the counts into exclusive
-// offsets (one workgroup), the total and the indirect dispatch of tool_contact; mode 1 writes the
-// hits at their offsets, in list order, so the candidates are ascending and the same on every run.
-struct BroadPhasePush {
-  vec4 lo;           // xyz: swept bounds min (world, m); w: spacing (m)
-  vec4 hi;           // xyz: swept bounds max (world, m); w: chunk duration (s)
-  uint count;        // entries of the force list
-  uint mode;         // 0: count per workgroup; 1: write
-  uint groups;       // workgroups of tool_broad_phase (entries of group[])
-  float tool_speed;  // m/s: the fastest point of a tool over the chunk (contact_margin)
-};
-PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
-PHYXEL_CONST uint kBroadBindingList = 0;  // force list
-PHYXEL_CONST uint kBroadBindingRest = 1;
-PHYXEL_CONST uint kBroadBindingDisp = 2;
-PHYXEL_CONST uint kBroadBindingFlags = 3;
-PHYXEL_CONST uint kBroadBindingMaxNorm = 4;  // vec4 (max |u|, max |v|, 0, 0)
-PHYXEL_CONST uint kBroadBindingGroup = 5;    // uint per workgroup: hits (mode 0), offset (1)
-PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
-// tool_broad_scan: {group, count}
-PHYXEL_CONST uint kBroadScanBindingGroup = 0;
-PHYXEL_CONST uint kBroadScanBindingCount = 1;
-// solver_edit (GpuSolver::remove_phyxels): mode 0 ORs edits[2k + 1] into flags[edits[2k]] for
-// k < count and zeroes the pair weight of slots[k] for k < slots; mode 1 (after
-// solver_precompute) counts over every phyxel those flagged kFlagRegularised and
-// kFlagPairsEdited into counts[0] and counts[1] (a fixed tree per workgroup, then one atomic
-// add each), as GpuSolver::count_flags does on the host.
-struct EditPush {
-  uint count;  // flag edits (mode 0), phyxels (mode 1)
-  uint slots;  // pair slots to zero (mode 0)
-  uint mode;   // 0, 1 (above)
-  uint unused;
-};
-PHYXEL_ASSERT_SIZE(EditPush, 16);
-PHYXEL_CONST uint kEditBindingFlags = 0;
-PHYXEL_CONST uint kEditBindingEdits = 1;   // uint pairs (phyxel, flag bits)
-PHYXEL_CONST uint kEditBindingSlots = 2;   // uint pair slot
-PHYXEL_CONST uint kEditBindingCounts = 3;  // uint[2], zeroed before mode 1
-PHYXEL_CONST uint kEditBindingIndex = 4;
-PHYXEL_CONST uint kEditBindingIndexHi = 5;
-PHYXEL_CONST uint kEditBindingWeight = 6;
-PHYXEL_CONST uint kEditBindingWeightHi = 7;
-
-// solver_near (aspiration's reads, engine/surgery/aspiration.h): mode 0 counts, per workgroup of
-// phyxels, those whose current position rest + u lies in [lo, hi]; tool_broad_scan (given a
-// BroadPhasePush with the same groups) turns the counts into offsets and the total; mode 1
-// writes each hit's index and (u, largest principal stress) at its offset, ascending; mode 2
-// writes (u, principal) of ids[k] for k < count (a gather by index).
-struct NearPush {
-  vec4 lo;         // xyz: box min (world, m)
-  vec4 hi;         // xyz: box max (world, m)
-  uint count;      // phyxels (modes 0, 1), ids (mode 2)
-  uint mode;       // 0, 1, 2 (above)
-  uint groups;     // workgroups of modes 0 and 1 (entries of group[])
-  uint principal;  // 1: the principal stress buffer is bound and on; 0: write 0
-};
-PHYXEL_ASSERT_SIZE(NearPush, 48);
-PHYXEL_CONST uint kNearBindingRest = 0;
-PHYXEL_CONST uint kNearBindingDisp = 1;
-PHYXEL_CONST uint kNearBindingPrincipal = 2;  // float per phyxel
-PHYXEL_CONST uint kNearBindingGroup = 3;      // uint per workgroup: hits (mode 0), offset (1)
-PHYXEL_CONST uint kNearBindingIds = 4;        // out (mode 1), in (mode 2)
-PHYXEL_CONST uint kNearBindingOut = 5;        // vec4 (u, principal) per id
-// The candidate count and tool_contact's indirect dispatch (x, y, z groups), after the scan.
-struct ContactCount {
-  uint total;
-  uint groups_x;
-  uint groups_y;
-  uint groups_z;
-};
-PHYXEL_ASSERT_SIZE(ContactCount, 16);
-
-// ---------------------------------------------------------------------------------------
-// Graspers (compute/gpu_solver_grasp.cpp; shaders/tool_grasp.comp mirrors
-// engine/solver/cpu_solver_grasp.cpp and engine/solver/grasper.h).
-
-// A held phyxel: its offset from the tip in the tool's frame (m; grip_offset), and its index.
-// Per grasper a region of `capacity` entries of the grip buffer.
-struct GraspEntry {
-  vec4 offset;   // xyz offset, w unused
-  uvec4 phyxel;  // x: the phyxel, y z w unused
-};
-PHYXEL_ASSERT_SIZE(GraspEntry, 32);
-
-// tool_grasp, one pipeline with three modes, after tool_contact_reduce in a substep whose
-// motion closes the tool's jaws:
-//   kGraspCapture  one workgroup: the candidates (ascending) that are neither fixed nor
-//                  removed and lie within reach of the tip at the end pose, appended in order
-//                  with their offsets to the tool's grip; its ContactCount (total, indirect
-//                  dispatch) written (only in the substep the jaws close)
-//   kGraspHold     over the tool's grip (indirect): each held phyxel that is not removed put
-//                  where the tool carries its offset, with the tool's velocity there; its
-//                  force m dv / dt and 1 into force[tool * capacity + entry] (0 for a removed
-//                  one)
-//   kGraspReduce   one workgroup: the forces summed in a fixed order (tool_contact_reduce's),
-//                  subtracted from the tool's sample of the substep, and the held count into
-//                  its second row's z
-PHYXEL_CONST uint kGraspCapture = 0u;
-PHYXEL_CONST uint kGraspHold = 1u;
-PHYXEL_CONST uint kGraspReduce = 2u;
-struct GraspPush {
-  vec4 origin;  // the motion table's frame (ContactPush.origin); w: the reach (m)
-  float dt;     // s
-  uint tool;
-  uint tools;
-  uint motion;    // row of the motion table (ContactPush.motion)
-  uint hold;      // 1 past the chunk's motions (ContactPush.hold)
-  uint capacity;  // entries per tool of the grip and force buffers (the phyxel count)
-  uint mode;      // kGrasp*
-  uint substep;   // of the advance: the row of the samples
-};
-PHYXEL_ASSERT_SIZE(GraspPush, 48);
-PHYXEL_CONST uint kGraspBindingList = 0;        // contact candidates, ascending
-PHYXEL_CONST uint kGraspBindingCandidates = 1;  // their ContactCount
-PHYXEL_CONST uint kGraspBindingRest = 2;
-PHYXEL_CONST uint kGraspBindingDisp = 3;
-PHYXEL_CONST uint kGraspBindingVel = 4;
-PHYXEL_CONST uint kGraspBindingExt = 5;
-PHYXEL_CONST uint kGraspBindingFlags = 6;
-PHYXEL_CONST uint kGraspBindingMotion = 7;
-PHYXEL_CONST uint kGraspBindingGrip = 8;    // GraspEntry [tool][capacity]
-PHYXEL_CONST uint kGraspBindingCount = 9;   // ContactCount per tool: the grip's
-PHYXEL_CONST uint kGraspBindingForce = 10;  // vec4 [tool][capacity]
-PHYXEL_CONST uint kGraspBindingSamples = 11;
-
-// ---------------------------------------------------------------------------------------
-// Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors
-// engine/solver/cpu_solver_cutting.cpp and engine/solver/cutting.cpp).
-
-// The quad one tool's blade swept in one substep (engine swept_quad), relative to the contact
-// origin, row-major [row][tool]; rows are the chunk's substeps then one for holding the last
-// pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
-// resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
-// radius p0.w): the axis at the end pose (w: the blade's length, m) and (stiffness N/m^3, 0 where
-// nothing is held; depth m; the tip's and the end's motion along the edge, m).
-struct CutQuad {
-  vec4 p0;
-  vec4 p1;
-  vec4 p2;
-  vec4 p3;
-  vec4 edge;
-  vec4 axis;
-  vec4 resist;
-};
-PHYXEL_ASSERT_SIZE(CutQuad, 112);
-
-// tool_sever: over the candidates, after tool_contact_reduce: for every tool whose sample of
-// this substep presses its edge with at least its threshold, each candidate tests its live
-// pairs (canonical order, lower index first) against the tool's quad. The pair's slot in the
-// lower index's row is claimed by an atomic exchange (so each pair is severed and logged once);
-// the winner zeroes both slots, logs (i, j, t) and puts both phyxels in the dirty list (once
-// each, by kFlagCutDirty), growing its indirect dispatch.
-struct SeverPush {
-  vec4 origin;  // the motion table's frame (ContactPush.origin)
-  uint tools;
-  uint row;         // row of the cut table
-  uint sample_row;  // substep of the advance (its sample is rows 2 (substep tools + tool), +1)
-  uint log_capacity;
-};
-PHYXEL_ASSERT_SIZE(SeverPush, 32);
-PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
-PHYXEL_CONST uint kSeverBindingRest = 1;
-PHYXEL_CONST uint kSeverBindingDisp = 2;
-PHYXEL_CONST uint kSeverBindingOffset = 3;
-PHYXEL_CONST uint kSeverBindingIndex = 4;
-PHYXEL_CONST uint kSeverBindingWeight = 5;  // the pair weights, as uint bits
-PHYXEL_CONST uint kSeverBindingFlags = 6;
-PHYXEL_CONST uint kSeverBindingQuads = 7;    // CutQuad [row][tool]
-PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on the tool
-PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, groups x y z, then phyxels
-PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, torn)
-PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount
-PHYXEL_CONST uint kSeverBindingIndexHi = 12;
-PHYXEL_CONST uint kSeverBindingWeightHi = 13;
-
-// tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
-// CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
-// removed sums the forces of the pairs each blade's edge holds (canonical order, its share),
-// adds dt / m times them to its velocity, and each workgroup adds its candidates' sums per tool
-// to tool_contact's partial force[tool * capacity + group].
-struct ResistPush {
-  vec4 origin;  // the motion table's frame (ContactPush.origin)
-  float dt;     // s
-  uint tools;
-  uint row;       // row of the cut table (SeverPush.row)
-  uint capacity;  // stride of the partial force buffer (ContactPush.capacity)
-};
-PHYXEL_ASSERT_SIZE(ResistPush, 32);
-PHYXEL_CONST uint kResistBindingList = 0;  // candidates
-PHYXEL_CONST uint kResistBindingRest = 1;
-PHYXEL_CONST uint kResistBindingDisp = 2;
-PHYXEL_CONST uint kResistBindingVel = 3;
-PHYXEL_CONST uint kResistBindingExt = 4;
-PHYXEL_CONST uint kResistBindingFlags = 5;
-PHYXEL_CONST uint kResistBindingOffset = 6;
-PHYXEL_CONST uint kResistBindingIndex = 7;
-PHYXEL_CONST uint kResistBindingWeight = 8;
-PHYXEL_CONST uint kResistBindingQuads = 9;   // CutQuad [row][tool]
-PHYXEL_CONST uint kResistBindingForce = 10;  // tool_contact's partials
-PHYXEL_CONST uint kResistBindingCount = 11;  // ContactCount
-PHYXEL_CONST uint kResistBindingIndexHi = 12;
-PHYXEL_CONST uint kResistBindingWeightHi = 13;
-
-// solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
-// of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).
-struct MaxNormPush {
-  uint count;  // input elements
-  uint level;  // 0: read disp and vel; else src
-};
-PHYXEL_ASSERT_SIZE(MaxNormPush, 8);
-PHYXEL_CONST uint kMaxNormBindingDisp = 0;
-PHYXEL_CONST uint kMaxNormBindingVel = 1;
-PHYXEL_CONST uint kMaxNormBindingSrc = 2;
-PHYXEL_CONST uint kMaxNormBindingOut = 3;
-
-// solver_motion: one object's motion, the phyxels [first, first + count): out[slot + g] =
-// (sum of m |v|^2 / 2, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock) of level 0
-// (v, and the mass in ext.w) or of the previous level's partials (src.xy); the sums in a fixed
-// order. slot: 0 but at the last level (one group), where it is the object's index.
-struct MotionPush {
-  uint first;  // level 0: the object's first phyxel; later levels 0
-  uint count;  // input elements
-  uint level;  // 0: read vel and ext; else src
-  uint slot;
-};
-PHYXEL_ASSERT_SIZE(MotionPush, 16);
-PHYXEL_CONST uint kMotionBindingVel = 0;
-PHYXEL_CONST uint kMotionBindingExt = 1;
-PHYXEL_CONST uint kMotionBindingSrc = 2;
-PHYXEL_CONST uint kMotionBindingOut = 3;
-
 #ifdef __cplusplus
 }  // namespace phyxel::gpu::layout
 #else
@@ -661,5 +338,7 @@ PHYXEL_CONST uint kMotionBindingOut = 3;
 #define PHYXEL_GLOBAL_INDEX \
   (gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 #endif
+
+#include "layout_surgery.h"  // the surgery passes' structs and bindings
 
 #endif  // PHYXEL_COMPUTE_SHADERS_LAYOUT_H

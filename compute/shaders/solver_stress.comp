@@ -3,12 +3,16 @@
 //   M = sum_j w_ij (u_j - u_i) x_ij^T, G = M A^-1, F = I + G,
 //   D_i = v_i P(F) A^-1 - kappa_i G (+ kappa_i M R_i where A_i was regularised),
 // stored as three vec4 columns whose fourth components carry u_i, the displacement this pass
-// read: the force pass gathers D_j and u_j of a neighbour in the same three loads. See
-// engine/solver/cpu_solver.cpp, compute_forces(), first loop.
+// read: the force pass gathers D_j and u_j of a neighbour in the same three loads. With mode
+// kStressWithPrincipal (tearing possible) it also writes the largest principal value of the
+// Cauchy stress sigma = P F^T / J (P itself where |J| <= 1e-12), and with kStressWithTensor the
+// symmetrised tensor for solver_tear: one gather of grad u for both (mls_model.h
+// max_principal_stress()). See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
 #include "solver_mls.glsl"
+#include "sym_eigen.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
@@ -28,6 +32,10 @@ layout(std430, binding = kStressBindingFlags) readonly buffer Flags { uint flags
 layout(std430, binding = kStressBindingClasses) readonly buffer Classes { SolverClass classes[]; };
 layout(std430, binding = kStressBindingStress) writeonly buffer Stress { vec4 stress[]; };
 layout(std430, binding = kStressBindingList) readonly buffer List { uint pass_list[]; };
+layout(std430, binding = kStressBindingPrincipal) writeonly buffer Principal {
+  float max_principal[];
+};
+layout(std430, binding = kStressBindingCauchy) writeonly buffer Cauchy { vec4 cauchy[]; };
 
 // Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 then adds the
 // lanes' sums in lane order (a fixed order: reruns are bit-identical).
@@ -73,7 +81,8 @@ void main() {
   const vec4 a1 = ainv[2u * i + 1u];
   const mat3 a_inv = unpack_sym(a0, a1);
   const mat3 g = m * a_inv;
-  const mat3 piola = first_piola(strain_of(g), cls.elastic.xyz);
+  const Strain s = strain_of(g);
+  const mat3 piola = first_piola(s, cls.elastic.xyz);
   const float kappa = li.w;
   mat3 d = (a1.z * piola) * a_inv - kappa * g;
   if ((fl & kFlagRegularised) != 0u)
@@ -81,4 +90,12 @@ void main() {
   stress[3u * i] = vec4(d[0], ui.x);
   stress[3u * i + 1u] = vec4(d[1], ui.y);
   stress[3u * i + 2u] = vec4(d[2], ui.z);
+  if (p.mode == kStressOnly) return;
+  const mat3 sigma = cauchy_stress(s, piola);
+  const mat3 sym = 0.5 * (sigma + transpose(sigma));
+  max_principal[i] = sym_eigenvalues(sym).x;
+  if (p.mode == kStressWithTensor) {
+    cauchy[2u * i] = vec4(sym[0][0], sym[1][1], sym[2][2], sym[1][0]);
+    cauchy[2u * i + 1u] = vec4(sym[2][0], sym[2][1], 0.0, 0.0);
+  }
 }

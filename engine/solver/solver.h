@@ -186,12 +186,8 @@ class Solver {
   // as the solver that read them would (checkpoint resume, a long step cut short).
   virtual void set_state(const std::vector<Vec3>& displacement,
                          const std::vector<Vec3>& velocity) = 0;
-  // What aspiration reads after every advance: u and the largest principal stress (empty
-  // while off), as read_state(true) gives them. With set_advance_readback(true) a solver may
-  // copy them at the end of each advance, in the advance's own submission (the GPU solver),
-  // and hand that copy out here as long as nothing changed the state since; otherwise, and by
-  // default, this reads the state.
-  virtual void set_advance_readback(bool on) { (void)on; }
+  // u and the largest principal stress (empty while off), as read_state(true) gives them:
+  // read_near's source where a solver has no read of its own (the CPU solver).
   virtual void read_advanced_state(std::vector<Vec3>& displacement,
                                    std::vector<double>& principal) {
     PointState s = read_state(true);

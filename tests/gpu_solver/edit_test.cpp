@@ -74,47 +74,5 @@ TEST_F(GpuSolverTest, RemovingPhyxelsInPlaceEqualsASetWithoutThem) {
               1e-4 * rebuilt.energies().strain);
 }
 
-// The advance read-back (aspiration's read after every advance): what the advance copied is
-// exactly what read_state(true) reads then; after a host edit (removal) or with it off, the
-// read goes to the GPU and still agrees.
-TEST_F(GpuSolverTest, AdvanceReadBackGivesTheStateReadStateGives) {
-  Scene scene = lattice_scene(7, 6, 5, tissue(2e5, 0.3, 10.0));
-  scene.simulation.gravity = Vec3(0, 0, -9.81);
-  const PhyxelSet set = sample_scene(scene);
-  const double dt = plan_time_step(scene, set).dt_stable;
-  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
-  gpu.set_principal_stress(true);
-  std::vector<Vec3> u, v;
-  deformed_state(set, 21, 2e-5, u, v);  // stressed: a free block under gravity is not
-  gpu.set_state(u, v);
-  std::vector<double> principal;
-  auto expect_as_read_state = [&](const std::string& when) {
-    gpu.read_advanced_state(u, principal);
-    const PointState s = gpu.read_state(true);
-    ASSERT_EQ(u.size(), set.size()) << when;
-    EXPECT_EQ(u, s.displacement) << when;
-    EXPECT_EQ(principal, s.max_principal_stress) << when;
-  };
-  gpu.advance(30, dt);
-  expect_as_read_state("read-back off");
-  gpu.set_advance_readback(true);
-  gpu.advance(37, dt);  // 37: past kStepsPerSubmit's chunks, the copy is in the last one
-  gpu.read_advanced_state(u, principal);
-  const std::vector<Vec3> copied = u;
-  const std::vector<double> copied_principal = principal;
-  EXPECT_GT(max_norm(copied), 0.0);
-  EXPECT_GT(*std::max_element(copied_principal.begin(), copied_principal.end()), 0.0)
-      << "a stressed state";
-  const PointState now = gpu.read_state(true);
-  EXPECT_EQ(copied, now.displacement);
-  EXPECT_EQ(copied_principal, now.max_principal_stress);
-  gpu.advance(5, dt);
-  expect_as_read_state("after another advance");
-  gpu.remove_phyxels({0, 17});  // a host edit recomputes the stresses: read again
-  expect_as_read_state("after a removal");
-  gpu.advance(5, dt);
-  expect_as_read_state("after an advance that follows the removal");
-}
-
 }  // namespace
 }  // namespace phyxel::gpu::test

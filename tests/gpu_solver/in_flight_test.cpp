@@ -1,7 +1,7 @@
 // GpuSolver::advance returns while its last command buffer runs where the host has nothing left
 // to do for it (compute/gpu_solver.h): every other call waits for that submission first, so a
 // solver called straight after its advances gives the bits of one that finished each advance,
-// and one with tools, tearing or the advance read-back finishes its advances itself.
+// and one with tools or tearing finishes its advances itself.
 #include "tests/gpu_solver/gpu_solver_fixture.h"
 
 namespace phyxel::gpu::test {
@@ -98,15 +98,6 @@ TEST_F(GpuSolverTest, AdvancesWithWorkLeftForTheHostFinishThemselves) {
     gpu.set_tearing(true);
     gpu.advance(10, dt);
     EXPECT_FALSE(gpu.advance_in_flight());
-  }
-  {  // The advance read-back: u is copied in the advance's last submission.
-    GpuSolver gpu(ctx(), set, scene.simulation.gravity);
-    gpu.set_advance_readback(true);
-    gpu.advance(10, dt);
-    EXPECT_FALSE(gpu.advance_in_flight());
-    gpu.set_advance_readback(false);
-    gpu.advance(10, dt);
-    EXPECT_TRUE(gpu.advance_in_flight());
   }
 }
 

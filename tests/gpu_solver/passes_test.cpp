@@ -115,6 +115,41 @@ TEST_F(GpuSolverTest, NoSkipGivesBitIdenticalMotionAndReactionsOnFixedPhyxels) {
   EXPECT_EQ(ea.potential, eb.potential);
 }
 
+// A removal updates the pass lists in place: the first moving layer next to the clamp goes, and
+// the fixed layer it alone reached leaves the stress pass: the lists and the steps after it are
+// those of a solver whose lists were rebuilt from scratch, bit for bit.
+TEST_F(GpuSolverTest, RemovalUpdatesThePassListsAsAFullRebuild) {
+  const Scene scene = deep_clamp_scene();
+  const PhyxelSet set = sample_scene(scene);
+  const double dt = plan_time_step(scene, set).dt_stable;
+  double x0 = set.rest[0].x();
+  for (const Vec3& x : set.rest) x0 = std::min(x0, x.x());
+  const double layer_x = x0 + 4 * kSpacing;  // the first moving layer
+  std::vector<uint32_t> ids;
+  for (uint32_t i = 0; i < set.size(); ++i)
+    if (std::abs(set.rest[i].x() - layer_x) < 0.25 * kSpacing) ids.push_back(i);
+  ASSERT_EQ(ids.size(), 5u * 4);
+  GpuSolver updated(ctx(), set, scene.simulation.gravity);
+  GpuSolver rebuilt(ctx(), set, scene.simulation.gravity);
+  const size_t stress_before = updated.stress_pass_size();
+  for (GpuSolver* s : {&updated, &rebuilt}) {
+    s->advance(20, dt);
+    s->remove_phyxels(ids);
+  }
+  rebuilt.set_pass_selection(true);  // the lists built again from the flags and the CSR
+  EXPECT_EQ(updated.stress_pass_size(), stress_before - 2 * 5 * 4);  // the layer and the fixed one
+  EXPECT_EQ(updated.force_pass_size(), rebuilt.force_pass_size());
+  EXPECT_EQ(updated.stress_pass_size(), rebuilt.stress_pass_size());
+  updated.remove_phyxels({ids[1], ids[1]});  // already removed: nothing changes
+  EXPECT_EQ(updated.stress_pass_size(), rebuilt.stress_pass_size());
+  updated.advance(40, dt);
+  rebuilt.advance(40, dt);
+  const PointState a = updated.read_state(false), b = rebuilt.read_state(false);
+  EXPECT_EQ(a.displacement, b.displacement);
+  EXPECT_EQ(a.velocity, b.velocity);
+  EXPECT_GT(max_norm(a.displacement), 0.0);
+}
+
 TEST_F(GpuSolverTest, ADisplacedClampStaysDisplacedOutsideThePassLists) {
   // u set by hand on fixed phyxels (a moved clamp): the step passes never write it, in either
   // displacement buffer, yet every step must read it.
