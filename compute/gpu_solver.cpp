@@ -4,6 +4,7 @@
 #include "compute/gpu_solver.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
@@ -164,6 +165,9 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   }
 
   upload(ctx, classes_, host.classes);
+  for (const SolverClass& c : host.classes)  // the tear pass's bound (solver_tear.comp)
+    if (c.search.w > 0 && std::isfinite(c.search.w))
+      weakest_tear_ = std::min(weakest_tear_, c.search.w);
   upload(ctx, rest_, host.rest);
   upload(ctx, local_, host.local);
   upload(ctx, ext_, host.ext);

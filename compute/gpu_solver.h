@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -426,6 +427,8 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer cut_dirty_;                    // uint: count, groups x y z, phyxels (indirect)
   Buffer cut_log_;                      // Readback: uvec4 count, then (i, j, t bits, 0)
   uint32_t log_capacity_ = 0;
+  // The smallest tear strength of any class that tears (+inf if none): TearPush.weakest.
+  float weakest_tear_ = std::numeric_limits<float>::infinity();
   std::vector<SeveredPair> severed_;  // the log (Solver::severed_since)
   std::vector<uint8_t> alive_;        // per pair, as the log says (overflow and pair_alive)
 

@@ -37,7 +37,7 @@ void GpuSolver::set_tearing(bool on) {
 void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   record_dirty_reset(rec);
-  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, 0u, 0u},
+  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, 0u},
            {{"List", stress_list_},
             {"Rest", rest_},
             {"Disp", disp},

@@ -292,7 +292,8 @@ PHYXEL_CONST uint kEnergyBindingWeightHi = 12;
 struct TearPush {
   uint count;  // stress pass list length
   uint log_capacity;
-  uint pad0, pad1;
+  float weakest;  // the smallest tear strength of any class that tears
+  uint pad1;
 };
 PHYXEL_ASSERT_SIZE(TearPush, 16);
 PHYXEL_CONST uint kTearBindingList = 0;  // the stress pass list

@@ -56,9 +56,13 @@ void main() {
   const float pi = principal[i];
   bool loaded = false;
   mat3 si = mat3(0.0);
+  // Below this sum of principal stresses no pair of i reaches its threshold, whatever j's class
+  // (0.9998 < 0.9999 keeps the skip inside the test below after float rounding): j's flags and
+  // class are loaded only for pairs that may tear.
+  const float no_tear_below = 0.9998 * (ti + p.weakest);
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
     const uint j = nbr_index(k);
-    if (j <= i || pair_weight_bits(k) == 0u) continue;
+    if (j <= i || pi + principal[j] < no_tear_below || pair_weight_bits(k) == 0u) continue;
     const float threshold = pair_threshold(ti, strength(j));
     if (!(threshold > 0.0)) continue;
     if (0.5 * (pi + principal[j]) < 0.9999 * threshold) continue;  // s_ij cannot reach it
