@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <utility>
 
 #include "engine/run/run_loop.h"
 #include "engine/run/simulation.h"
@@ -289,14 +290,20 @@ TEST(RunLoop, StoppableRunSplitsAdvancesExactly) {
   }
 }
 
+// The cube falling, its dt 2.5 stable steps: 3 substeps per step.
+std::pair<Scene, PhyxelSet> three_substep_cube() {
+  Scene scene = cube_scene();
+  scene.simulation.gravity = Vec3(0, 0, -9.81);
+  PhyxelSet set = sample_scene(scene);
+  scene.simulation.dt = 2.5 * plan_time_step(scene, set).dt_stable;
+  return {std::move(scene), std::move(set)};
+}
+
 // A step slower than a poll is polled between its substeps (a large scene on a slow device has
 // steps of seconds with few substeps): the stop ends it after its first substep and puts the
 // solver back to the step's start.
 TEST(RunLoop, AStopIsSeenInsideASlowStepOfFewSubsteps) {
-  Scene scene = cube_scene();
-  scene.simulation.gravity = Vec3(0, 0, -9.81);
-  const PhyxelSet set = sample_scene(scene);
-  scene.simulation.dt = 2.5 * plan_time_step(scene, set).dt_stable;  // 3 substeps per step
+  const auto [scene, set] = three_substep_cube();
   auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
   RunOptions options;
   options.steps = 10;
@@ -312,9 +319,7 @@ TEST(RunLoop, AStopIsSeenInsideASlowStepOfFewSubsteps) {
 
 // Steps measured faster than a poll go whole: only the first, not yet timed, is split.
 TEST(RunLoop, FastStepsAreNotSplitOnceTimed) {
-  Scene scene = cube_scene();
-  const PhyxelSet set = sample_scene(scene);
-  scene.simulation.dt = 2.5 * plan_time_step(scene, set).dt_stable;  // 3 substeps per step
+  const auto [scene, set] = three_substep_cube();
   auto solver = make_cpu_solver(set, scene.simulation.gravity, 1);
   RunOptions options;
   options.steps = 120;
