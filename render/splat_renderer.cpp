@@ -247,6 +247,19 @@ void check_render_inputs(const RenderInputs& in, uint32_t table_phyxels) {
 
 void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const FrameSetup& setup,
                            gpu::PassTimer* timer, uint32_t slot, gpu::Recorder* copy) {
+  record_frame(rec, rec, in, setup, timer, slot, copy);
+}
+
+void SplatRenderer::record_split(gpu::Recorder& deform, gpu::Recorder& raster,
+                                 const RenderInputs& in, const FrameSetup& setup, uint32_t slot,
+                                 gpu::Recorder* copy) {
+  record_frame(deform, raster, in, setup, nullptr, slot, copy);
+}
+
+// `deform` and `rec` may be one recorder (record) or two (record_split; no timer then).
+void SplatRenderer::record_frame(gpu::Recorder& deform, gpu::Recorder& rec, const RenderInputs& in,
+                                 const FrameSetup& setup, gpu::PassTimer* timer, uint32_t slot,
+                                 gpu::Recorder* copy) {
   Impl& m = *impl_;
   check_render_inputs(in, m.table_phyxels);
   if (const std::string why = frame_error(setup); !why.empty()) {
@@ -266,6 +279,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   const uint32_t tool_count = m.stage_tools();
 
   // The solver's writes, and the last frame's reads of every buffer here, come first.
+  if (&deform != &rec) deform.barrier();
   rec.barrier();
   begin("render clear");
   if (m.backdrop_count > 0) {
@@ -278,11 +292,11 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   if (tool_count > 0) {
     rec.copy(m.tool_staging, m.tool_buffer, VkDeviceSize{tool_count} * sizeof(layout::RenderTool));
   }
-  m.texture.record_upload(rec.cmd());              // a video frame staged by set_texture, if any
-  if (m.record_surfel_upload(rec)) rec.barrier();  // the table's edits since the last frame
+  m.texture.record_upload(rec.cmd());  // a video frame staged by set_texture, if any
   end();
   begin("render deform");
-  m.record_deform(rec, in);
+  if (m.record_surfel_upload(deform)) deform.barrier();  // the table's edits since the last frame
+  m.record_deform(deform, in);
   end();
   rec.barrier();
   // The eyes write disjoint ranges: their dispatches need no barrier between them.

@@ -130,6 +130,12 @@ class SplatRenderer {
   static constexpr uint32_t kReadbackSlots = 2;
   void record(gpu::Recorder& rec, const RenderInputs& inputs, const FrameSetup& setup,
               gpu::PassTimer* timer = nullptr, uint32_t slot = 0, gpu::Recorder* copy = nullptr);
+  // The same in two submissions: `deform` gets the table's edits and the deform pass (the only
+  // commands that read `inputs`; submit it on the solver's queue, signalling a semaphore) and
+  // `raster` the rest, from clearing the targets on (submitted after, waiting on that
+  // semaphore; on another queue it runs beside the solver's next passes).
+  void record_split(gpu::Recorder& deform, gpu::Recorder& raster, const RenderInputs& inputs,
+                    const FrameSetup& setup, uint32_t slot = 0, gpu::Recorder* copy = nullptr);
   RgbaImage read_frame(uint32_t slot = 0) const;
   // The deformed splats of the last frame (surface surfels first, then the cut faces in the
   // order they were added): a blocking download, for tests.
@@ -163,6 +169,9 @@ class SplatRenderer {
 
  private:
   struct Impl;
+  void record_frame(gpu::Recorder& deform, gpu::Recorder& rec, const RenderInputs& inputs,
+                    const FrameSetup& setup, gpu::PassTimer* timer, uint32_t slot,
+                    gpu::Recorder* copy);
   std::unique_ptr<Impl> impl_;
 };
 
