@@ -10,7 +10,7 @@ source "$(dirname "$0")/device-setup.sh"
 base="${BASE:?BASE names the folder of the baseline binary}"
 [ -f "$base/app/phyxel.xz" ] && xz -dkf "$base/app/phyxel.xz" && chmod +x "$base/app/phyxel"
 if [ -x "$b/tests/test_render" ]; then
-  "$b"/tests/test_render --gtest_filter='FrameQueue*:AspirationRender.*:Frames*:CutRender*' \
+  PHYXEL_TEST_DEVICE=gpu "$b"/tests/test_render --gtest_filter='FrameQueue*:AspirationRender.*:Frames*:CutRender*' \
     >"$out/tests.txt" 2>&1
   tail -4 "$out/tests.txt"
 fi
