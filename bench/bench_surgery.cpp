@@ -32,6 +32,8 @@ constexpr const char* kSurgeryHelp =
     "phyxels, substeps per second, real-time factor of both runs, the run loop's host time per\n"
     "part (advance, checks, callbacks, outputs: seconds), the GPU's time per pass over\n"
     "--profile-steps substeps after the run without frames (tools where it left them), the\n"
+    "frame writer's host seconds by part (waiting for the frame in flight, cuts, aspirations,\n"
+    "video texture, recording and submitting) against the run loop's parts without frames, the\n"
     "outcome (removed share of each inclusion, aspirated share of each part), and the surgery's\n"
     "wall time per substep against the bare step of an elastic box of the same phyxel count.\n"
     "\n"
@@ -153,6 +155,11 @@ nlohmann::json timed_run(const Scene& scene, const PhyxelSet& set, const Surgery
   nlohmann::json j = run_json(scene, set, *solver, r);
   if (frame_every > 0) {
     j["frame_every_steps"] = frame_every;
+    const render::FrameWriterTimes& t = frames->times();
+    j["frame_host_seconds"] = {
+        {"frames", t.frames}, {"aspirations", t.aspirations}, {"wait", t.wait},
+        {"cuts", t.cuts},     {"aspiration", t.aspiration},   {"video", t.video},
+        {"submit", t.submit}};
   } else {
     j["gpu_pass_us"] = pass_profile(scene, *solver, r, o.profile_steps);
   }
@@ -218,6 +225,20 @@ void print_row(const nlohmann::json& r) {
         "removal %.3f\n",
         "", static_cast<long long>(a["reads"].get<int64_t>()), a["read"].get<double>(),
         a["sphere"].get<double>(), a["rest_map"].get<double>(), a["removal"].get<double>());
+  }
+  if (r.contains("frames") && r["frames"].contains("frame_host_seconds")) {
+    const nlohmann::json& f = r["frames"]["frame_host_seconds"];
+    const nlohmann::json& fh = r["frames"]["host_seconds"];
+    std::printf(
+        "%36s frames: %lld (%lld aspirations), s: wait %.3f, cuts %.3f, aspiration %.3f, video "
+        "%.3f, submit %.3f; run loop s with/without: advance %.2f/%.2f, callbacks %.2f/%.2f, "
+        "outputs %.2f/%.2f\n",
+        "", static_cast<long long>(f["frames"].get<int64_t>()),
+        static_cast<long long>(f["aspirations"].get<int64_t>()), f["wait"].get<double>(),
+        f["cuts"].get<double>(), f["aspiration"].get<double>(), f["video"].get<double>(),
+        f["submit"].get<double>(), fh["advance"].get<double>(), h["advance"].get<double>(),
+        fh["callbacks"].get<double>(), h["callbacks"].get<double>(), fh["outputs"].get<double>(),
+        h["outputs"].get<double>());
   }
   std::string outcome;
   for (const auto& [name, v] : b["outcome"].items()) outcome += " " + name + " " + v.dump();

@@ -64,7 +64,8 @@ Context::Context(const ContextOptions& options)
   features.features.shaderFloat64 = info_.float64 ? VK_TRUE : VK_FALSE;
   features.features.shaderInt64 = info_.int64 ? VK_TRUE : VK_FALSE;
 
-  const float priority = 1.0f;
+  const float priorities[2] = {1.0f, 1.0f};
+  const bool frame_queue = options.frame_queue && info_.compute_queue_count >= 2;
   VkDeviceQueueCreateInfo queues[2];
   uint32_t queue_count = 0;
   for (const uint32_t family : {info_.compute_queue_family, info_.transfer_queue_family}) {
@@ -72,8 +73,8 @@ Context::Context(const ContextOptions& options)
     VkDeviceQueueCreateInfo& queue = queues[queue_count++];
     queue = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
     queue.queueFamilyIndex = family;
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
+    queue.queueCount = queue_count == 1 && frame_queue ? 2 : 1;
+    queue.pQueuePriorities = priorities;
   }
 
   auto create = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
@@ -89,6 +90,7 @@ Context::Context(const ContextOptions& options)
     fn_.vkGetDeviceQueue(device_, info_.compute_queue_family, 0, &queue_);
     if (queue_count == 2)
       fn_.vkGetDeviceQueue(device_, info_.transfer_queue_family, 0, &transfer_queue_);
+    if (frame_queue) fn_.vkGetDeviceQueue(device_, info_.compute_queue_family, 1, &frame_queue_);
 
     ifn.vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
     VkDeviceSize largest = 0;
@@ -104,6 +106,9 @@ Context::Context(const ContextOptions& options)
     if (transfer_queue_ != VK_NULL_HANDLE)
       set_name(VK_OBJECT_TYPE_QUEUE, reinterpret_cast<uint64_t>(transfer_queue_),
                "phyxel transfer queue");
+    if (frame_queue_ != VK_NULL_HANDLE)
+      set_name(VK_OBJECT_TYPE_QUEUE, reinterpret_cast<uint64_t>(frame_queue_),
+               "phyxel frame queue");
     set_test_fail_allocation_after(hook_from_env("PHYXEL_TEST_FAIL_ALLOC_AFTER"));
     if (const int64_t n = hook_from_env("PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP"); n >= 0)
       test_lost_at_substep_ = n;

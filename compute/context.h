@@ -29,6 +29,9 @@ struct ContextOptions {
   // Open a queue of the device's transfer-only family where it has one (DeviceInfo), for
   // copies that may run beside the compute queue's work (a frame's read-back: FrameQueue).
   bool transfer_queue = true;
+  // Open a second queue of the compute family where it has several, for frames drawn beside
+  // the solver's work (FrameQueue).
+  bool frame_queue = true;
 };
 
 class Context {
@@ -49,6 +52,9 @@ class Context {
   uint32_t transfer_queue_family() const {
     return transfer_queue_ != VK_NULL_HANDLE ? info_.transfer_queue_family : UINT32_MAX;
   }
+  // The second queue of the compute family (ContextOptions::frame_queue); VK_NULL_HANDLE where
+  // there is none.
+  VkQueue frame_queue() const { return frame_queue_; }
   const DeviceInfo& info() const { return info_; }
   const Instance& instance() const { return *instance_; }
   const ContextOptions& options() const { return options_; }
@@ -112,6 +118,7 @@ class Context {
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
   VkQueue transfer_queue_ = VK_NULL_HANDLE;
+  VkQueue frame_queue_ = VK_NULL_HANDLE;
   DeviceFunctions fn_;
   VkPhysicalDeviceMemoryProperties memory_{};
   uint32_t device_heap_ = 0;

@@ -131,6 +131,7 @@ DeviceInfo query_device_info(const InstanceFunctions& fn, VkPhysicalDevice devic
     if (chosen == UINT32_MAX ||
         (has_flag(i, VK_QUEUE_GRAPHICS_BIT) && !has_flag(chosen, VK_QUEUE_GRAPHICS_BIT))) {
       info.compute_queue_family = i;
+      info.compute_queue_count = families[i].queueCount;
       info.timestamp_valid_bits = families[i].timestampValidBits;
     }
   }

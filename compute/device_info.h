@@ -26,6 +26,7 @@ struct DeviceInfo {
   uint64_t max_allocation_size = 0;            // maxMemoryAllocationSize (0: unknown)
   uint32_t subgroup_size = 0;                  // reported, never assumed (lavapipe's is 8)
   uint32_t compute_queue_family = UINT32_MAX;  // UINT32_MAX: no compute queue
+  uint32_t compute_queue_count = 0;            // queues of that family
   uint32_t timestamp_valid_bits = 0;           // of the compute queue family; 0: no timestamps
   // A family of transfer queues alone (a GPU's copy engines), UINT32_MAX where there is none
   // (lavapipe has one family for everything).

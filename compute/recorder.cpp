@@ -21,6 +21,7 @@ Recorder::Recorder(Context& ctx, const std::string& name, QueueRole role)
     throw std::logic_error("Recorder '" + name + "': " + ctx.info().name +
                            " has no transfer queue open");
   queue_ = transfer ? ctx.transfer_queue() : ctx.queue();
+  if (role == QueueRole::Frame && ctx.frame_queue() != VK_NULL_HANDLE) queue_ = ctx.frame_queue();
   stages_ = transfer ? VkPipelineStageFlags{VK_PIPELINE_STAGE_TRANSFER_BIT} : kGpuStages;
   const DeviceFunctions& fn = ctx.fn();
   auto pool = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);

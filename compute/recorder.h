@@ -22,7 +22,9 @@ namespace phyxel::gpu {
 // Which of the context's queues a Recorder submits to: the compute queue (everything), or the
 // transfer-only queue (Context::transfer_queue; copies and fills alone, its barriers on the
 // transfer stage).
-enum class QueueRole { Compute, Transfer };
+// Compute: the context's queue; Frame: its frame queue where it has one, else the compute
+// queue; Transfer: its transfer queue (required).
+enum class QueueRole { Compute, Frame, Transfer };
 
 class Recorder {
  public:

@@ -1,6 +1,7 @@
 #include "render/frame_output.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <limits>
 #include <utility>
@@ -15,6 +16,21 @@ namespace {
 std::string scene_name(const Scene& scene) {
   return scene.file.empty() ? std::string("<scene>") : scene.file.string();
 }
+
+// Adds the seconds from construction to destruction to `into`.
+class Lap {
+ public:
+  explicit Lap(double& into) : into_(into), start_(std::chrono::steady_clock::now()) {}
+  ~Lap() {
+    into_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  Lap(const Lap&) = delete;
+  Lap& operator=(const Lap&) = delete;
+
+ private:
+  double& into_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 }  // namespace
 
@@ -100,49 +116,55 @@ FrameWriter::~FrameWriter() {
   sink_.reset();
 }
 
-void FrameWriter::flush() {
+void FrameWriter::drain() {
+  const Lap lap(times_.wait);
   queue_->drain();
+}
+
+void FrameWriter::flush() {
+  drain();
   sink_->flush();
 }
 
 void FrameWriter::finish() {
-  queue_->drain();
+  drain();
   sink_->finish();
 }
 
 void FrameWriter::set_setup(const FrameSetup& setup) {
-  queue_->drain();
+  drain();
   sink_->flush();  // the read-back slots are made again for another size
   setup_ = setup;
 }
 
 SplatRenderer& FrameWriter::renderer() {
-  queue_->drain();
+  drain();
   return *renderer_;
 }
 
 RgbaImage FrameWriter::render(const RenderInputs& inputs) {
-  queue_->drain();
+  drain();
   return renderer_->render(inputs, setup_);
 }
 
 RgbaImage FrameWriter::render(const std::vector<Vec3>& displacement,
                               const NeighbourLists& neighbours) {
-  queue_->drain();
+  drain();
   if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, neighbours);
   host_->set_displacement(displacement);
   return render(host_->inputs());
 }
 
 void FrameWriter::set_tools(std::vector<ToolDrawable> tools) {
-  queue_->drain();
+  drain();
   tools.insert(tools.end(), instruments_.begin(), instruments_.end());
   renderer_->set_tools(std::move(tools));
 }
 
 bool FrameWriter::advance_video(double t, bool exact) {
   if (!video_) return false;
-  queue_->drain();
+  drain();
+  const Lap lap(times_.video);
   const std::vector<RgbaImage>* levels = exact ? video_->frame_at(t) : video_->newest(t);
   if (levels == nullptr) return false;
   renderer_->set_texture(*levels);
@@ -153,6 +175,9 @@ std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
   advance_video(double(step) * dt_, true);
   const std::string name = frame_name(step);
   const int64_t every = std::max<int64_t>(options_.video_every, 1);
+  drain();
+  const Lap lap(times_.submit);
+  ++times_.frames;
   queue_->submit(inputs, setup_, name, (step + every / 2) / every);
   if (options_.write_files) written_.push_back(name);
   return name;
@@ -160,14 +185,16 @@ std::string FrameWriter::write(int64_t step, const RenderInputs& inputs) {
 
 std::string FrameWriter::write(int64_t step, const std::vector<Vec3>& displacement,
                                const NeighbourLists& neighbours) {
-  queue_->drain();  // the frame in flight reads the host inputs' displacement
+  drain();  // the frame in flight reads the host inputs' displacement
   if (!host_) host_ = std::make_unique<HostInputs>(*ctx_, *set_, neighbours);
   host_->set_displacement(displacement);
   return write(step, host_->inputs());
 }
 
 void FrameWriter::apply_aspiration(const AspirationEvent& event) {
-  queue_->drain();
+  drain();
+  const Lap lap(times_.aspiration);
+  ++times_.aspirations;
   renderer_->hide_phyxels(event.removed);
   const FractureRegion region{event.centre, event.rest_radius, event.axis};  // rest space
   std::vector<layout::SurfelStatic> faces;
@@ -182,7 +209,8 @@ void FrameWriter::apply_aspiration(const AspirationEvent& event) {
 }
 
 bool FrameWriter::follow_cuts(Solver& solver, bool host_state) {
-  queue_->drain();
+  drain();
+  const Lap lap(times_.cuts);
   const size_t severed = severed_pair_count(solver);
   const bool changed = severed != cut_cursor_;
   if (changed) {

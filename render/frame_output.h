@@ -47,6 +47,13 @@ struct FrameWriterOptions {
   std::string video_source = "video";
 };
 
+// Host seconds of a writer's calls by part (`phyxel bench --surgery`): waiting for the frame
+// in flight, the cuts' and aspirations' surfels, the video texture, recording and submitting.
+struct FrameWriterTimes {
+  double wait = 0, cuts = 0, aspiration = 0, video = 0, submit = 0;
+  int64_t frames = 0, aspirations = 0;
+};
+
 class FrameWriter {
  public:
   // Renders on `ctx` when given (it must outlive the writer; the GPU solver's context), else
@@ -99,6 +106,7 @@ class FrameWriter {
   const Camera& camera() const { return camera_; }
   const std::vector<std::string>& written() const { return written_; }
   static std::string frame_name(int64_t step);
+  const FrameWriterTimes& times() const { return times_; }
   // Waits until the writer thread has written every frame so far (the files exist);
   // rethrows a failure.
   void flush();
@@ -124,6 +132,8 @@ class FrameWriter {
   CutFaces cuts_;
   size_t cut_cursor_ = 0;  // entries of the solver's severed log already in cuts_
   size_t alive_at_ = 0;    // severed count of the last pair_alive upload to host_
+  FrameWriterTimes times_;
+  void drain();  // queue_->drain(), timed
 };
 
 // Renders the frame of `step` from `solver` with the tools at `tools` (their poses at the

@@ -27,16 +27,21 @@ struct FrameQueue::SlotLease {
 FrameQueue::FrameQueue(gpu::Context& ctx, SplatRenderer& renderer, FrameSink& sink)
     : renderer_(&renderer), sink_(&sink), ctx_(&ctx) {
   const bool transfer = ctx.transfer_queue() != VK_NULL_HANDLE;
+  auto semaphore = [&ctx](VkSemaphore& s) {
+    auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
+    VK_CHECK(ctx.fn().vkCreateSemaphore(ctx.device(), &info, nullptr, &s));
+  };
   try {
     for (uint32_t k = 0; k < recorders_.size(); ++k) {
       std::string name = "frame ";
       name += std::to_string(k);
-      recorders_[k] = std::make_unique<gpu::Recorder>(ctx, name);
+      deforms_[k] = std::make_unique<gpu::Recorder>(ctx, name + " deform");
+      recorders_[k] = std::make_unique<gpu::Recorder>(ctx, name, gpu::QueueRole::Frame);
+      semaphore(deformed_[k]);
       if (!transfer) continue;
       copies_[k] =
           std::make_unique<gpu::Recorder>(ctx, name + " read-back copy", gpu::QueueRole::Transfer);
-      auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
-      VK_CHECK(ctx.fn().vkCreateSemaphore(ctx.device(), &info, nullptr, &drawn_[k]));
+      semaphore(drawn_[k]);
     }
   } catch (...) {
     destroy_semaphores();
@@ -57,9 +62,12 @@ void FrameQueue::destroy_semaphores() {
   // failed one never reached the queue or is waited for by the recorders' destructors first.
   for (auto& c : copies_) c.reset();
   for (auto& r : recorders_) r.reset();
-  for (VkSemaphore& s : drawn_) {
-    if (s != VK_NULL_HANDLE) ctx_->fn().vkDestroySemaphore(ctx_->device(), s, nullptr);
-    s = VK_NULL_HANDLE;
+  for (auto& r : deforms_) r.reset();
+  for (auto* semaphores : {&drawn_, &deformed_}) {
+    for (VkSemaphore& s : *semaphores) {
+      if (s != VK_NULL_HANDLE) ctx_->fn().vkDestroySemaphore(ctx_->device(), s, nullptr);
+      s = VK_NULL_HANDLE;
+    }
   }
 }
 
@@ -68,6 +76,7 @@ void FrameQueue::drain() {
   const Pending frame = std::move(*pending_);
   pending_.reset();
   try {
+    deforms_[frame.slot]->wait();
     recorders_[frame.slot]->wait();
     if (copies_[frame.slot]) copies_[frame.slot]->wait();
   } catch (...) {
@@ -94,30 +103,39 @@ void FrameQueue::submit(const RenderInputs& inputs, const FrameSetup& setup, std
     slots_->busy[slot] = true;
   }
   try {
-    gpu::Recorder& rec = *recorders_[slot];
-    gpu::Recorder* copy = copies_[slot].get();
-    renderer_->record(rec, inputs, setup, nullptr, slot, copy);
-    if (copy != nullptr) {
-      rec.submit(VK_NULL_HANDLE, drawn_[slot]);
-      try {
-        copy->submit(drawn_[slot]);
-      } catch (...) {
-        // The drawing went out without its copy: wait for it, so that the slot's recorder
-        // records again (the error, a lost device, is the one to report).
-        try {
-          rec.wait();
-        } catch (...) {  // NOLINT(bugprone-empty-catch)
-        }
-        throw;
-      }
-    } else {
-      rec.submit();
-    }
+    record_and_submit(inputs, setup, slot);
   } catch (...) {
     slots_->release(slot);
     throw;
   }
   pending_ = Pending{slot, std::move(name), video_index};
+}
+
+// The deform pass, then the drawing after it, then (with a transfer queue) the copy after that.
+// A submission that fails leaves those before it waited for, so that their recorders record
+// again (the error, a lost device, is the one to report).
+void FrameQueue::record_and_submit(const RenderInputs& inputs, const FrameSetup& setup,
+                                   uint32_t slot) {
+  gpu::Recorder& deform = *deforms_[slot];
+  gpu::Recorder& rec = *recorders_[slot];
+  gpu::Recorder* copy = copies_[slot].get();
+  renderer_->record_split(deform, rec, inputs, setup, slot, copy);
+  std::vector<gpu::Recorder*> submitted;
+  try {
+    deform.submit(VK_NULL_HANDLE, deformed_[slot]);
+    submitted.push_back(&deform);
+    rec.submit(deformed_[slot], copy != nullptr ? drawn_[slot] : VK_NULL_HANDLE);
+    submitted.push_back(&rec);
+    if (copy != nullptr) copy->submit(drawn_[slot]);
+  } catch (...) {
+    for (gpu::Recorder* r : submitted) {
+      try {
+        r->wait();
+      } catch (...) {  // NOLINT(bugprone-empty-catch)
+      }
+    }
+    throw;
+  }
 }
 
 }  // namespace phyxel::render

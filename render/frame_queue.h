@@ -4,6 +4,12 @@
 // The simulation thread pays for recording and submitting, not for the GPU's drawing or the
 // copy of a 7–17 MB frame (docs/performance-log.md, "Frames off the simulation thread").
 //
+// A frame is two submissions (SplatRenderer::record_split): its deform pass on the solver's
+// queue, the only part that reads the solver's buffers, then the rest on the context's frame
+// queue (gpu::Context::frame_queue, a second queue of the compute family; the compute queue
+// where there is none), waiting on a semaphore the deform signals. The solver's next passes
+// wait for the deform pass alone; the frame's drawing runs beside them.
+//
 // One frame is in flight at a time, so that whatever the renderer reads (its surfels, tools,
 // texture staging) may change once drain() has returned; two read-back slots let the sink
 // copy one frame while the next is drawn. The solver's work that follows a frame on the same
@@ -66,11 +72,16 @@ class FrameQueue {
     int64_t video_index;
   };
   void destroy_semaphores();  // and the recorders, which wait for their submissions first
+  void record_and_submit(const RenderInputs& inputs, const FrameSetup& setup, uint32_t slot);
 
   SplatRenderer* renderer_;
   FrameSink* sink_;
   gpu::Context* ctx_;
+  // Per slot the deform pass's recorder (compute queue), the drawing's (frame queue) and the
+  // semaphore between them.
+  std::array<std::unique_ptr<gpu::Recorder>, SplatRenderer::kReadbackSlots> deforms_;
   std::array<std::unique_ptr<gpu::Recorder>, SplatRenderer::kReadbackSlots> recorders_;
+  std::array<VkSemaphore, SplatRenderer::kReadbackSlots> deformed_{};
   // With a transfer queue: per slot the copy's recorder and the semaphore the drawing signals.
   std::array<std::unique_ptr<gpu::Recorder>, SplatRenderer::kReadbackSlots> copies_;
   std::array<VkSemaphore, SplatRenderer::kReadbackSlots> drawn_{};

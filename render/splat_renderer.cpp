@@ -64,9 +64,9 @@ SplatRenderer::SplatRenderer(gpu::Context& ctx, const SurfelTable& table, const 
   m.table_phyxels = table.phyxels;
   m.table = table.surfels;
   for (layout::SurfelStatic& s : m.table) s.radius *= options.radius_scale;
+  m.outer_count = m.table.size();
   m.recorder = std::make_unique<gpu::Recorder>(ctx, "render frame");
-  m.grow(m.table.size());
-  if (m.count > 0) gpu::upload(ctx, m.surfels, m.table);
+  m.grow(m.table.size());  // uploaded with the first frame
   m.no_weights = gpu::Buffer(ctx, sizeof(float), gpu::MemoryIntent::Device, "render no weights");
 }
 
@@ -179,29 +179,24 @@ uint32_t SplatRenderer::cut_surfel_count() const {
 
 void SplatRenderer::update_cut_surfels(const std::vector<layout::SurfelStatic>& faces) {
   Impl& m = *impl_;
-  if (faces.empty()) return;
-  size_t first = m.table.size(), last = 0;  // the slots written, [first, last]
   for (const layout::SurfelStatic& face : faces) {
     if (face.index >= m.table_phyxels || (face.flags & layout::kSurfelCutFace) == 0) {
       throw std::invalid_argument("SplatRenderer::update_cut_surfels: surfel of phyxel " +
                                   std::to_string(face.index) +
                                   " is not a cut face of the table's phyxels");
     }
+  }
+  for (const layout::SurfelStatic& face : faces) {
     const auto [it, added] =
         m.cut_slot.try_emplace(face.index, static_cast<uint32_t>(m.table.size()));
     if (added) m.table.emplace_back();
     layout::SurfelStatic& slot = m.table[it->second];
     slot = face;
     slot.radius *= m.options.radius_scale;
-    first = std::min<size_t>(first, it->second);
-    last = std::max<size_t>(last, it->second);
+    m.grow(m.table.size());
+    m.mark_dirty(it->second);
   }
-  m.grow(m.table.size());
   m.count = static_cast<uint32_t>(m.table.size());
-  // One upload of the range written (the changed faces are usually recent, hence adjacent).
-  gpu::upload(m.ctx, m.surfels, m.table.data() + first,
-              (last - first + 1) * sizeof(layout::SurfelStatic),
-              first * sizeof(layout::SurfelStatic));
 }
 
 const std::vector<layout::SurfelStatic>& SplatRenderer::surfels() const {
@@ -211,20 +206,16 @@ const std::vector<layout::SurfelStatic>& SplatRenderer::surfels() const {
 void SplatRenderer::hide_phyxels(const std::vector<uint32_t>& phyxels) {
   Impl& m = *impl_;
   if (phyxels.empty() || m.table.empty()) return;
-  std::vector<uint8_t> hide(m.table_phyxels, 0);
-  for (const uint32_t k : phyxels)
-    if (k < hide.size()) hide[k] = 1;
-  size_t first = m.table.size(), last = 0;
-  for (size_t s = 0; s < m.table.size(); ++s) {
-    if (m.table[s].index >= hide.size() || !hide[m.table[s].index]) continue;
-    m.table[s].radius = 0;
-    first = std::min(first, s);
-    last = std::max(last, s);
+  m.index_outer_slots();
+  auto hide = [&m](size_t slot) {
+    m.table[slot].radius = 0;
+    m.mark_dirty(slot);
+  };
+  for (const uint32_t k : phyxels) {
+    if (k >= m.table_phyxels) continue;
+    for (uint32_t s = m.outer_offset[k]; s < m.outer_offset[k + 1]; ++s) hide(m.outer_slot[s]);
+    if (const auto it = m.cut_slot.find(k); it != m.cut_slot.end()) hide(it->second);
   }
-  if (first > last) return;
-  gpu::upload(m.ctx, m.surfels, m.table.data() + first,
-              (last - first + 1) * sizeof(layout::SurfelStatic),
-              first * sizeof(layout::SurfelStatic));
 }
 
 uint32_t SplatRenderer::max_frame_side() const {
@@ -256,6 +247,19 @@ void check_render_inputs(const RenderInputs& in, uint32_t table_phyxels) {
 
 void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const FrameSetup& setup,
                            gpu::PassTimer* timer, uint32_t slot, gpu::Recorder* copy) {
+  record_frame(rec, rec, in, setup, timer, slot, copy);
+}
+
+void SplatRenderer::record_split(gpu::Recorder& deform, gpu::Recorder& raster,
+                                 const RenderInputs& in, const FrameSetup& setup, uint32_t slot,
+                                 gpu::Recorder* copy) {
+  record_frame(deform, raster, in, setup, nullptr, slot, copy);
+}
+
+// `deform` and `rec` may be one recorder (record) or two (record_split; no timer then).
+void SplatRenderer::record_frame(gpu::Recorder& deform, gpu::Recorder& rec, const RenderInputs& in,
+                                 const FrameSetup& setup, gpu::PassTimer* timer, uint32_t slot,
+                                 gpu::Recorder* copy) {
   Impl& m = *impl_;
   check_render_inputs(in, m.table_phyxels);
   if (const std::string why = frame_error(setup); !why.empty()) {
@@ -275,6 +279,7 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   const uint32_t tool_count = m.stage_tools();
 
   // The solver's writes, and the last frame's reads of every buffer here, come first.
+  if (&deform != &rec) deform.barrier();
   rec.barrier();
   begin("render clear");
   if (m.backdrop_count > 0) {
@@ -290,7 +295,8 @@ void SplatRenderer::record(gpu::Recorder& rec, const RenderInputs& in, const Fra
   m.texture.record_upload(rec.cmd());  // a video frame staged by set_texture, if any
   end();
   begin("render deform");
-  m.record_deform(rec, in);
+  if (m.record_surfel_upload(deform)) deform.barrier();  // the table's edits since the last frame
+  m.record_deform(deform, in);
   end();
   rec.barrier();
   // The eyes write disjoint ranges: their dispatches need no barrier between them.

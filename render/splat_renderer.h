@@ -130,6 +130,12 @@ class SplatRenderer {
   static constexpr uint32_t kReadbackSlots = 2;
   void record(gpu::Recorder& rec, const RenderInputs& inputs, const FrameSetup& setup,
               gpu::PassTimer* timer = nullptr, uint32_t slot = 0, gpu::Recorder* copy = nullptr);
+  // The same in two submissions: `deform` gets the table's edits and the deform pass (the only
+  // commands that read `inputs`; submit it on the solver's queue, signalling a semaphore) and
+  // `raster` the rest, from clearing the targets on (submitted after, waiting on that
+  // semaphore; on another queue it runs beside the solver's next passes).
+  void record_split(gpu::Recorder& deform, gpu::Recorder& raster, const RenderInputs& inputs,
+                    const FrameSetup& setup, uint32_t slot = 0, gpu::Recorder* copy = nullptr);
   RgbaImage read_frame(uint32_t slot = 0) const;
   // The deformed splats of the last frame (surface surfels first, then the cut faces in the
   // order they were added): a blocking download, for tests.
@@ -141,17 +147,18 @@ class SplatRenderer {
 
   // Cut faces (render/cut_surfels.h): adds the given surfels (kSurfelCutFace set, radius at
   // rest before radius_scale) to those drawn, or replaces the cut-face surfel of a phyxel that
-  // has one. Only the slots written are uploaded; the surfel and splat buffers double when
-  // they run out, so the table built by the constructor is never rebuilt. Blocking; call
-  // between frames. Throws std::invalid_argument for a surfel that is no cut face or whose
+  // has one. The slots written are uploaded with the next frame (record), which must not be
+  // recorded while an earlier frame is still in flight; the surfel and splat buffers double
+  // when they run out (call between frames then), so the table built by the constructor is
+  // never rebuilt. Throws std::invalid_argument for a surfel that is no cut face or whose
   // phyxel the table does not have.
   void update_cut_surfels(const std::vector<layout::SurfelStatic>& faces);
 
   // Removed phyxels (aspiration): every surfel of theirs, outer or cut face, gets radius 0
-  // (drawn nowhere) and is uploaded. Blocking; call between frames.
+  // (drawn nowhere), uploaded with the next frame as above. Never waits for the GPU.
   void hide_phyxels(const std::vector<uint32_t>& phyxels);
 
-  // The surfel table as last uploaded (outer surface, then the cut faces), for tests.
+  // The surfel table as the next frame draws it (outer surface, then the cut faces).
   const std::vector<layout::SurfelStatic>& surfels() const;
 
   uint32_t surfel_count() const;      // outer surface and cut faces
@@ -162,6 +169,9 @@ class SplatRenderer {
 
  private:
   struct Impl;
+  void record_frame(gpu::Recorder& deform, gpu::Recorder& rec, const RenderInputs& inputs,
+                    const FrameSetup& setup, gpu::PassTimer* timer, uint32_t slot,
+                    gpu::Recorder* copy);
   std::unique_ptr<Impl> impl_;
 };
 

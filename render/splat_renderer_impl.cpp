@@ -4,6 +4,7 @@
 #include "render/splat_renderer_impl.h"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 
 namespace phyxel::render {
@@ -166,21 +167,65 @@ void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
 }
 
 // Room for `slots` surfels: new buffers of max(slots, 2 x capacity) when they are too small
-// (the uploaded surfels are copied over on the GPU; splats are rewritten every frame).
+// (the whole table goes up again with the next frame; splats are rewritten every frame).
 void SplatRenderer::Impl::grow(size_t slots) {
   slots = std::max<size_t>(slots, 1);
   if (slots <= capacity) return;
   const size_t grown = std::max(slots, 2 * capacity);
-  gpu::Buffer s(ctx, grown * sizeof(layout::SurfelStatic), gpu::MemoryIntent::Device,
-                "render surfels");
-  if (count > 0 && surfels) {
-    recorder->copy(surfels, s, VkDeviceSize{count} * sizeof(layout::SurfelStatic));
-    recorder->submit_and_wait();
-  }
-  surfels = std::move(s);
+  surfels = gpu::Buffer(ctx, grown * sizeof(layout::SurfelStatic), gpu::MemoryIntent::Device,
+                        "render surfels");
+  surfel_staging = gpu::Buffer(ctx, grown * sizeof(layout::SurfelStatic), gpu::MemoryIntent::Upload,
+                               "render surfels staging");
   splats =
       gpu::Buffer(ctx, grown * sizeof(layout::Splat), gpu::MemoryIntent::Device, "render splats");
   capacity = grown;
+  dirty.assign((grown + kDirtyBlock - 1) / kDirtyBlock, 0);
+  mark_dirty(0, table.size());
+}
+
+void SplatRenderer::Impl::mark_dirty(size_t slot) {
+  dirty[slot / kDirtyBlock] = 1;
+  any_dirty = true;
+}
+
+void SplatRenderer::Impl::mark_dirty(size_t first, size_t end) {
+  if (first >= end) return;
+  std::fill(dirty.begin() + long(first / kDirtyBlock),
+            dirty.begin() + long((end - 1) / kDirtyBlock + 1), uint8_t{1});
+  any_dirty = true;
+}
+
+bool SplatRenderer::Impl::record_surfel_upload(gpu::Recorder& rec) {
+  if (!any_dirty) return false;
+  constexpr size_t slot_bytes = sizeof(layout::SurfelStatic);
+  auto* staging = static_cast<uint8_t*>(surfel_staging.mapped());
+  for (size_t b = 0; b < dirty.size();) {
+    if (!dirty[b]) {
+      ++b;
+      continue;
+    }
+    const size_t first = b * kDirtyBlock;
+    while (b < dirty.size() && dirty[b]) dirty[b++] = 0;
+    const size_t end = std::min(b * kDirtyBlock, table.size());
+    if (first >= end) continue;
+    const VkDeviceSize offset = first * slot_bytes, bytes = (end - first) * slot_bytes;
+    std::memcpy(staging + offset, table.data() + first, bytes);
+    rec.copy(surfel_staging, surfels, bytes, offset, offset);
+  }
+  any_dirty = false;
+  return true;
+}
+
+void SplatRenderer::Impl::index_outer_slots() {
+  if (!outer_offset.empty()) return;
+  outer_offset.assign(size_t(table_phyxels) + 1, 0);
+  for (size_t s = 0; s < outer_count; ++s)
+    if (table[s].index < table_phyxels) ++outer_offset[table[s].index + 1];
+  for (size_t k = 0; k < table_phyxels; ++k) outer_offset[k + 1] += outer_offset[k];
+  outer_slot.resize(outer_offset.back());
+  std::vector<uint32_t> next(outer_offset.begin(), outer_offset.end() - 1);
+  for (size_t s = 0; s < outer_count; ++s)
+    if (table[s].index < table_phyxels) outer_slot[next[table[s].index]++] = uint32_t(s);
 }
 
 layout::ShadePush SplatRenderer::Impl::shade_push(const FrameSetup& setup) const {

@@ -42,6 +42,13 @@ struct SplatRenderer::Impl {
   void write_texture_set(VkDescriptorSet set, const Texture& image);
   void ensure_targets(const FrameSetup& setup);
   void grow(size_t slots);
+  // Host edits of the table reach the GPU with the next frame (record_surfel_upload): the
+  // blocks of kDirtyBlock slots written since, coalesced, through a mapped staging copy of
+  // the table. No edit waits for the GPU.
+  void mark_dirty(size_t slot);
+  void mark_dirty(size_t first, size_t end);
+  bool record_surfel_upload(gpu::Recorder& rec);  // whether it recorded a copy
+  void index_outer_slots();                       // outer_offset / outer_slot, once
   layout::ShadePush shade_push(const FrameSetup& setup) const;
   void record_backdrop_layer(gpu::Recorder& rec, const FrameSetup& setup);
   // Parts of SplatRenderer::record (splat_renderer.cpp).
@@ -71,6 +78,14 @@ struct SplatRenderer::Impl {
   std::unordered_map<uint32_t, uint32_t> cut_slot;
   size_t capacity = 0;
   gpu::Buffer surfels, splats;
+  static constexpr size_t kDirtyBlock = 64;
+  std::vector<uint8_t> dirty;  // per block of kDirtyBlock slots: written since the last upload
+  bool any_dirty = false;
+  gpu::Buffer surfel_staging;  // mapped, `capacity` slots
+  // Per phyxel its slots among the constructor's `outer_count` (CSR; hide_phyxels), made on
+  // first use.
+  size_t outer_count = 0;
+  std::vector<uint32_t> outer_offset, outer_slot;
   // The backdrop's static splats (set_backdrop) and its layer: per pixel of each eye (the
   // depth buffer's indexing) its visible depth and its shaded colour, drawn by the splat and
   // shading passes once per view (`layer_view`; `layer_stale` after set_backdrop or

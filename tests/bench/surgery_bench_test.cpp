@@ -48,6 +48,11 @@ TEST(BenchSurgery, WritesARowPerSceneAndRefinement) {
     }
     EXPECT_TRUE(row["bare"]["gpu_pass_us"].is_object());  // empty on the CPU
     EXPECT_GE(row["frames"]["frame_every_steps"].get<int>(), 1);
+    // The frame writer's parts: a frame at the end at least.
+    const nlohmann::json& writer = row["frames"]["frame_host_seconds"];
+    EXPECT_GE(writer["frames"].get<int>(), 1);
+    for (const char* part : {"wait", "cuts", "aspiration", "video", "submit"})
+      expect_finite(writer, part);
   }
   EXPECT_GT(j["surgery"][1]["phyxels"].get<int>(), j["surgery"][0]["phyxels"].get<int>());
 }

@@ -17,14 +17,20 @@ namespace {
 
 class AspirationRender : public gpu::VulkanTest {};
 
-TEST_F(AspirationRender, RemovedTissueVanishesAndTheCraterWallIsTorn) {
+// The suction block (tear stress 1000 Pa), seen from above the aspirator's way in.
+Scene suction_scene(uint32_t width, uint32_t height) {
   Scene scene = parse_scene(phyxel::test::suction_block_json(1000, true), "block.json");
-  scene.render.width = 640;
-  scene.render.height = 480;
+  scene.render.width = width;
+  scene.render.height = height;
   scene.camera.position = Vec3(0.01, -0.012, 0.035);
   scene.camera.target = Vec3(0.01, 0.01, 0.006);
   scene.camera.up = Vec3::UnitZ();
   scene.camera.fov_y_deg = 40;
+  return scene;
+}
+
+TEST_F(AspirationRender, RemovedTissueVanishesAndTheCraterWallIsTorn) {
+  const Scene scene = suction_scene(640, 480);
   const PhyxelSet set = sample_scene(scene);
   const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
   const std::filesystem::path dir = test::test_out_dir() / "aspiration_render";
@@ -63,6 +69,69 @@ TEST_F(AspirationRender, RemovedTissueVanishesAndTheCraterWallIsTorn) {
     for (uint32_t x = 280; x < 360; ++x, ++pixels)
       background += test::is_background(image.at(x, y));
   EXPECT_LT(background, pixels / 20) << "the background shows through the crater";
+}
+
+// The surfel edits of aspirations reach the GPU with the next frame (SplatRenderer::
+// record_surfel_upload): a writer that draws a frame after every aspiration and one that draws
+// only at the end draw the same pixels, and no splat of a removed phyxel is drawn.
+TEST_F(AspirationRender, EditsUploadedWithTheNextFrameDrawTheSamePixels) {
+  const Scene scene = suction_scene(320, 240);
+  const PhyxelSet set = sample_scene(scene);
+  const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
+  FrameWriter each(scene, set, {RenderSettings::Mode::Mono, {}}, &ctx());
+  FrameWriter batched(scene, set, {RenderSettings::Mode::Mono, {}}, &ctx());
+  std::set<uint32_t> removed;
+  int drawn = 0;
+  const std::vector<Vec3> rest(set.size(), Vec3::Zero());
+  each.render(rest, solver->neighbours());  // both upload the whole table here
+  batched.render(rest, solver->neighbours());
+  RunOptions options;
+  options.steps = 250;
+  options.on_aspiration = [&](const AspirationEvent& e) {
+    each.apply_aspiration(e);
+    batched.apply_aspiration(e);
+    removed.insert(e.removed.begin(), e.removed.end());
+    each.render(solver->read_state(false).displacement, solver->neighbours());
+    ++drawn;
+  };
+  run_simulation(scene, set, *solver, options);
+  ASSERT_GE(drawn, 2);
+  const std::vector<Vec3> u = solver->read_state(false).displacement;
+  const RgbaImage a = each.render(u, solver->neighbours());
+  const RgbaImage b = batched.render(u, solver->neighbours());
+  EXPECT_EQ(a.pixels, b.pixels) << "frames differ with the edits batched";
+  const std::vector<layout::SurfelStatic>& table = batched.renderer().surfels();
+  const std::vector<layout::Splat> splats = batched.renderer().read_splats();
+  ASSERT_EQ(splats.size(), table.size());
+  size_t drawn_removed = 0;
+  for (size_t s = 0; s < table.size(); ++s)
+    if (removed.count(table[s].index) && splats[s].centre.w != 0) ++drawn_removed;
+  EXPECT_EQ(drawn_removed, 0u) << "a removed phyxel's splat is drawn";
+}
+
+// Hides scattered over the whole table (separate blocks of slots, far apart) all reach the GPU with
+// the next frame: a splat is drawn (radius > 0) exactly where the host table says so.
+TEST_F(AspirationRender, ScatteredHidesReachTheGpuWithTheNextFrame) {
+  const Scene scene = suction_scene(160, 120);
+  const PhyxelSet set = sample_scene(scene);
+  const NeighbourLists neighbours = find_rest_neighbours(set);
+  FrameWriter writer(scene, set, {RenderSettings::Mode::Mono, {}}, &ctx());
+  const std::vector<Vec3> rest(set.size(), Vec3::Zero());
+  writer.render(rest, neighbours);
+  std::vector<uint32_t> hide;
+  const std::vector<layout::SurfelStatic>& table = writer.renderer().surfels();
+  for (size_t s = 0; s < table.size(); s += 150) hide.push_back(table[s].index);
+  writer.renderer().hide_phyxels(hide);
+  writer.render(rest, neighbours);
+  const std::vector<layout::Splat> splats = writer.renderer().read_splats();
+  ASSERT_EQ(splats.size(), table.size());
+  size_t hidden = 0, differ = 0;
+  for (size_t s = 0; s < table.size(); ++s) {
+    hidden += table[s].radius == 0;
+    differ += (splats[s].centre.w == 0) != (table[s].radius == 0);
+  }
+  EXPECT_GE(hidden, hide.size());
+  EXPECT_EQ(differ, 0u) << "the GPU's surfels are not the host table's";
 }
 
 }  // namespace

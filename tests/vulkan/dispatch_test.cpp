@@ -82,6 +82,34 @@ TEST_F(DispatchTest, EveryElementWrittenNoneBeyond) {
   }
 }
 
+// An iota dispatch into `dst` on the compute queue, then `copy`'s copy of it into `host`
+// (Readback) waiting on a semaphore the dispatch signals, twice (the semaphore and both
+// recorders reused): the copy holds the dispatch's values.
+void expect_copy_after_dispatch(Context& c, Recorder& copy, const Buffer& dst, const Buffer& host) {
+  const CoreKernels kernels(c);
+  const auto n = static_cast<uint32_t>(dst.size() / sizeof(uint32_t));
+  VkSemaphore written = VK_NULL_HANDLE;
+  auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
+  VK_CHECK(c.fn().vkCreateSemaphore(c.device(), &info, nullptr, &written));
+  {
+    Recorder rec(c, "iota");
+    for (uint32_t base : {5u, 9u}) {
+      dispatch(rec, kernels.iota, layout::IotaPush{n, base}, {dst}, n);
+      copy.copy(dst, host);
+      rec.submit(VK_NULL_HANDLE, written);
+      copy.submit(written);
+      rec.wait();
+      copy.wait();
+      host.invalidate();
+      const auto* got = static_cast<const uint32_t*>(host.mapped());
+      uint32_t wrong = 0;
+      for (uint32_t i = 0; i < n; ++i) wrong += got[i] != base + i ? 1 : 0;
+      EXPECT_EQ(wrong, 0u) << base;
+    }
+  }
+  c.fn().vkDestroySemaphore(c.device(), written, nullptr);
+}
+
 // A copy on the transfer-only queue of what a dispatch on the compute queue wrote, ordered by
 // a semaphore (what FrameQueue does with a frame): the copy holds the dispatch's values. Where
 // the device has no such queue (lavapipe), none is opened and a transfer Recorder is refused.
@@ -103,33 +131,29 @@ TEST_F(DispatchTest, TransferQueueCopiesWhatTheComputeQueueWrote) {
     return;
   }
   ASSERT_NE(c.transfer_queue(), VK_NULL_HANDLE);
-  const CoreKernels kernels(c);
   const uint32_t n = 1 << 20;
   const Buffer dst(c, n * sizeof(uint32_t), MemoryIntent::Device, "iota", 0,
                    /*with_transfer_queue=*/true);
   const Buffer host(c, n * sizeof(uint32_t), MemoryIntent::Readback, "iota read-back", 0,
                     /*with_transfer_queue=*/true);
-  VkSemaphore written = VK_NULL_HANDLE;
-  auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
-  VK_CHECK(c.fn().vkCreateSemaphore(c.device(), &info, nullptr, &written));
-  {
-    Recorder rec(c, "iota");
-    Recorder copy(c, "iota copy", QueueRole::Transfer);
-    for (uint32_t base : {5u, 9u}) {  // twice: the semaphore and both recorders are reused
-      dispatch(rec, kernels.iota, layout::IotaPush{n, base}, {dst}, n);
-      copy.copy(dst, host);
-      rec.submit(VK_NULL_HANDLE, written);
-      copy.submit(written);
-      rec.wait();
-      copy.wait();
-      host.invalidate();
-      const auto* got = static_cast<const uint32_t*>(host.mapped());
-      uint32_t wrong = 0;
-      for (uint32_t i = 0; i < n; ++i) wrong += got[i] != base + i ? 1 : 0;
-      EXPECT_EQ(wrong, 0u) << base;
-    }
-  }
-  c.fn().vkDestroySemaphore(c.device(), written, nullptr);
+  Recorder copy(c, "iota copy", QueueRole::Transfer);
+  expect_copy_after_dispatch(c, copy, dst, host);
+}
+
+// A copy on the frame queue (a second queue of the compute family where it has several; the
+// compute queue otherwise, as on lavapipe) of what a dispatch on the compute queue wrote,
+// ordered by a semaphore (FrameQueue's deform pass and drawing): it holds the dispatch's values.
+TEST_F(DispatchTest, FrameQueueReadsWhatTheComputeQueueWrote) {
+  Context& c = ctx();
+  ContextOptions without = test_context_options();
+  without.frame_queue = false;
+  EXPECT_EQ(make_context(without).frame_queue(), VK_NULL_HANDLE);
+  EXPECT_EQ(c.frame_queue() != VK_NULL_HANDLE, c.info().compute_queue_count >= 2);
+  const uint32_t n = 1 << 16;
+  const Buffer values(c, n * sizeof(uint32_t), MemoryIntent::Device, "iota");
+  const Buffer host(c, n * sizeof(uint32_t), MemoryIntent::Readback, "iota read-back");
+  Recorder frame(c, "iota frame copy", QueueRole::Frame);
+  expect_copy_after_dispatch(c, frame, values, host);
 }
 
 TEST_F(DispatchTest, DescriptorSetPathWithoutPushDescriptors) {
