@@ -224,8 +224,9 @@ class GpuSolver final : public SolverWithAllFacets {
   // median time per pass name ("kick_drift" once, then "stress" (with the principal stress
   // while on) and "force" per step, and "contact" after every drift while tools touch the
   // candidates' chunk). Empty where the device has no timestamps. Advances the state like
-  // advance(steps, dt).
-  std::vector<PassTime> profile(int64_t steps, double dt);
+  // advance(steps, dt). per_dispatch: the contact, cut and tear passes timed by their parts
+  // ("contact: tool", "cut: sever", "tear: pairs", ...; a barrier counts with the part after it).
+  std::vector<PassTime> profile(int64_t steps, double dt, bool per_dispatch = false);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
   // with its own phyxel, i.e. assumed to come from cache).
@@ -263,6 +264,14 @@ class GpuSolver final : public SolverWithAllFacets {
   bool in_stress(size_t i) const;
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
+  // A timestamp pair named `name` around what is recorded between them, while
+  // profile(per_dispatch) runs.
+  void part_begin(Recorder& rec, const char* name) {
+    if (part_timer_) part_timer_->begin(rec, name);
+  }
+  void part_end(Recorder& rec) {
+    if (part_timer_) part_timer_->end(rec);
+  }
   void record_stress(Recorder& rec, const Buffer& disp);
   void record_tear(Recorder& rec, const Buffer& disp);  // gpu_solver_tearing.cpp
   // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
@@ -433,7 +442,8 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<uint8_t> alive_;        // per pair, as the log says (overflow and pair_alive)
 
   std::unique_ptr<Recorder> rec_[2];
-  int in_flight_ = -1;  // the rec_ whose submission advance() left running, or -1
+  PassTimer* part_timer_ = nullptr;  // profile(per_dispatch): the surgical passes' parts
+  int in_flight_ = -1;               // the rec_ whose submission advance() left running, or -1
 };
 
 }  // namespace phyxel::gpu

@@ -228,6 +228,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          partial_capacity(),
                          0u,
                          0u};
+  part_begin(rec, "contact: tool");
   dispatch_indirect(rec, kernels_->contact, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
@@ -241,18 +242,25 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                      {"Contact", contact_flag_},
                      {"Count", contact_count_}},
                     contact_count_, offsetof(ContactCount, groups_x));
+  part_end(rec);
   rec.barrier();
   if (resisting_) {
+    part_begin(rec, "contact: resist");
     record_resist(rec, step, dt, disp);
+    part_end(rec);
     rec.barrier();
   }
+  part_begin(rec, "contact: reduce");
   dispatch(rec, kernels_->contact_reduce,
            ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
            {{"Force", candidate_force_}, {"Samples", samples_buffer_}, {"Count", contact_count_}},
            nt * kernels_->contact_reduce.workgroup_size()[0]);
+  part_end(rec);
   if (grasping_) {
     rec.barrier();
+    part_begin(rec, "contact: grasp");
     record_grasp(rec, step, dt, disp);
+    part_end(rec);
   }
 }
 

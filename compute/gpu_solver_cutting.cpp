@@ -94,7 +94,10 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
   rec.barrier();  // the samples of this substep
+  part_begin(rec, "cut: reset");
   record_dirty_reset(rec);
+  part_end(rec);
+  part_begin(rec, "cut: sever");
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
   dispatch_indirect(rec, kernels_->sever, push,
@@ -113,7 +116,10 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"IndexHi", nbr_index_.hi()},
                      {"WeightHi", weight_.hi()}},
                     contact_count_, offsetof(ContactCount, groups_x));
+  part_end(rec);
+  part_begin(rec, "cut: precompute");
   record_dirty_precompute(rec);
+  part_end(rec);
 }
 
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {

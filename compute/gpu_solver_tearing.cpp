@@ -36,7 +36,10 @@ void GpuSolver::set_tearing(bool on) {
 
 void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
+  part_begin(rec, "tear: reset");
   record_dirty_reset(rec);
+  part_end(rec);
+  part_begin(rec, "tear: pairs");
   dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, 0u},
            {{"List", stress_list_},
             {"Rest", rest_},
@@ -53,7 +56,10 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
             {"IndexHi", nbr_index_.hi()},
             {"WeightHi", weight_.hi()}},
            n);
+  part_end(rec);
+  part_begin(rec, "tear: precompute");
   record_dirty_precompute(rec);
+  part_end(rec);
 }
 
 }  // namespace phyxel::gpu
