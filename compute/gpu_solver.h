@@ -316,6 +316,10 @@ class GpuSolver final : public SolverWithAllFacets {
                   const std::vector<uint32_t>& touched);
   void mark_severed(const SeveredPair& p);  // alive_ of both slots
   bool contact_recorded() const { return contact_active_; }
+  // tool_contact writes the samples itself (no tool_resist adds to its partials after it), and
+  // the dirty list's empty header where there is one: the sever and tear passes that follow it
+  // in the substep (without a sever between for the tear) need no reset of their own.
+  bool contact_fused() const { return contact_active_ && !resisting_; }
 
   std::unique_ptr<Context> owned_ctx_;
   Context* ctx_;
@@ -405,6 +409,7 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer broad_groups_;       // uint per broad-phase workgroup: hits, then offsets
   Buffer candidate_force_;    // vec4[2 tools][partial_capacity()]: per workgroup, force and range
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
+  Buffer contact_done_;       // uint: tool_contact's finished workgroups (kContactFuseReduce)
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use

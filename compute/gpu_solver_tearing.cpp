@@ -1,6 +1,6 @@
 // GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
 // engine/solver/tearing.h). Per substep, after the force pass and in the same command buffer:
-// the dirty list's header reset, solver_tear over the stress list (on the u the stress pass
+// the dirty list's header reset (unless tool_contact emptied it), solver_tear over the stress list (on the u the stress pass
 // read), and solver_precompute over the phyxels it put in the dirty list (indirect). The torn
 // pairs join the cut log, read back once per advance (finish_cutting).
 #include <algorithm>
@@ -36,9 +36,12 @@ void GpuSolver::set_tearing(bool on) {
 
 void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
-  part_begin(rec, "tear: reset");
-  record_dirty_reset(rec);
-  part_end(rec);
+  // tool_contact emptied the list in this substep unless a sever filled it after.
+  if (!contact_fused() || cutting_) {
+    part_begin(rec, "tear: reset");
+    record_dirty_reset(rec);
+    part_end(rec);
+  }
   part_begin(rec, "tear: pairs");
   dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, 0u},
            {{"List", stress_list_},
