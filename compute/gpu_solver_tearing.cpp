@@ -1,8 +1,8 @@
 // GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
 // engine/solver/tearing.h). Per substep, after the force pass and in the same command buffer:
-// the dirty list's header reset (unless tool_contact emptied it), solver_tear over the stress list (on the u the stress pass
-// read), and solver_precompute over the phyxels it put in the dirty list (indirect). The torn
-// pairs join the cut log, read back once per advance (finish_cutting).
+// the dirty list's header reset (unless tool_contact emptied it), solver_tear over the stress list
+// (on the u the stress pass read), and solver_precompute over the phyxels it put in the dirty list
+// (indirect). The torn pairs join the cut log, read back once per advance (finish_cutting).
 #include <algorithm>
 
 #include "compute/gpu_solver.h"
@@ -43,7 +43,9 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
     part_end(rec);
   }
   part_begin(rec, "tear: pairs");
-  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, 0u},
+  // Lanes as the stress pass's gather: a pass of a few thousand phyxels is latency-bound.
+  const uint32_t lanes = lanes_for(Gather::Stress, n);
+  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, lanes},
            {{"List", stress_list_},
             {"Rest", rest_},
             {"Disp", disp},
@@ -58,7 +60,7 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
             {"Log", cut_log_},
             {"IndexHi", nbr_index_.hi()},
             {"WeightHi", weight_.hi()}},
-           n);
+           n * lanes);
   part_end(rec);
   part_begin(rec, "tear: precompute");
   record_dirty_precompute(rec);
