@@ -47,7 +47,7 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
-      grasp(ctx, PHYXEL_SHADER(tool_grasp), 12, sizeof(GraspPush)),
+      grasp(ctx, PHYXEL_SHADER(tool_grasp), 13, sizeof(GraspPush)),
       near(ctx, PHYXEL_SHADER(solver_near), 6, sizeof(NearPush)),
       pairs_split_(pairs_split),
       pairs_lo_(pairs_lo) {

@@ -195,9 +195,13 @@ PHYXEL_ASSERT_SIZE(GraspEntry, 32);
 //   kGraspReduce   one workgroup: the forces summed in a fixed order (tool_contact_reduce's),
 //                  subtracted from the tool's sample of the substep, and the held count into
 //                  its second row's z
+//   kGraspHoldReduce  kGraspHold, then the workgroup that finishes last (Done counts them)
+//                  does kGraspReduce: one dispatch and barrier less (no workgroup where nothing
+//                  is held, which changes no bit of the sample: x - 0 is x, z is 0 already)
 PHYXEL_CONST uint kGraspCapture = 0u;
 PHYXEL_CONST uint kGraspHold = 1u;
 PHYXEL_CONST uint kGraspReduce = 2u;
+PHYXEL_CONST uint kGraspHoldReduce = 3u;
 struct GraspPush {
   vec4 origin;  // the motion table's frame (ContactPush.origin); w: the reach (m)
   float dt;     // s
@@ -222,6 +226,7 @@ PHYXEL_CONST uint kGraspBindingGrip = 8;    // GraspEntry [tool][capacity]
 PHYXEL_CONST uint kGraspBindingCount = 9;   // ContactCount per tool: the grip's
 PHYXEL_CONST uint kGraspBindingForce = 10;  // vec4 [tool][capacity]
 PHYXEL_CONST uint kGraspBindingSamples = 11;
+PHYXEL_CONST uint kGraspBindingDone = 12;  // workgroups finished (tool_contact's); 0 between
 
 // ---------------------------------------------------------------------------------------
 // Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors
