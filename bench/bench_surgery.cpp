@@ -48,6 +48,7 @@ constexpr const char* kSurgeryHelp =
     "  --fps F             frames per simulated second (default 60)\n"
     "  --no-frames         skip the runs with frames\n"
     "  --profile-steps N   substeps of the GPU pass profile (default 32)\n"
+    "  --profile-parts     the profile times the contact, cut and tear passes by their parts\n"
     "  --bare-steps N      steps of each timed repeat of the bare box (default 64; 3 repeats)\n"
     "  --threads N         CPU solver threads (default: all cores)\n"
     "  --out DIR           write DIR/surgery.json";
@@ -60,6 +61,7 @@ struct SurgeryOptions {
   double fps = 60;
   bool frames = true;
   int64_t profile_steps = 32;
+  bool profile_parts = false;
   int64_t bare_steps = 64;
 };
 
@@ -108,14 +110,14 @@ nlohmann::json run_json(const Scene& scene, const PhyxelSet& set, Solver& solver
 // The GPU's median time per pass over `substeps` substeps from where the run ended, the tools
 // moving on along their paths (empty on the CPU).
 nlohmann::json pass_profile(const Scene& scene, Solver& solver, const RunResult& r,
-                            int64_t substeps) {
+                            int64_t substeps, bool parts) {
   nlohmann::json passes = nlohmann::json::object();
   auto* gpu_solver = dynamic_cast<gpu::GpuSolver*>(&solver);
   if (gpu_solver == nullptr || substeps <= 0) return passes;
   ToolTrack track(scene.tools, nullptr);
   const int64_t first = r.steps_done * r.plan.substeps;
   if (!track.empty()) gpu_solver->set_tool_motion(track.motions(first, substeps, r.plan.dt_used));
-  for (const gpu::PassTime& p : gpu_solver->profile(substeps, r.plan.dt_used))
+  for (const gpu::PassTime& p : gpu_solver->profile(substeps, r.plan.dt_used, parts))
     passes[p.name] = p.ns * 1e-3;
   if (!track.empty()) gpu_solver->tool_samples();
   return passes;
@@ -161,7 +163,7 @@ nlohmann::json timed_run(const Scene& scene, const PhyxelSet& set, const Surgery
         {"cuts", t.cuts},     {"aspiration", t.aspiration},   {"video", t.video},
         {"submit", t.submit}};
   } else {
-    j["gpu_pass_us"] = pass_profile(scene, *solver, r, o.profile_steps);
+    j["gpu_pass_us"] = pass_profile(scene, *solver, r, o.profile_steps, o.profile_parts);
   }
   frames.reset();  // before the solver: it may own the context
   return j;
@@ -267,6 +269,7 @@ int bench_surgery(const Args& args) {
   o.fps = opts.number("--fps", 60, 1, 1000);
   o.frames = !opts.flag("--no-frames");
   o.profile_steps = opts.integer("--profile-steps", 32, 0, 1 << 16);
+  o.profile_parts = opts.flag("--profile-parts");
   o.bare_steps = opts.integer("--bare-steps", 64, 1, 1 << 20);
   o.threads = static_cast<int>(opts.integer("--threads", 0, 0, 1024));
   const std::string out_dir = opts.value("--out", "");

@@ -224,8 +224,9 @@ class GpuSolver final : public SolverWithAllFacets {
   // median time per pass name ("kick_drift" once, then "stress" (with the principal stress
   // while on) and "force" per step, and "contact" after every drift while tools touch the
   // candidates' chunk). Empty where the device has no timestamps. Advances the state like
-  // advance(steps, dt).
-  std::vector<PassTime> profile(int64_t steps, double dt);
+  // advance(steps, dt). per_dispatch: the contact, cut and tear passes timed by their parts
+  // ("contact: tool", "cut: sever", "tear: pairs", ...; a barrier counts with the part after it).
+  std::vector<PassTime> profile(int64_t steps, double dt, bool per_dispatch = false);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
   // with its own phyxel, i.e. assumed to come from cache).
@@ -263,6 +264,14 @@ class GpuSolver final : public SolverWithAllFacets {
   bool in_stress(size_t i) const;
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
+  // A timestamp pair named `name` around what is recorded between them, while
+  // profile(per_dispatch) runs.
+  void part_begin(Recorder& rec, const char* name) {
+    if (part_timer_) part_timer_->begin(rec, name);
+  }
+  void part_end(Recorder& rec) {
+    if (part_timer_) part_timer_->end(rec);
+  }
   void record_stress(Recorder& rec, const Buffer& disp);
   void record_tear(Recorder& rec, const Buffer& disp);  // gpu_solver_tearing.cpp
   // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
@@ -307,6 +316,10 @@ class GpuSolver final : public SolverWithAllFacets {
                   const std::vector<uint32_t>& touched);
   void mark_severed(const SeveredPair& p);  // alive_ of both slots
   bool contact_recorded() const { return contact_active_; }
+  // tool_contact writes the samples itself (no tool_resist adds to its partials after it), and
+  // the dirty list's empty header where there is one: the sever and tear passes that follow it
+  // in the substep (without a sever between for the tear) need no reset of their own.
+  bool contact_fused() const { return contact_active_ && !resisting_; }
 
   std::unique_ptr<Context> owned_ctx_;
   Context* ctx_;
@@ -396,6 +409,7 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer broad_groups_;       // uint per broad-phase workgroup: hits, then offsets
   Buffer candidate_force_;    // vec4[2 tools][partial_capacity()]: per workgroup, force and range
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
+  Buffer contact_done_;       // uint: tool_contact's finished workgroups (kContactFuseReduce)
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use
@@ -433,7 +447,8 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<uint8_t> alive_;        // per pair, as the log says (overflow and pair_alive)
 
   std::unique_ptr<Recorder> rec_[2];
-  int in_flight_ = -1;  // the rec_ whose submission advance() left running, or -1
+  PassTimer* part_timer_ = nullptr;  // profile(per_dispatch): the surgical passes' parts
+  int in_flight_ = -1;               // the rec_ whose submission advance() left running, or -1
 };
 
 }  // namespace phyxel::gpu

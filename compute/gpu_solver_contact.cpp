@@ -8,9 +8,10 @@
 // contact_margin, in ascending order) with the candidate count and the indirect dispatch of
 // tool_contact, the motion table copied from a persistent staging buffer, and the contact flags
 // cleared. After every drift of every substep (record_steps): tool_contact over the candidates
-// (dispatched indirectly), then tool_contact_reduce into the samples (a Readback buffer, read
-// once after the advance with the candidate count). Buffers grow when a chunk needs more and
-// are never reallocated otherwise.
+// (dispatched indirectly, at least one workgroup), whose last workgroup sums the samples (a
+// Readback buffer, read once after the advance with the candidate count) and empties the
+// dirty list; where a blade resists, tool_resist, then tool_contact_reduce does the sum instead.
+// Buffers grow when a chunk needs more and are never reallocated otherwise.
 #include <algorithm>
 #include <cstddef>
 #include <cstring>
@@ -80,12 +81,19 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     if (!contact_count_)
       contact_count_ = Buffer(ctx, sizeof(ContactCount), MemoryIntent::Readback,
                               "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+    if (!contact_done_)
+      contact_done_ =
+          Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "contact workgroups done");
   }
   if (cutting_) prepare_cutting();
   prepare_grasping();
   if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);
-    rec_[0]->fill(contact_count_, 0);
+    // No candidate, and one workgroup of tool_contact, which writes the samples (as
+    // tool_broad_scan gives at least).
+    rec_[0]->fill(contact_count_, 0, 0, sizeof(uint32_t));
+    rec_[0]->fill(contact_count_, 1, offsetof(ContactCount, groups_x), 3 * sizeof(uint32_t));
+    rec_[0]->fill(contact_done_, 0);
     rec_[0]->submit_and_wait();
   }
 }
@@ -219,15 +227,20 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
   // This substep's row of the motion table; past the chunk the tools keep the last end pose.
   const uint64_t k = motion_step_ + uint64_t(step);
+  const bool fused = contact_fused();
+  const uint32_t fuse = !fused       ? 0u
+                        : cut_dirty_ ? kContactFuseReduce | kContactFuseDirtyReset
+                                     : kContactFuseReduce;
   const ContactPush push{contact_origin_,
-                         0u,
+                         static_cast<uint32_t>(step),
                          dt,
                          nt,
                          static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_ - 1)),
                          k >= motion_steps_ ? 1u : 0u,
                          partial_capacity(),
-                         0u,
+                         fuse,
                          0u};
+  part_begin(rec, "contact: tool");
   dispatch_indirect(rec, kernels_->contact, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
@@ -239,20 +252,30 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                      {"Motion", motion_table_},
                      {"Force", candidate_force_},
                      {"Contact", contact_flag_},
-                     {"Count", contact_count_}},
+                     {"Count", contact_count_},
+                     {"Samples", samples_buffer_},
+                     {"Dirty", cut_dirty_ ? cut_dirty_ : contact_done_},  // unwritten without
+                     {"Done", contact_done_}},
                     contact_count_, offsetof(ContactCount, groups_x));
-  rec.barrier();
-  if (resisting_) {
-    record_resist(rec, step, dt, disp);
+  part_end(rec);
+  if (!fused) {  // tool_resist adds to the partials: tool_contact_reduce sums them after it
     rec.barrier();
+    part_begin(rec, "contact: resist");
+    record_resist(rec, step, dt, disp);
+    part_end(rec);
+    rec.barrier();
+    part_begin(rec, "contact: reduce");
+    dispatch(rec, kernels_->contact_reduce,
+             ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
+             {{"Force", candidate_force_}, {"Samples", samples_buffer_}, {"Count", contact_count_}},
+             nt * kernels_->contact_reduce.workgroup_size()[0]);
+    part_end(rec);
   }
-  dispatch(rec, kernels_->contact_reduce,
-           ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
-           {{"Force", candidate_force_}, {"Samples", samples_buffer_}, {"Count", contact_count_}},
-           nt * kernels_->contact_reduce.workgroup_size()[0]);
   if (grasping_) {
     rec.barrier();
+    part_begin(rec, "contact: grasp");
     record_grasp(rec, step, dt, disp);
+    part_end(rec);
   }
 }
 

@@ -1,6 +1,6 @@
 // GpuSolver: cutting with CpuSolver's semantics (engine/solver/cpu_solver_cutting.cpp,
 // engine/solver/cutting.h). Per substep, after the contact reduction and in the same command
-// buffer: the dirty list's header reset, tool_sever over the candidates (indirect), and
+// buffer: the dirty list's header reset (unless tool_contact emptied it), tool_sever over the candidates (indirect), and
 // solver_precompute over the phyxels it put in the dirty list (indirect, from the group count
 // tool_sever grew). Severed pairs keep their CSR slots with weight 0, which the step passes
 // read for phyxels flagged kFlagPairsEdited. After the advance, the log of severed pairs is
@@ -93,8 +93,13 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
 
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
-  rec.barrier();  // the samples of this substep
-  record_dirty_reset(rec);
+  rec.barrier();           // the samples of this substep
+  if (!contact_fused()) {  // else tool_contact emptied the list
+    part_begin(rec, "cut: reset");
+    record_dirty_reset(rec);
+    part_end(rec);
+  }
+  part_begin(rec, "cut: sever");
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
   dispatch_indirect(rec, kernels_->sever, push,
@@ -113,7 +118,10 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"IndexHi", nbr_index_.hi()},
                      {"WeightHi", weight_.hi()}},
                     contact_count_, offsetof(ContactCount, groups_x));
+  part_end(rec);
+  part_begin(rec, "cut: precompute");
   record_dirty_precompute(rec);
+  part_end(rec);
 }
 
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {

@@ -70,7 +70,8 @@ void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer
                                                          {"Grip", grip_},
                                                          {"Count", grip_count_},
                                                          {"Force", grip_force_},
-                                                         {"Samples", samples_buffer_}};
+                                                         {"Samples", samples_buffer_},
+                                                         {"Done", contact_done_}};
       if (elements > 0)
         dispatch(rec, kernels_->grasp, push, bindings, elements);
       else
@@ -82,9 +83,7 @@ void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer
       rec.indirect_barrier();
       grip_closed_[t] = 1;
     }
-    pass(kGraspHold, 0);
-    rec.barrier();
-    pass(kGraspReduce, wg);
+    pass(kGraspHoldReduce, 0);
     // Every mode binds the grip counts as writable: the next substep's hold reads them as its
     // indirect dispatch.
     rec.indirect_barrier();

@@ -228,19 +228,28 @@ std::vector<float> GpuSolver::pair_weights() {
   return weight_.download<float>(*ctx_);
 }
 
-std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt) {
+std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt, bool per_dispatch) {
   settle();
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
   // kick_drift once; per step stress (with the principal stress while on), force, tear while
-  // on, and contact and cut where there are tools.
-  const int64_t per_step = 2 + (tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0);
+  // on, and contact and cut where there are tools; per dispatch, at most 4 parts of each.
+  const int64_t per_step =
+      2 +
+      (per_dispatch ? 4 : 1) * ((tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0));
   PassTimer timer(*ctx_, static_cast<uint32_t>(2 + per_step * steps));
   Recorder& rec = *rec_[0];
   if (!tools_.empty()) begin_contact(steps, dt);  // its uploads go first
   if (tearing_ && !cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));
   timer.reset(rec);
   int cur = 0;
-  record_steps(rec, 0, steps, steps, static_cast<float>(dt), cur, &timer);
+  if (per_dispatch) part_timer_ = &timer;
+  try {
+    record_steps(rec, 0, steps, steps, static_cast<float>(dt), cur, &timer);
+  } catch (...) {
+    part_timer_ = nullptr;
+    throw;
+  }
+  part_timer_ = nullptr;
   rec.submit_and_wait();
   if (!tools_.empty()) finish_contact(steps, true);
   if (cutting_ || tearing_) finish_cutting();

@@ -1,8 +1,8 @@
 // GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
 // engine/solver/tearing.h). Per substep, after the force pass and in the same command buffer:
-// the dirty list's header reset, solver_tear over the stress list (on the u the stress pass
-// read), and solver_precompute over the phyxels it put in the dirty list (indirect). The torn
-// pairs join the cut log, read back once per advance (finish_cutting).
+// the dirty list's header reset (unless tool_contact emptied it), solver_tear over the stress list
+// (on the u the stress pass read), and solver_precompute over the phyxels it put in the dirty list
+// (indirect). The torn pairs join the cut log, read back once per advance (finish_cutting).
 #include <algorithm>
 
 #include "compute/gpu_solver.h"
@@ -36,8 +36,16 @@ void GpuSolver::set_tearing(bool on) {
 
 void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
-  record_dirty_reset(rec);
-  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, 0u},
+  // tool_contact emptied the list in this substep unless a sever filled it after.
+  if (!contact_fused() || cutting_) {
+    part_begin(rec, "tear: reset");
+    record_dirty_reset(rec);
+    part_end(rec);
+  }
+  part_begin(rec, "tear: pairs");
+  // Lanes as the stress pass's gather: a pass of a few thousand phyxels is latency-bound.
+  const uint32_t lanes = lanes_for(Gather::Stress, n);
+  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, lanes},
            {{"List", stress_list_},
             {"Rest", rest_},
             {"Disp", disp},
@@ -52,8 +60,11 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
             {"Log", cut_log_},
             {"IndexHi", nbr_index_.hi()},
             {"WeightHi", weight_.hi()}},
-           n);
+           n * lanes);
+  part_end(rec);
+  part_begin(rec, "tear: precompute");
   record_dirty_precompute(rec);
+  part_end(rec);
 }
 
 }  // namespace phyxel::gpu

@@ -293,7 +293,7 @@ struct TearPush {
   uint count;  // stress pass list length
   uint log_capacity;
   float weakest;  // the smallest tear strength of any class that tears
-  uint pad1;
+  uint lanes;     // invocations per phyxel, each a share of its pairs (>= 1)
 };
 PHYXEL_ASSERT_SIZE(TearPush, 16);
 PHYXEL_CONST uint kTearBindingList = 0;  // the stress pass list

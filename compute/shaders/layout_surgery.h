@@ -44,20 +44,25 @@ PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 // (u += dx, v += dv on the displacement buffer that holds the new u), the contact forces
 // m dv / dt of each workgroup's candidates summed per tool into force[tool * capacity + group]
 // (xyz; w: the contacts) and their axial range into force[(tools + tool) * capacity + group],
-// and the per-phyxel contact flag (1 touched, 0 not).
+// and the per-phyxel contact flag (1 touched, 0 not). With kContactFuseReduce the workgroup
+// that finishes last (Done counts them) also writes the substep's samples as
+// tool_contact_reduce does, and with kContactFuseDirtyReset the dirty list's empty header.
 struct ContactPush {
   vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
-  uint unused;    // (the candidates are counted on the GPU: ContactCount.total)
+  uint substep;   // of the advance: the row of the samples (kContactFuseReduce)
   float dt;       // s
   uint tools;     // tools
   uint motion;    // row of the motion table (substep of the chunk, clamped to its last)
   uint hold;      // 1 past the chunk's motions: the tools stay at the row's end pose
   uint capacity;  // stride of the per-workgroup force buffer (>= its workgroups)
-  uint pad0;
+  uint fuse;      // kContactFuse* bits
   uint pad1;
 };
 PHYXEL_ASSERT_SIZE(ContactPush, 48);
-// tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact}
+PHYXEL_CONST uint kContactFuseReduce = 1;      // the samples, by the last workgroup
+PHYXEL_CONST uint kContactFuseDirtyReset = 2;  // and the dirty list's header {0, 0, 1, 1}
+// tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact, count,
+// samples, dirty, done}
 PHYXEL_CONST uint kContactBindingList = 0;  // candidate phyxels, ascending
 PHYXEL_CONST uint kContactBindingRest = 1;
 PHYXEL_CONST uint kContactBindingDisp = 2;
@@ -68,7 +73,10 @@ PHYXEL_CONST uint kContactBindingTools = 6;
 PHYXEL_CONST uint kContactBindingMotion = 7;
 PHYXEL_CONST uint kContactBindingForce = 8;
 PHYXEL_CONST uint kContactBindingContact = 9;
-PHYXEL_CONST uint kContactBindingCount = 10;  // ContactCount (tool_broad_scan)
+PHYXEL_CONST uint kContactBindingCount = 10;    // ContactCount (tool_broad_scan)
+PHYXEL_CONST uint kContactBindingSamples = 11;  // as tool_contact_reduce's
+PHYXEL_CONST uint kContactBindingDirty = 12;    // the cut dirty list (tool_sever, solver_tear)
+PHYXEL_CONST uint kContactBindingDone = 13;     // workgroups finished; 0 between dispatches
 
 // tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
 // tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
@@ -187,9 +195,13 @@ PHYXEL_ASSERT_SIZE(GraspEntry, 32);
 //   kGraspReduce   one workgroup: the forces summed in a fixed order (tool_contact_reduce's),
 //                  subtracted from the tool's sample of the substep, and the held count into
 //                  its second row's z
+//   kGraspHoldReduce  kGraspHold, then the workgroup that finishes last (Done counts them)
+//                  does kGraspReduce: one dispatch and barrier less (no workgroup where nothing
+//                  is held, which changes no bit of the sample: x - 0 is x, z is 0 already)
 PHYXEL_CONST uint kGraspCapture = 0u;
 PHYXEL_CONST uint kGraspHold = 1u;
 PHYXEL_CONST uint kGraspReduce = 2u;
+PHYXEL_CONST uint kGraspHoldReduce = 3u;
 struct GraspPush {
   vec4 origin;  // the motion table's frame (ContactPush.origin); w: the reach (m)
   float dt;     // s
@@ -214,6 +226,7 @@ PHYXEL_CONST uint kGraspBindingGrip = 8;    // GraspEntry [tool][capacity]
 PHYXEL_CONST uint kGraspBindingCount = 9;   // ContactCount per tool: the grip's
 PHYXEL_CONST uint kGraspBindingForce = 10;  // vec4 [tool][capacity]
 PHYXEL_CONST uint kGraspBindingSamples = 11;
+PHYXEL_CONST uint kGraspBindingDone = 12;  // workgroups finished (tool_contact's); 0 between
 
 // ---------------------------------------------------------------------------------------
 // Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors

@@ -1,7 +1,9 @@
 // Tearing after a substep's force pass (TearPush in layout.h; the CPU twin is
 // CpuSolver::apply_tears in engine/solver/cpu_solver_tearing.cpp, the criterion
 // engine/solver/tearing.h): each phyxel of the stress pass tests its live pairs to higher
-// indices; a pair whose mean normal stress reaches the mean of the two strengths is severed on
+// indices, from its row's end (the rows ascend) down to its own index, p.lanes invocations per
+// phyxel taking every p.lanes-th pair (no pair's test reads another's outcome: the same pairs
+// tear in any order and with any lanes); a pair whose mean normal stress reaches the mean of the two strengths is severed on
 // both sides, logged (i, j, 0.5, torn) and both phyxels go to the dirty list.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -47,7 +49,9 @@ float strength(uint x) {
 }
 
 void main() {
-  const uint slot = PHYXEL_GLOBAL_INDEX;
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  const uint slot = invocation / p.lanes;
+  const uint lane = invocation % p.lanes;
   if (slot >= p.count) return;
   const uint i = list[slot];
   const float ti = strength(i);
@@ -60,9 +64,12 @@ void main() {
   // (0.9998 < 0.9999 keeps the skip inside the test below after float rounding): j's flags and
   // class are loaded only for pairs that may tear.
   const float no_tear_below = 0.9998 * (ti + p.weakest);
-  for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
+  const uint begin = offset[i], end = offset[i + 1u];
+  for (uint back = lane; back < end - begin; back += p.lanes) {
+    const uint k = end - 1u - back;
     const uint j = nbr_index(k);
-    if (j <= i || pi + principal[j] < no_tear_below || pair_weight_bits(k) == 0u) continue;
+    if (j <= i) break;  // and every pair before it
+    if (pi + principal[j] < no_tear_below || pair_weight_bits(k) == 0u) continue;
     const float threshold = pair_threshold(ti, strength(j));
     if (!(threshold > 0.0)) continue;
     if (0.5 * (pi + principal[j]) < 0.9999 * threshold) continue;  // s_ij cannot reach it

@@ -36,8 +36,9 @@ void main() {
   if (t == PHYXEL_WORKGROUP_SIZE - 1u) {
     const uint total = run_total[t];
     count.total = total;
-    // As dispatch() spreads groups over y past 65535 (PHYXEL_GLOBAL_INDEX).
-    const uint groups = (total + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
+    // As dispatch() spreads groups over y past 65535 (PHYXEL_GLOBAL_INDEX); at least one,
+    // whose last workgroup writes the samples (kContactFuseReduce).
+    const uint groups = max((total + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE, 1u);
     count.groups_x = min(groups, 65535u);
     count.groups_y = (groups + 65534u) / 65535u;
     count.groups_z = 1u;

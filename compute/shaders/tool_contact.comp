@@ -6,7 +6,10 @@
 // along the tool's axis from its tip (the rows of tools p.tools onwards) for
 // tool_contact_reduce, and sets the phyxel's contact flag. Fixed and
 // removed phyxels take no contact (sleeping objects are not in the list). Each invocation reads
-// and writes only its own phyxel: no atomics.
+// and writes only its own phyxel. With kContactFuseReduce (no tool_resist between the two), the
+// workgroup that finishes last (an atomic count of the finished ones) sums the partials into the
+// samples as tool_contact_reduce does, in the same order: the same bits, one dispatch and one
+// barrier less per substep.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -23,9 +26,14 @@ layout(std430, binding = kContactBindingExt) readonly buffer Ext { vec4 ext[]; }
 layout(std430, binding = kContactBindingFlags) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = kContactBindingTools) readonly buffer Tools { ContactToolShape tools[]; };
 layout(std430, binding = kContactBindingMotion) readonly buffer Motion { ContactMotion motion[]; };
-layout(std430, binding = kContactBindingForce) writeonly buffer Force { vec4 contact_force[]; };
+layout(std430, binding = kContactBindingForce) coherent buffer Force { vec4 contact_force[]; };
 layout(std430, binding = kContactBindingContact) writeonly buffer Contact { uint contact[]; };
 layout(std430, binding = kContactBindingCount) readonly buffer Count { ContactCount count; };
+layout(std430, binding = kContactBindingSamples) writeonly buffer Samples { vec4 samples[]; };
+layout(std430, binding = kContactBindingDirty) writeonly buffer Dirty { uint dirty[]; };
+layout(std430, binding = kContactBindingDone) coherent buffer Done { uint done; };
+
+#include "tool_contact_sum.glsl"
 
 // Each workgroup adds its candidates' forces and axial ranges per tool (a fixed tree in shared
 // memory) and writes one partial per tool: tool_contact_reduce adds a workgroup's partials, so
@@ -33,6 +41,28 @@ layout(std430, binding = kContactBindingCount) readonly buffer Count { ContactCo
 // when torn pieces fly and the broad phase's margin grows with their speed).
 shared vec4 wg_felt[PHYXEL_WORKGROUP_SIZE];
 shared vec2 wg_along[PHYXEL_WORKGROUP_SIZE];
+shared bool wg_last;
+
+// kContactFuseReduce: after every workgroup wrote its partials, the last one writes the samples.
+void fused_reduce() {
+  memoryBarrierBuffer();  // this workgroup's partials before its count
+  barrier();
+  if (gl_LocalInvocationIndex == 0u)
+    wg_last = atomicAdd(done, 1u) == gl_NumWorkGroups.x * gl_NumWorkGroups.y - 1u;
+  barrier();
+  if (!wg_last) return;
+  memoryBarrierBuffer();
+  for (uint t = 0u; t < p.tools; ++t)
+    write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
+  if (gl_LocalInvocationIndex != 0u) return;
+  done = 0u;  // for the next substep
+  if ((p.fuse & kContactFuseDirtyReset) != 0u) {
+    dirty[0] = 0u;  // count, groups x, y, z: nothing severed yet
+    dirty[1] = 0u;
+    dirty[2] = 1u;
+    dirty[3] = 1u;
+  }
+}
 
 void main() {
   const uint slot = PHYXEL_GLOBAL_INDEX;
@@ -104,6 +134,7 @@ void main() {
     }
     barrier();  // the next tool's sums reuse the shared arrays
   }
+  if ((p.fuse & kContactFuseReduce) != 0u) fused_reduce();
   if (!candidate) return;
   if (moved) {
     disp[i] = vec4(u, 0.0);

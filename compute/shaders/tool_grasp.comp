@@ -2,7 +2,8 @@
 // twin; engine/solver/grasper.h the semantics), after tool_contact_reduce. Three modes
 // (layout.h GraspPush): capture the candidates within reach when the jaws close (one
 // workgroup, in ascending order), hold what the grip has (over its entries, indirect), and
-// reduce the grip's forces into the tool's sample (one workgroup, fixed order).
+// reduce the grip's forces into the tool's sample (one workgroup, fixed order); or hold, then
+// reduce by the workgroup that finishes last.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -43,15 +44,20 @@ layout(std430, binding = kGraspBindingGrip) buffer Grip {
 layout(std430, binding = kGraspBindingCount) buffer Count {
   ContactCount held[];
 };
-layout(std430, binding = kGraspBindingForce) buffer Force {
+layout(std430, binding = kGraspBindingForce) coherent buffer Force {
   vec4 grip_force[];
 };
 layout(std430, binding = kGraspBindingSamples) buffer Samples {
   vec4 samples[];
 };
 
+layout(std430, binding = kGraspBindingDone) coherent buffer Done {
+  uint done;
+};
+
 shared vec4 partial[PHYXEL_WORKGROUP_SIZE];
 shared uint taken[PHYXEL_WORKGROUP_SIZE];
+shared bool wg_last;
 
 const vec3 kToolFrameAxis = vec3(0.0, 0.0, 1.0);
 
@@ -141,12 +147,26 @@ void reduce() {
   }
 }
 
+// After every workgroup's hold: whether this one finished last (then the count is 0 again).
+bool finished_last() {
+  memoryBarrierBuffer();  // this workgroup's forces before its count
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    wg_last = atomicAdd(done, 1u) == gl_NumWorkGroups.x * gl_NumWorkGroups.y - 1u;
+    if (wg_last) done = 0u;
+  }
+  barrier();
+  memoryBarrierBuffer();
+  return wg_last;
+}
+
 void main() {
   const ContactMotion m = motion[p.motion * p.tools + p.tool];
   if (p.mode == kGraspCapture) {
     capture(m);
-  } else if (p.mode == kGraspHold) {
+  } else if (p.mode == kGraspHold || p.mode == kGraspHoldReduce) {
     hold(m);
+    if (p.mode == kGraspHoldReduce && finished_last()) reduce();
   } else {
     reduce();
   }

@@ -32,7 +32,8 @@ void stretched_state(const PhyxelSet& set, std::vector<Vec3>& u, std::vector<Vec
     u[i] = Vec3(strain * set.rest[i].x(), 0, 0) + 2e-6 * Vec3(d(rng), d(rng), d(rng));
 }
 
-TEST_F(GpuSolverTest, TearingFromAnOverstressedStateTearsTheCpusPairs) {
+// lanes: GpuSolverOptions::lanes (0: auto), which the tear pass shares with the stress pass.
+void expect_the_cpus_tears(Context& ctx, uint32_t lanes) {
   const PulledBar bar;
   std::vector<Vec3> u, v;
   stretched_state(bar.set, u, v);
@@ -40,7 +41,9 @@ TEST_F(GpuSolverTest, TearingFromAnOverstressedStateTearsTheCpusPairs) {
   cpu.displacement() = u;
   cpu.velocity() = v;
   cpu.set_tearing(true);
-  GpuSolver gpu(ctx(), bar.set, Vec3::Zero());
+  GpuSolverOptions options;
+  options.lanes = lanes;
+  GpuSolver gpu(ctx, bar.set, Vec3::Zero(), options);
   gpu.set_state(u, v);
   gpu.set_tearing(true);
   cpu.step(bar.dt);
@@ -76,6 +79,15 @@ TEST_F(GpuSolverTest, TearingFromAnOverstressedStateTearsTheCpusPairs) {
   const std::vector<Vec3> gu = gpu.read_state(false).displacement;
   EXPECT_EQ(pair_set(gpu.severed_since(0)), pair_set(cpu.severed_log()));
   EXPECT_LT(max_difference(cu, gu), 1e-4 * max_norm(cu));
+}
+
+TEST_F(GpuSolverTest, TearingFromAnOverstressedStateTearsTheCpusPairs) {
+  expect_the_cpus_tears(ctx(), 0);
+}
+
+// Four invocations per phyxel share its pairs (the tear pass's lanes on a GPU at small sizes).
+TEST_F(GpuSolverTest, TearingWithFourLanesPerPhyxelTearsTheCpusPairs) {
+  expect_the_cpus_tears(ctx(), 4);
 }
 
 std::pair<std::vector<SeveredPair>, std::vector<Vec3>> pulled_apart(Context& ctx,
