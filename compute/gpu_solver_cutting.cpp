@@ -1,10 +1,10 @@
 // GpuSolver: cutting with CpuSolver's semantics (engine/solver/cpu_solver_cutting.cpp,
 // engine/solver/cutting.h). Per substep, after the contact reduction and in the same command
-// buffer: the dirty list's header reset (unless tool_contact emptied it), tool_sever over the candidates (indirect), and
-// solver_precompute over the phyxels it put in the dirty list (indirect, from the group count
-// tool_sever grew). Severed pairs keep their CSR slots with weight 0, which the step passes
-// read for phyxels flagged kFlagPairsEdited. After the advance, the log of severed pairs is
-// read back once, sorted and appended to the host's log.
+// buffer: the dirty list's header reset (unless tool_contact emptied it), tool_sever over the
+// candidates (indirect), and solver_precompute over the phyxels it put in the dirty list (indirect,
+// from the group count tool_sever grew). Severed pairs keep their CSR slots with weight 0, which
+// the step passes read for phyxels flagged kFlagPairsEdited. After the advance, the log of severed
+// pairs is read back once, sorted and appended to the host's log.
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
