@@ -18,9 +18,9 @@ std::vector<ObjectMotion> Solver::object_motion(const PhyxelSet& set) {
 }
 
 NearState Solver::read_near(const PhyxelSet& set, const Bounds& box) {
-  std::vector<Vec3> u;
-  std::vector<double> principal;
-  read_advanced_state(u, principal);
+  const PointState s = read_state(true);
+  const std::vector<Vec3>& u = s.displacement;
+  const std::vector<double>& principal = s.max_principal_stress;
   if (u.size() != set.size())
     throw std::invalid_argument("Solver::read_near: the set has " + std::to_string(set.size()) +
                                 " phyxels, the solver " + std::to_string(u.size()));

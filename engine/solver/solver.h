@@ -26,7 +26,7 @@ struct PointState {
 };
 
 // What aspiration reads near the mouths (Solver::read_near): ascending phyxel ids, and per id
-// u and the largest principal stress (as read_advanced_state gives them; empty while off).
+// u and the largest principal stress (as read_state(true) gives them; empty while off).
 struct NearState {
   std::vector<uint32_t> ids;
   std::vector<Vec3> displacement;
@@ -186,19 +186,10 @@ class Solver {
   // as the solver that read them would (checkpoint resume, a long step cut short).
   virtual void set_state(const std::vector<Vec3>& displacement,
                          const std::vector<Vec3>& velocity) = 0;
-  // u and the largest principal stress (empty while off), as read_state(true) gives them:
-  // read_near's source where a solver has no read of its own (the CPU solver).
-  virtual void read_advanced_state(std::vector<Vec3>& displacement,
-                                   std::vector<double>& principal) {
-    PointState s = read_state(true);
-    displacement = std::move(s.displacement);
-    principal = std::move(s.max_principal_stress);
-  }
-
   // Aspiration's reads without the whole state: the phyxels of `set` (the solver's) whose
   // current position rest + u lies in `box`, with u and the principal stress. The GPU solver
   // selects them on the device, in float (callers test exactly, in a box with a margin), and
-  // downloads only those; by default this filters read_advanced_state.
+  // downloads only those; by default this filters read_state(true).
   virtual NearState read_near(const PhyxelSet& set, const Bounds& box);
   // u of each of `ids`, in their order (a gather on the GPU; by default from read_state).
   virtual std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids);
