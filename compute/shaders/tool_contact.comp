@@ -41,27 +41,18 @@ layout(std430, binding = kContactBindingDone) coherent buffer Done { uint done; 
 // when torn pieces fly and the broad phase's margin grows with their speed).
 shared vec4 wg_felt[PHYXEL_WORKGROUP_SIZE];
 shared vec2 wg_along[PHYXEL_WORKGROUP_SIZE];
-shared bool wg_last;
+#include "last_workgroup.glsl"
 
 // kContactFuseReduce: after every workgroup wrote its partials, the last one writes the samples.
 void fused_reduce() {
-  memoryBarrierBuffer();  // this workgroup's partials before its count
-  barrier();
-  if (gl_LocalInvocationIndex == 0u)
-    wg_last = atomicAdd(done, 1u) == gl_NumWorkGroups.x * gl_NumWorkGroups.y - 1u;
-  barrier();
-  if (!wg_last) return;
-  memoryBarrierBuffer();
+  if (!finished_last()) return;
   for (uint t = 0u; t < p.tools; ++t)
     write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
-  if (gl_LocalInvocationIndex != 0u) return;
-  done = 0u;  // for the next substep
-  if ((p.fuse & kContactFuseDirtyReset) != 0u) {
-    dirty[0] = 0u;  // count, groups x, y, z: nothing severed yet
-    dirty[1] = 0u;
-    dirty[2] = 1u;
-    dirty[3] = 1u;
-  }
+  if (gl_LocalInvocationIndex != 0u || (p.fuse & kContactFuseDirtyReset) == 0u) return;
+  dirty[0] = 0u;  // count, groups x, y, z: nothing severed yet
+  dirty[1] = 0u;
+  dirty[2] = 1u;
+  dirty[3] = 1u;
 }
 
 void main() {

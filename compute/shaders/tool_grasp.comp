@@ -54,10 +54,10 @@ layout(std430, binding = kGraspBindingSamples) buffer Samples {
 layout(std430, binding = kGraspBindingDone) coherent buffer Done {
   uint done;
 };
+#include "last_workgroup.glsl"
 
 shared vec4 partial[PHYXEL_WORKGROUP_SIZE];
 shared uint taken[PHYXEL_WORKGROUP_SIZE];
-shared bool wg_last;
 
 const vec3 kToolFrameAxis = vec3(0.0, 0.0, 1.0);
 
@@ -145,19 +145,6 @@ void reduce() {
     samples[row].xyz -= partial[0].xyz;
     samples[row + 1u].z = partial[0].w;
   }
-}
-
-// After every workgroup's hold: whether this one finished last (then the count is 0 again).
-bool finished_last() {
-  memoryBarrierBuffer();  // this workgroup's forces before its count
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) {
-    wg_last = atomicAdd(done, 1u) == gl_NumWorkGroups.x * gl_NumWorkGroups.y - 1u;
-    if (wg_last) done = 0u;
-  }
-  barrier();
-  memoryBarrierBuffer();
-  return wg_last;
 }
 
 void main() {
