@@ -276,12 +276,9 @@ class GpuSolver final : public SolverWithAllFacets {
   void record_tear(Recorder& rec, const Buffer& disp);  // gpu_solver_tearing.cpp
   // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
   void record_dirty_reset(Recorder& rec);
-  // The precompute over the dirty list (indirect), after a pass that filled it.
-  void record_dirty_precompute(Recorder& rec);
-  // The precompute pass over the phyxels of `list`: `elements` of them, or, where `indirect`,
-  // as many as the list's header says (the dirty list).
+  // The precompute pass over the phyxels of `list` (`elements` of them).
   void record_precompute(Recorder& rec, const layout::PrecomputePush& pc, const Buffer& list,
-                         uint32_t elements, bool indirect = false);
+                         uint32_t elements);
   // A pass with solver_energy's bindings (energy, von Mises) over every phyxel, into `out`.
   void record_energy_like(Recorder& rec, const Pipeline& pass, const Buffer& out);
   void record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in, const Buffer& out);
@@ -438,8 +435,9 @@ class GpuSolver final : public SolverWithAllFacets {
   bool resisting_ = false;              // a blade has a threshold and an edge stiffness
   double max_support_ = 0;              // the largest support radius (the broad phase's margin)
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
-  Buffer cut_dirty_;                    // uint: count, groups x y z, phyxels (indirect)
-  Buffer cut_log_;                      // Readback: uvec4 count, then (i, j, t bits, 0)
+  Buffer cut_dirty_;                    // uint: count, 3 unused, phyxels
+  Buffer cut_done_;  // uint: finished workgroups of tool_sever or solver_tear; 0 between
+  Buffer cut_log_;   // Readback: uvec4 count, then (i, j, t bits, 0)
   uint32_t log_capacity_ = 0;
   // The smallest tear strength of any class that tears (+inf if none): TearPush.weakest.
   float weakest_tear_ = std::numeric_limits<float>::infinity();

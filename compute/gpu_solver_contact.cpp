@@ -79,8 +79,9 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     reserve(ctx, contact_flag_, uint64_t{count_} * sizeof(uint32_t), MemoryIntent::Device,
             "contact flags");
     if (!contact_count_)
-      contact_count_ = Buffer(ctx, sizeof(ContactCount), MemoryIntent::Readback,
-                              "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+      contact_count_ =
+          Buffer(ctx, sizeof(ContactCount) + sizeof(SeverGroups), MemoryIntent::Readback,
+                 "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
     if (!contact_done_)
       contact_done_ =
           Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "contact workgroups done");
@@ -93,6 +94,9 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     // tool_broad_scan gives at least).
     rec_[0]->fill(contact_count_, 0, 0, sizeof(uint32_t));
     rec_[0]->fill(contact_count_, 1, offsetof(ContactCount, groups_x), 3 * sizeof(uint32_t));
+    rec_[0]->fill(contact_count_, 0, sizeof(ContactCount), sizeof(uint32_t));  // no sever
+    rec_[0]->fill(contact_count_, 1, sizeof(ContactCount) + offsetof(SeverGroups, y),
+                  3 * sizeof(uint32_t));
     rec_[0]->fill(contact_done_, 0);
     rec_[0]->submit_and_wait();
   }

@@ -1,10 +1,10 @@
 // GpuSolver: cutting with CpuSolver's semantics (engine/solver/cpu_solver_cutting.cpp,
 // engine/solver/cutting.h). Per substep, after the contact reduction and in the same command
-// buffer: the dirty list's header reset (unless tool_contact emptied it), tool_sever over the
-// candidates (indirect), and solver_precompute over the phyxels it put in the dirty list (indirect,
-// from the group count tool_sever grew). Severed pairs keep their CSR slots with weight 0, which
-// the step passes read for phyxels flagged kFlagPairsEdited. After the advance, the log of severed
-// pairs is read back once, sorted and appended to the host's log.
+// buffer: the dirty list's header reset (unless tool_contact emptied it) and tool_sever over the
+// candidates (indirect), whose last workgroup reruns the precompute of the phyxels it put in the
+// dirty list (no dependent dispatch where nothing was severed). Severed pairs keep their CSR slots
+// with weight 0, which the step passes read for phyxels flagged kFlagPairsEdited. After the
+// advance, the log of severed pairs is read back once, sorted and appended to the host's log.
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -34,7 +34,12 @@ void GpuSolver::prepare_cutting() {
   Context& ctx = *ctx_;
   if (!cut_dirty_)
     cut_dirty_ = Buffer(ctx, (uint64_t{count_} + 4) * sizeof(uint32_t), MemoryIntent::Device,
-                        "cut dirty phyxels", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+                        "cut dirty phyxels");
+  if (!cut_done_) {
+    cut_done_ = Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "cut workgroups done");
+    rec_[0]->fill(cut_done_, 0);
+    rec_[0]->barrier();
+  }
   if (!cut_log_) {
     log_capacity_ = 4096;
     cut_log_ = Buffer(ctx, (uint64_t{log_capacity_} + 1) * sizeof(uvec4), MemoryIntent::Readback,
@@ -116,11 +121,13 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"Log", cut_log_},
                      {"Count", contact_count_},
                      {"IndexHi", nbr_index_.hi()},
-                     {"WeightHi", weight_.hi()}},
-                    contact_count_, offsetof(ContactCount, groups_x));
-  part_end(rec);
-  part_begin(rec, "cut: precompute");
-  record_dirty_precompute(rec);
+                     {"WeightHi", weight_.hi()},
+                     {"Local", local_},
+                     {"Classes", classes_},
+                     {"Ainv", ainv_},
+                     {"Resid", resid_},
+                     {"Done", cut_done_}},
+                    contact_count_, sizeof(ContactCount));
   part_end(rec);
 }
 
@@ -146,34 +153,26 @@ void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffe
 }
 
 void GpuSolver::record_dirty_reset(Recorder& rec) {
-  rec.fill(cut_dirty_, 0, 0, 2 * sizeof(uint32_t));                     // count, groups x
-  rec.fill(cut_dirty_, 1, 2 * sizeof(uint32_t), 2 * sizeof(uint32_t));  // groups y, z
+  rec.fill(cut_dirty_, 0, 0, sizeof(uint32_t));  // the count
   rec.barrier();
 }
 
-void GpuSolver::record_dirty_precompute(Recorder& rec) {
-  rec.indirect_barrier();
-  record_precompute(rec, PrecomputePush{0u, kPrecomputeCutList, 0, 0}, cut_dirty_, 0, true);
-}
-
 void GpuSolver::record_precompute(Recorder& rec, const PrecomputePush& pc, const Buffer& list,
-                                  uint32_t elements, bool indirect) {
-  const std::initializer_list<BufferRef> bindings = {{"Offset", nbr_offset_},
-                                                     {"IndexLo", nbr_index_.lo()},
-                                                     {"WeightLo", weight_.lo()},
-                                                     {"Local", local_},
-                                                     {"Flags", flags_},
-                                                     {"Classes", classes_},
-                                                     {"Rest", rest_},
-                                                     {"Ainv", ainv_},
-                                                     {"Resid", resid_},
-                                                     {"List", list},
-                                                     {"IndexHi", nbr_index_.hi()},
-                                                     {"WeightHi", weight_.hi()}};
-  if (indirect)
-    dispatch_indirect(rec, kernels_->precompute, pc, bindings, list, sizeof(uint32_t));
-  else
-    dispatch(rec, kernels_->precompute, pc, bindings, elements);
+                                  uint32_t elements) {
+  dispatch(rec, kernels_->precompute, pc,
+           {{"Offset", nbr_offset_},
+            {"IndexLo", nbr_index_.lo()},
+            {"WeightLo", weight_.lo()},
+            {"Local", local_},
+            {"Flags", flags_},
+            {"Classes", classes_},
+            {"Rest", rest_},
+            {"Ainv", ainv_},
+            {"Resid", resid_},
+            {"List", list},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()}},
+           elements);
 }
 
 void GpuSolver::finish_cutting() {

@@ -1,8 +1,9 @@
 // GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
 // engine/solver/tearing.h). Per substep, after the force pass and in the same command buffer:
-// the dirty list's header reset (unless tool_contact emptied it), solver_tear over the stress list
-// (on the u the stress pass read), and solver_precompute over the phyxels it put in the dirty list
-// (indirect). The torn pairs join the cut log, read back once per advance (finish_cutting).
+// the dirty list's count reset (unless tool_contact emptied it) and solver_tear over the stress
+// list (on the u the stress pass read), whose last workgroup reruns the precompute of the phyxels
+// it put in the dirty list. The torn pairs join the cut log, read back once per advance
+// (finish_cutting).
 #include <algorithm>
 
 #include "compute/gpu_solver.h"
@@ -59,11 +60,12 @@ void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
             {"Dirty", cut_dirty_},
             {"Log", cut_log_},
             {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()}},
+            {"WeightHi", weight_.hi()},
+            {"Local", local_},
+            {"Ainv", ainv_},
+            {"Resid", resid_},
+            {"Done", cut_done_}},
            n * lanes);
-  part_end(rec);
-  part_begin(rec, "tear: precompute");
-  record_dirty_precompute(rec);
   part_end(rec);
 }
 

@@ -162,6 +162,9 @@ void Pipeline::reset() {
 namespace detail {
 namespace {
 
+// The most buffers one dispatch binds (tool_sever's 19).
+constexpr size_t kMaxDispatchBindings = 20;
+
 // The descriptor of binding `index`, after checking the buffer's block name (when the list is
 // `named`), size, offset and range.
 VkDescriptorBufferInfo checked_buffer(const Pipeline& pipeline, const DeviceInfo& info,
@@ -230,11 +233,12 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
   const DeviceInfo& info = ctx.info();
   const std::array<uint32_t, 3> groups = group_counts(elements, wg[0], info.max_workgroup_count);
 
-  // Up to 16 bindings on the stack: a step records two dispatches, and the host work of
-  // recording is what limits small scenes (no allocation per dispatch).
-  std::array<VkDescriptorBufferInfo, 16> infos{};
+  // Up to kMaxDispatchBindings on the stack: a step records two dispatches, and the host work
+  // of recording is what limits small scenes (no allocation per dispatch).
+  std::array<VkDescriptorBufferInfo, kMaxDispatchBindings> infos{};
   if (bindings.size() > infos.size())
-    throw std::logic_error("dispatch of '" + name + "': more than 16 bindings");
+    throw std::logic_error("dispatch of '" + name + "': more than " +
+                           std::to_string(kMaxDispatchBindings) + " bindings");
   const bool named = bindings.size() > 0 && bindings.begin()->block != nullptr;
   uint32_t count = 0;
   for (const BufferRef& b : bindings) {
@@ -251,7 +255,7 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
   const VkCommandBuffer cmd = rec.cmd();
   fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
   if (count > 0) {
-    std::array<VkWriteDescriptorSet, 16> writes{};
+    std::array<VkWriteDescriptorSet, kMaxDispatchBindings> writes{};
     const VkDescriptorSet set = ctx.push_descriptors()
                                     ? VK_NULL_HANDLE
                                     : rec.allocate_descriptor_set(pipeline.set_layout());

@@ -167,14 +167,10 @@ PHYXEL_CONST uint kScanAddBindingSums = 1;
 // phyxels they touch.
 struct PrecomputePush {
   uint count;
-  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = first + invocation;
-                 // kPrecomputeCutList: the count and phyxels of a CutDirty list (list[0],
-                 // list[4 + invocation]), dispatched indirectly from list[1..3], clearing
-                 // kFlagCutDirty
+  uint indexed;  // 1: phyxel = list[invocation]; 0: phyxel = first + invocation
   uint first;    // indexed 0: the phyxel of invocation 0 (the setup runs in chunks)
   uint pad;
 };
-PHYXEL_CONST uint kPrecomputeCutList = 2u;
 PHYXEL_ASSERT_SIZE(PrecomputePush, 16);
 PHYXEL_CONST uint kPrecomputeBindingOffset = 0;
 PHYXEL_CONST uint kPrecomputeBindingIndex = 1;
@@ -288,7 +284,9 @@ PHYXEL_CONST uint kEnergyBindingWeightHi = 12;
 // substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices
 // (each pair has one owner: no atomics on the weights); a pair whose mean normal stress
 // reaches the mean of the two classes' tear_stress gets weight 0 in both slots, is logged as
-// (i, j, 0.5 bits, 1) in the cut log and puts both phyxels in the dirty list (tool_sever's).
+// (i, j, 0.5 bits, 1) in the cut log and puts both phyxels in the dirty list (tool_sever's);
+// the workgroup that finishes last (Done counts them) runs solver_precompute's per-phyxel work
+// over the dirty list.
 struct TearPush {
   uint count;  // stress pass list length
   uint log_capacity;
@@ -310,6 +308,10 @@ PHYXEL_CONST uint kTearBindingDirty = 10;     // tool_sever's dirty list
 PHYXEL_CONST uint kTearBindingLog = 11;       // the cut log
 PHYXEL_CONST uint kTearBindingIndexHi = 12;
 PHYXEL_CONST uint kTearBindingWeightHi = 13;
+PHYXEL_CONST uint kTearBindingLocal = 14;  // the precompute's (kPrecomputeBinding*)
+PHYXEL_CONST uint kTearBindingAinv = 15;
+PHYXEL_CONST uint kTearBindingResid = 16;
+PHYXEL_CONST uint kTearBindingDone = 17;  // workgroups finished; 0 between dispatches
 
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;

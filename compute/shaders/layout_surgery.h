@@ -46,7 +46,7 @@ PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 // (xyz; w: the contacts) and their axial range into force[(tools + tool) * capacity + group],
 // and the per-phyxel contact flag (1 touched, 0 not). With kContactFuseReduce the workgroup
 // that finishes last (Done counts them) also writes the substep's samples as
-// tool_contact_reduce does, and with kContactFuseDirtyReset the dirty list's empty header.
+// tool_contact_reduce does, and with kContactFuseDirtyReset empties the dirty list.
 struct ContactPush {
   vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
   uint substep;   // of the advance: the row of the samples (kContactFuseReduce)
@@ -60,7 +60,7 @@ struct ContactPush {
 };
 PHYXEL_ASSERT_SIZE(ContactPush, 48);
 PHYXEL_CONST uint kContactFuseReduce = 1;      // the samples, by the last workgroup
-PHYXEL_CONST uint kContactFuseDirtyReset = 2;  // and the dirty list's header {0, 0, 1, 1}
+PHYXEL_CONST uint kContactFuseDirtyReset = 2;  // and the dirty list's count 0
 // tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact, count,
 // samples, dirty, done}
 PHYXEL_CONST uint kContactBindingList = 0;  // candidate phyxels, ascending
@@ -169,6 +169,16 @@ struct ContactCount {
   uint groups_z;
 };
 PHYXEL_ASSERT_SIZE(ContactCount, 16);
+// tool_broad_scan writes after the ContactCount: tool_sever's indirect dispatch (lanes
+// invocations per candidate; none without candidates).
+struct SeverGroups {
+  uint x;
+  uint y;
+  uint z;
+  uint lanes;  // invocations per candidate: kSeverMaxLanes, halved while the candidates times
+               // the lanes exceed kSeverInvocations (at least 1)
+};
+PHYXEL_ASSERT_SIZE(SeverGroups, 16);
 
 // ---------------------------------------------------------------------------------------
 // Graspers (compute/gpu_solver_grasp.cpp; shaders/tool_grasp.comp mirrors
@@ -249,12 +259,19 @@ struct CutQuad {
 };
 PHYXEL_ASSERT_SIZE(CutQuad, 112);
 
-// tool_sever: over the candidates, after tool_contact_reduce: for every tool whose sample of
-// this substep presses its edge with at least its threshold, each candidate tests its live
-// pairs (canonical order, lower index first) against the tool's quad. The pair's slot in the
-// lower index's row is claimed by an atomic exchange (so each pair is severed and logged once);
-// the winner zeroes both slots, logs (i, j, t) and puts both phyxels in the dirty list (once
-// each, by kFlagCutDirty), growing its indirect dispatch.
+// tool_sever: SeverGroups.lanes invocations per candidate, after tool_contact_reduce: for every
+// tool whose sample of this substep presses its edge with at least its threshold, each
+// candidate's invocations test its live pairs (every lanes-th each; canonical order, lower index
+// first) against the tool's quad, a pair going to the first tool that crosses it. The pair's
+// slot in the lower index's row is claimed by an atomic exchange (so each pair is severed and
+// logged once); the winner zeroes both slots, logs (i, j, t) and puts both phyxels in the dirty
+// list (once each, by kFlagCutDirty). The workgroup that finishes last (Done counts them) runs
+// solver_precompute's per-phyxel work over the dirty list. Its indirect dispatch follows the
+// ContactCount in the candidates' count buffer (tool_broad_scan: SeverGroups).
+// A few candidates' pairs are tested all at once (a pair's test at a time, latency-bound); many
+// candidates fill the card with fewer lanes each, which repeat less of a candidate's setup.
+PHYXEL_CONST uint kSeverMaxLanes = 32u;
+PHYXEL_CONST uint kSeverInvocations = 131072u;
 struct SeverPush {
   vec4 origin;  // the motion table's frame (ContactPush.origin)
   uint tools;
@@ -272,11 +289,16 @@ PHYXEL_CONST uint kSeverBindingWeight = 5;  // the pair weights, as uint bits
 PHYXEL_CONST uint kSeverBindingFlags = 6;
 PHYXEL_CONST uint kSeverBindingQuads = 7;    // CutQuad [row][tool]
 PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on the tool
-PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, groups x y z, then phyxels
+PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, 3 unused, then phyxels
 PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, torn)
-PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount
+PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount, then SeverGroups
 PHYXEL_CONST uint kSeverBindingIndexHi = 12;
 PHYXEL_CONST uint kSeverBindingWeightHi = 13;
+PHYXEL_CONST uint kSeverBindingLocal = 14;    // the precompute's (kPrecomputeBinding*)
+PHYXEL_CONST uint kSeverBindingClasses = 15;
+PHYXEL_CONST uint kSeverBindingAinv = 16;
+PHYXEL_CONST uint kSeverBindingResid = 17;
+PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups finished (solver_tear's too); 0 between
 
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor

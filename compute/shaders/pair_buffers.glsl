@@ -12,6 +12,8 @@
 //                        1: write the index, write float weights (nbr_pairs)
 //                        2: read the index, read and write the weights as uint bits (the
 //                           passes that sever pairs: tool_sever, solver_tear)
+//   PHYXEL_PAIR_WEIGHT_COHERENT   (optional, access 2) the weights coherent: a workgroup that
+//                           reads what others severed in the same dispatch (tool_sever's last)
 #ifndef PHYXEL_PAIR_BUFFERS_GLSL
 #define PHYXEL_PAIR_BUFFERS_GLSL
 
@@ -20,7 +22,9 @@
 #define PHYXEL_PAIR_WEIGHT_QUALIFIER writeonly
 #else
 #define PHYXEL_PAIR_INDEX_QUALIFIER readonly
-#if PHYXEL_PAIR_ACCESS == 2
+#if PHYXEL_PAIR_ACCESS == 2 && defined(PHYXEL_PAIR_WEIGHT_COHERENT)
+#define PHYXEL_PAIR_WEIGHT_QUALIFIER coherent
+#elif PHYXEL_PAIR_ACCESS == 2
 #define PHYXEL_PAIR_WEIGHT_QUALIFIER
 #else
 #define PHYXEL_PAIR_WEIGHT_QUALIFIER readonly
@@ -97,6 +101,11 @@ uint pair_weight_bits(uint k) {
   const uint n = pairs_lo();
   if (!kPairsSplit || k < n) return weight_lo[k];
   return weight_hi[k - n];
+}
+
+// w_ij of pair slot k as stored (0: a severed or removed pair).
+float pair_weight(uint k) {
+  return uintBitsToFloat(pair_weight_bits(k));
 }
 
 // Sets w_ij to 0 and returns its bits before; atomic, so of two threads severing one pair

@@ -3,8 +3,10 @@
 // engine/solver/tearing.h): each phyxel of the stress pass tests its live pairs to higher
 // indices, from its row's end (the rows ascend) down to its own index, p.lanes invocations per
 // phyxel taking every p.lanes-th pair (no pair's test reads another's outcome: the same pairs
-// tear in any order and with any lanes); a pair whose mean normal stress reaches the mean of the two strengths is severed on
-// both sides, logged (i, j, 0.5, torn) and both phyxels go to the dirty list.
+// tear in any order and with any lanes); a pair whose mean normal stress reaches the mean of the
+// two strengths is severed on both sides, logged (i, j, 0.5, torn) and both phyxels go to the
+// dirty list. Then the workgroup that finishes last reruns the precompute of the phyxels in the
+// dirty list (none most substeps: no dependent dispatch).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -21,13 +23,19 @@ layout(std430, binding = kTearBindingOffset) readonly buffer Offset { uint offse
 #define PHYXEL_PAIR_WEIGHT_BINDING kTearBindingWeight
 #define PHYXEL_PAIR_WEIGHT_HI_BINDING kTearBindingWeightHi
 #define PHYXEL_PAIR_ACCESS 2
+#define PHYXEL_PAIR_WEIGHT_COHERENT
 #include "pair_buffers.glsl"
-layout(std430, binding = kTearBindingFlags) buffer Flags { uint flags[]; };
+// Coherent: the last workgroup reads the flags, weights and list that the others wrote.
+layout(std430, binding = kTearBindingFlags) coherent buffer Flags { uint flags[]; };
 layout(std430, binding = kTearBindingClasses) readonly buffer Classes { SolverClass classes[]; };
 layout(std430, binding = kTearBindingPrincipal) readonly buffer Principal { float principal[]; };
 layout(std430, binding = kTearBindingCauchy) readonly buffer Cauchy { vec4 cauchy[]; };
-layout(std430, binding = kTearBindingDirty) buffer Dirty { uint dirty[]; };
+layout(std430, binding = kTearBindingDirty) coherent buffer Dirty { uint dirty[]; };
 layout(std430, binding = kTearBindingLog) buffer Log { uvec4 cut_log[]; };
+layout(std430, binding = kTearBindingLocal) buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kTearBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kTearBindingResid) writeonly buffer Resid { vec4 resid[]; };
+layout(std430, binding = kTearBindingDone) coherent buffer Done { uint done; };
 
 // pair_tear_threshold of engine/solver/tearing.h.
 float pair_threshold(float ti, float tj) {
@@ -42,14 +50,14 @@ mat3 tensor(uint i) {
 }
 
 #include "pair_edit.glsl"
-
+#include "last_workgroup.glsl"
+#include "solver_precompute.glsl"
 
 float strength(uint x) {
   return classes[flags[x] >> kFlagClassShift].search.w;
 }
 
-void main() {
-  const uint invocation = PHYXEL_GLOBAL_INDEX;
+void tear_pairs(uint invocation) {
   const uint slot = invocation / p.lanes;
   const uint lane = invocation % p.lanes;
   if (slot >= p.count) return;
@@ -89,4 +97,12 @@ void main() {
     const uint at = atomicAdd(cut_log[0].x, 1u);
     if (at < p.log_capacity) cut_log[1u + at] = uvec4(i, j, floatBitsToUint(0.5), 1u);
   }
+}
+
+void main() {
+  tear_pairs(PHYXEL_GLOBAL_INDEX);
+  if (!finished_last()) return;
+  const uint dirtied = dirty[0];
+  for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
+    precompute_phyxel(dirty[4u + e], true);
 }

@@ -1,6 +1,7 @@
 // The broad phase's workgroup counts into exclusive offsets (tool_broad_phase), in one
 // workgroup: thread t scans a contiguous run of the counts, a fixed tree over the threads'
-// totals gives each run's start. Writes the total and tool_contact's indirect dispatch.
+// totals gives each run's start. Writes the total, tool_contact's indirect dispatch and
+// tool_sever's (SeverGroups.lanes invocations per candidate).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -9,7 +10,10 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { BroadPhasePush p; };
 layout(std430, binding = kBroadScanBindingGroup) buffer Group { uint group[]; };
-layout(std430, binding = kBroadScanBindingCount) writeonly buffer Count { ContactCount count; };
+layout(std430, binding = kBroadScanBindingCount) writeonly buffer Count {
+  ContactCount count;
+  SeverGroups sever;
+};
 
 shared uint run_total[PHYXEL_WORKGROUP_SIZE];
 
@@ -42,5 +46,10 @@ void main() {
     count.groups_x = min(groups, 65535u);
     count.groups_y = (groups + 65534u) / 65535u;
     count.groups_z = 1u;
+    uint lanes = kSeverMaxLanes;
+    while (lanes > 1u && total * lanes > kSeverInvocations) lanes /= 2u;
+    const uint sever_groups = (total * lanes + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
+    sever = SeverGroups(min(sever_groups, 65535u), max((sever_groups + 65534u) / 65535u, 1u), 1u,
+                        lanes);
   }
 }

@@ -49,10 +49,7 @@ void fused_reduce() {
   for (uint t = 0u; t < p.tools; ++t)
     write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
   if (gl_LocalInvocationIndex != 0u || (p.fuse & kContactFuseDirtyReset) == 0u) return;
-  dirty[0] = 0u;  // count, groups x, y, z: nothing severed yet
-  dirty[1] = 0u;
-  dirty[2] = 1u;
-  dirty[3] = 1u;
+  dirty[0] = 0u;  // the count: nothing severed yet
 }
 
 void main() {

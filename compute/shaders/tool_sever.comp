@@ -1,9 +1,14 @@
-// Cutting after a substep's contacts (SeverPush in layout.h; the CPU twin is
-// CpuSolver::apply_cuts in engine/solver/cpu_solver_cutting.cpp): each candidate tests its live
-// pairs against the quad each cutting blade swept, in the canonical order (lower index first)
-// with the tie rule of engine/solver/cutting.cpp (an endpoint on the plane is on the positive
-// side; a segment through an edge crosses, except through the front), and the pairs its edge
-// holds (blade_edge.glsl). Positions relative to the motion table's origin.
+// Cutting after a substep's contacts (SeverPush in layout_surgery.h; the CPU twin is
+// CpuSolver::apply_cuts in engine/solver/cpu_solver_cutting.cpp): SeverGroups.lanes invocations
+// per candidate, each taking every lanes-th of its live pairs, test each pair against the quad
+// each cutting blade swept, in the canonical order (lower index first) with the tie rule of
+// engine/solver/cutting.cpp (an endpoint on the plane is on the positive side; a segment through
+// an edge crosses, except through the front), and the pairs its edge holds (blade_edge.glsl).
+// A pair goes to the first tool that crosses it (the CPU's tool by tool: a later tool finds it
+// severed); no pair's test reads another's outcome, so the same pairs are severed with the same
+// t in any order. Then the workgroup that finishes last reruns the precompute of the phyxels
+// put in the dirty list (none most substeps: no dependent dispatch). Positions relative to the
+// motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -20,13 +25,23 @@ layout(std430, binding = kSeverBindingOffset) readonly buffer Offset { uint offs
 #define PHYXEL_PAIR_WEIGHT_BINDING kSeverBindingWeight
 #define PHYXEL_PAIR_WEIGHT_HI_BINDING kSeverBindingWeightHi
 #define PHYXEL_PAIR_ACCESS 2
+#define PHYXEL_PAIR_WEIGHT_COHERENT
 #include "pair_buffers.glsl"
-layout(std430, binding = kSeverBindingFlags) buffer Flags { uint flags[]; };
+// Coherent: the last workgroup reads the flags, weights and list that the others wrote.
+layout(std430, binding = kSeverBindingFlags) coherent buffer Flags { uint flags[]; };
 layout(std430, binding = kSeverBindingQuads) readonly buffer Quads { CutQuad quads[]; };
 layout(std430, binding = kSeverBindingSamples) readonly buffer Samples { vec4 samples[]; };
-layout(std430, binding = kSeverBindingDirty) buffer Dirty { uint dirty[]; };
+layout(std430, binding = kSeverBindingDirty) coherent buffer Dirty { uint dirty[]; };
 layout(std430, binding = kSeverBindingLog) buffer Log { uvec4 cut_log[]; };
-layout(std430, binding = kSeverBindingCount) readonly buffer Count { ContactCount count; };
+layout(std430, binding = kSeverBindingCount) readonly buffer Count {
+  ContactCount count;
+  SeverGroups sever;  // tool_broad_scan's: the lanes per candidate
+};
+layout(std430, binding = kSeverBindingLocal) buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kSeverBindingClasses) readonly buffer Classes { SolverClass classes[]; };
+layout(std430, binding = kSeverBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kSeverBindingResid) writeonly buffer Resid { vec4 resid[]; };
+layout(std430, binding = kSeverBindingDone) coherent buffer Done { uint done; };
 
 const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
 
@@ -84,36 +99,63 @@ bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
 }
 
 #include "pair_edit.glsl"
+#include "last_workgroup.glsl"
+#include "solver_precompute.glsl"
 
-void main() {
-  const uint slot = PHYXEL_GLOBAL_INDEX;
-  if (slot >= count.total) return;
-  const uint i = list[slot];
-  const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
+// Whether the tool's blade cuts in this substep: its sample presses the edge in, or the point
+// (a stab), with at least its threshold (cut_force of engine/solver/cutting.cpp).
+bool tool_cuts(CutQuad quad, uint tool) {
+  const float threshold = quad.edge.w;
+  if (threshold < 0.0) return false;  // no blade
+  const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
+  const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
+  return max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) >= threshold;
+}
+
+bool any_tool_cuts() {
+  for (uint tool = 0u; tool < p.tools; ++tool)
+    if (tool_cuts(quads[p.row * p.tools + tool], tool)) return true;
+  return false;
+}
+
+// Pair slot k of candidate i (at xi): severed by the first tool whose blade crosses it, unless
+// the invocation of its other side claimed it first (the atomic exchange of the lower index's
+// slot), which severs it alike.
+void sever_pair(uint i, vec3 xi, uint k) {
+  if (pair_weight_bits(k) == 0u) return;
+  const uint j = nbr_index(k);
+  const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
   for (uint tool = 0u; tool < p.tools; ++tool) {
     const CutQuad quad = quads[p.row * p.tools + tool];
-    const float threshold = quad.edge.w;
-    if (threshold < 0.0) continue;  // no blade
-    const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
-    // cut_force of engine/solver/cutting.cpp: the edge pressed in, or the point (a stab).
-    const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
-    if (max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) < threshold) continue;
-    for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-      if (pair_weight_bits(k) == 0u) continue;
-      const uint j = nbr_index(k);
-      const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
-      float t;
-      const bool crosses = i < j ? crosses_blade(xi, xj, quad, t) : crosses_blade(xj, xi, quad, t);
-      if (!crosses) continue;
-      const uint lo = min(i, j), hi = max(i, j);
-      const uint lo_slot = i < j ? k : find_slot(j, i);
-      if (sever_pair_weight(lo_slot) == 0u) continue;  // another thread has it
-      const uint hi_slot = i < j ? find_slot(j, i) : k;
-      clear_pair_weight(hi_slot);
-      mark_dirty(lo);
-      mark_dirty(hi);
-      const uint at = atomicAdd(cut_log[0].x, 1u);
-      if (at < p.log_capacity) cut_log[1u + at] = uvec4(lo, hi, floatBitsToUint(t), 0u);
-    }
+    if (!tool_cuts(quad, tool)) continue;
+    float t;
+    const bool crosses = i < j ? crosses_blade(xi, xj, quad, t) : crosses_blade(xj, xi, quad, t);
+    if (!crosses) continue;
+    const uint lo = min(i, j), hi = max(i, j);
+    const uint lo_slot = i < j ? k : find_slot(j, i);
+    if (sever_pair_weight(lo_slot) == 0u) return;  // another invocation has it
+    clear_pair_weight(i < j ? find_slot(j, i) : k);
+    mark_dirty(lo);
+    mark_dirty(hi);
+    const uint at = atomicAdd(cut_log[0].x, 1u);
+    if (at < p.log_capacity) cut_log[1u + at] = uvec4(lo, hi, floatBitsToUint(t), 0u);
+    return;
   }
+}
+
+void main() {
+  const uint invocation = PHYXEL_GLOBAL_INDEX;
+  const uint lanes = sever.lanes;
+  const uint slot = invocation / lanes;
+  if (slot < count.total && any_tool_cuts()) {
+    const uint i = list[slot];
+    const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
+    const uint end = offset[i + 1u];
+    for (uint k = offset[i] + invocation % lanes; k < end; k += lanes)
+      sever_pair(i, xi, k);
+  }
+  if (!finished_last()) return;
+  const uint dirtied = dirty[0];
+  for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
+    precompute_phyxel(dirty[4u + e], true);
 }

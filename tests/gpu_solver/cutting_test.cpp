@@ -1,7 +1,8 @@
 // Cutting on the GPU against the CPU reference (engine/solver/cpu_solver_cutting.cpp): the
 // same severed pairs and positions after a scalpel crosses a beam, with the tools' motions
-// given chunk by chunk as the run loop does; two GPU runs give the same bits; a cut along a
-// lattice plane and a second crossing cut leave every value finite.
+// given chunk by chunk as the run loop does; two blades severing the same pairs in the same
+// substeps give each pair once, to the CPU's tool; two GPU runs give the same bits; a cut along
+// a lattice plane and a second crossing cut leave every value finite.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -52,14 +53,19 @@ std::set<std::pair<uint32_t, uint32_t>> pair_set(const std::vector<SeveredPair>&
   return s;
 }
 
+// The scene's run on the CPU, then on the GPU.
+std::pair<CutRun, CutRun> cpu_and_gpu(Context& ctx, const Scene& scene, int64_t steps) {
+  const PhyxelSet set = sample_scene(scene);
+  auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+  GpuSolver gpu(ctx, set, scene.simulation.gravity);
+  CutRun c = run(*cpu, scene, steps);
+  return {std::move(c), run(gpu, scene, steps)};
+}
+
 TEST_F(GpuSolverTest, CuttingABeamSeversTheCpusPairsAndMovesAlike) {
   Scene scene = clamped_beam();
   scene.tools.push_back(crossing_scalpel(0.009, -0.003, 0.016, 0.002, 0.016));
-  const PhyxelSet set = sample_scene(scene);
-  auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
-  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
-  const CutRun c = run(*cpu, scene, 400);
-  const CutRun g = run(gpu, scene, 400);
+  const auto [c, g] = cpu_and_gpu(ctx(), scene, 400);
   ASSERT_GT(c.severed.size(), 100u);
   EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
   EXPECT_EQ(g.alive, c.alive);
@@ -80,6 +86,41 @@ TEST_F(GpuSolverTest, CuttingABeamSeversTheCpusPairsAndMovesAlike) {
               axial.compared, axial.worst, axial.outliers);
   EXPECT_GT(axial.compared, 100u);
   EXPECT_LE(axial.outliers, axial.compared / 50);
+}
+
+// tool_sever tests a candidate's pairs in parallel lanes (32 for this beam's few hundred
+// candidates: fewer than the 80 pairs of a support radius of 2.5 spacings), both sides of a pair
+// at once: two parallel blades 0.3 mm apart cross the same pairs in the same substeps. Every pair
+// is severed once (none dropped, none twice) and goes to the first tool, as on the CPU (its t is
+// that blade's crossing).
+TEST_F(GpuSolverTest, TwoBladesOnTheSamePairsSeverEachOnceAsTheCpu) {
+  Scene scene = clamped_beam();
+  scene.simulation.gravity = Vec3::Zero();
+  scene.objects[0].support_radius = 2.5 * scene.objects[0].spacing;
+  // Off the lattice's planes and the substeps' grid (a pair's crossing on the line between two
+  // substeps' quads is a tie that float and double may give to different substeps, and so to
+  // the other blade).
+  for (const double x : {0.00931, 0.00963}) {
+    ToolDesc blade = crossing_scalpel(x, -0.003, 0.016, 0.0, 0.008);
+    blade.name = scene.tools.empty() ? "first" : "second";
+    for (ToolKey& key : blade.path) key.position.y() -= 7.3e-5;
+    scene.tools.push_back(blade);
+  }
+  const auto [c, g] = cpu_and_gpu(ctx(), scene, 120);
+  ASSERT_GT(c.severed.size(), 500u);
+  EXPECT_EQ(pair_set(c.severed).size(), c.severed.size());
+  EXPECT_EQ(pair_set(g.severed).size(), g.severed.size());  // none twice
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+  EXPECT_EQ(g.alive, c.alive);
+  // Sorted per advance on both: the same pairs in the same places, each with the first
+  // blade's t (the second's differs by 0.3 mm over the pair's span along x).
+  ASSERT_EQ(g.severed.size(), c.severed.size());
+  for (size_t k = 0; k < c.severed.size(); ++k) {
+    EXPECT_EQ(g.severed[k].i, c.severed[k].i) << k;
+    EXPECT_EQ(g.severed[k].j, c.severed[k].j) << k;
+    EXPECT_NEAR(g.severed[k].t, c.severed[k].t, 1e-4) << k;
+  }
+  EXPECT_LT(max_difference(c.u, g.u), 1e-4 * std::max(max_norm(c.u), 1e-6));  // and finite
 }
 
 TEST_F(GpuSolverTest, CuttingBelowAndAboveTheThresholdMatchesTheCpu) {
