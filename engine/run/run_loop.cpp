@@ -157,12 +157,10 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
     principal->set_principal_stress(tearing);
   if (Tearing* tear = solver.tearing()) tear->set_tearing(tearing);
   sleeping_ = select && scene.simulation.sleep.enabled;
-  check_ = check_interval(scene, options, sleeping_);
+  tool_chunk_ = tool_chunk_steps(scene, options, result_.plan.substeps);
+  check_ = check_interval(scene, options, sleeping_, tool_chunk_);
   contacts_since_check_.assign(tools_.size(), 0u);
   if (!tools_.empty()) solver.tools()->set_tools(contact_tools(scene.tools));  // required above
-  tool_chunk_ = tools_.empty()
-                    ? 0
-                    : std::max<int64_t>(1, options.tool_chunk_substeps / result_.plan.substeps);
   last_u_.assign(set.size(), Vec3::Zero());
   slowest_wave_ = std::numeric_limits<double>::infinity();
   for (const Material& m : set.materials) slowest_wave_ = std::min(slowest_wave_, p_wave_speed(m));
