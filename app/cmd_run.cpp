@@ -423,6 +423,12 @@ void RunCommand::set_frames() {
   options_.on_frame = [this, buffers](int64_t step, Solver& s) {
     render::write_solver_frame(*frames_, s, step, tool_poses_, buffers);
   };
+  // From the GPU solver's buffers only: drawn inside the advances (RunOptions).
+  options_.frames_within_advance = gpu_solver != nullptr;
+  options_.on_frame_tool_poses = [this](const std::vector<ToolPose>& poses) {
+    for (size_t k = 0; k < poses.size() && k < tool_poses_.size(); ++k)
+      tool_poses_[k].pose = poses[k];
+  };
   // Aspirated tissue leaves the frames; the crater's wall is drawn as fracture surface.
   options_.on_aspiration = [this](const AspirationEvent& e) { frames_->apply_aspiration(e); };
 }

@@ -34,7 +34,9 @@ constexpr const char* kSurgeryHelp =
     "--profile-steps substeps after the run without frames (tools where it left them), the\n"
     "frame writer's host seconds by part (waiting for the frame in flight, cuts, aspirations,\n"
     "video texture, recording and submitting) against the run loop's parts without frames, the\n"
-    "outcome (removed share of each inclusion, aspirated share of each part), and the surgery's\n"
+    "outcome (removed share of each inclusion, aspirated share of each part), the GPU solver's\n"
+    "host seconds in its advances (recording, submitting, waiting, the rest; in the run loop's\n"
+    "advance, whose remainder is the tools' paths and records), and the surgery's\n"
     "wall time per substep against the bare step of an elastic box of the same phyxel count.\n"
     "\n"
     "options:\n"
@@ -151,10 +153,23 @@ nlohmann::json timed_run(const Scene& scene, const PhyxelSet& set, const Surgery
     options.on_tool_step = [&tool_poses](int64_t, double, const std::vector<ToolStepRecord>& rec) {
       for (size_t k = 0; k < rec.size(); ++k) tool_poses[k].pose = rec[k].pose;
     };
+    // The frame draws from the solver's buffers only: inside the advance (no drain, no
+    // read-back for it).
+    options.frames_within_advance = gpu_solver != nullptr;
+    options.on_frame_tool_poses = [&tool_poses](const std::vector<ToolPose>& poses) {
+      for (size_t k = 0; k < poses.size(); ++k) tool_poses[k].pose = poses[k];
+    };
   }
   const RunResult r = run_simulation(scene, set, *solver, options);
   if (frames) frames->finish();
   nlohmann::json j = run_json(scene, set, *solver, r);
+  if (gpu_solver) {
+    const gpu::GpuSolver::AdvanceHostTimes& t = gpu_solver->advance_host_times();
+    j["solver_host_seconds"] = {{"record", t.record},     {"submit", t.submit},
+                                {"wait", t.wait},         {"rest", t.rest},
+                                {"advances", t.advances}, {"submissions", t.submissions},
+                                {"waits", t.waits}};
+  }
   if (frame_every > 0) {
     j["frame_every_steps"] = frame_every;
     const render::FrameWriterTimes& t = frames->times();
@@ -220,6 +235,18 @@ void print_row(const nlohmann::json& r) {
     passes += text;
   }
   std::printf("  %s\n", passes.c_str());
+  if (b.contains("solver_host_seconds")) {
+    const nlohmann::json& t = b["solver_host_seconds"];
+    std::printf(
+        "%36s solver's advances: %lld, %lld submissions, %lld waits; host s: record %.3f, "
+        "submit %.3f, wait %.3f, rest %.3f, outside the solver %.3f\n",
+        "", static_cast<long long>(t["advances"].get<int64_t>()),
+        static_cast<long long>(t["submissions"].get<int64_t>()),
+        static_cast<long long>(t["waits"].get<int64_t>()), t["record"].get<double>(),
+        t["submit"].get<double>(), t["wait"].get<double>(), t["rest"].get<double>(),
+        h["advance"].get<double>() - t["record"].get<double>() - t["submit"].get<double>() -
+            t["wait"].get<double>() - t["rest"].get<double>());
+  }
   if (h.contains("aspiration")) {
     const nlohmann::json& a = h["aspiration"];
     std::printf(

@@ -4,6 +4,7 @@
 #include "compute/gpu_solver.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -198,14 +199,8 @@ std::string GpuSolver::device() const {
 }
 
 SolverBuffers GpuSolver::buffers() const {
-  return {&rest_,
-          &disp_[0],
-          &nbr_offset_,
-          &nbr_index_.lo_buffer(),
-          count_,
-          &weight_.lo_buffer(),
-          nbr_index_.hi_buffer(),
-          weight_.hi_buffer()};
+  return {&rest_, &disp_[shown_],       &nbr_offset_,           &nbr_index_.lo_buffer(),
+          count_, &weight_.lo_buffer(), nbr_index_.hi_buffer(), weight_.hi_buffer()};
 }
 
 StepPush GpuSolver::push(uint32_t count, float dt, uint32_t mode, uint32_t lanes) const {
@@ -344,9 +339,34 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
   }
 }
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Adds the seconds since `mark` to `into` and moves `mark` to now.
+void lap(Clock::time_point& mark, double& into) {
+  const Clock::time_point now = Clock::now();
+  into += std::chrono::duration<double>(now - mark).count();
+  mark = now;
+}
+
+}  // namespace
+
 void GpuSolver::advance(int64_t substeps, double dt) {
+  advance_paused(substeps, dt, {}, {});
+}
+
+void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<int64_t>& pauses,
+                               const std::function<void(int64_t)>& at) {
   settle();
+  for (size_t p = 0; p < pauses.size(); ++p)
+    if (pauses[p] <= 0 || pauses[p] >= substeps || (p > 0 && pauses[p] <= pauses[p - 1]))
+      throw std::invalid_argument(
+          "GpuSolver::advance_paused: pauses must ascend inside the advance's substeps");
   if (substeps <= 0) return;
+  AdvanceHostTimes& t = host_times_;
+  ++t.advances;
+  Clock::time_point mark = Clock::now();
   // Where the host has nothing to finish after it (no tool samples or cut log to take), the
   // advance returns while its last submission runs.
   const bool finish_here = !tools_.empty() || cutting_ || tearing_;
@@ -359,39 +379,63 @@ void GpuSolver::advance(int64_t substeps, double dt) {
       rec_[0]->submit_and_wait();
       finish_contact(substeps, false);
     }
+    lap(mark, t.rest);
+    for (const int64_t k : pauses) at(k);
     return;
   }
+  lap(mark, t.rest);
   const float fdt = static_cast<float>(dt);
   int cur = 0;
   bool pending[2] = {false, false};
   int which = 0;
+  auto wait_for = [&](int k) {
+    pending[k] = false;
+    rec_[k]->wait();
+    ++t.waits;
+    lap(mark, t.wait);
+  };
   try {
+    size_t pause = 0;
     for (int64_t done = 0; done < substeps;) {
-      const int64_t next = std::min(substeps, done + kStepsPerSubmit);
+      int64_t next = std::min(substeps, done + submit_steps(done));
+      if (pause < pauses.size()) next = std::min(next, pauses[pause]);
       Recorder& rec = *rec_[which];
       rec.barrier();  // the previous submission's writes (same queue, submission order)
       record_steps(rec, done, next, substeps, fdt, cur, nullptr);
       ctx_->test_note_substeps(substeps_run_ + next);
+      lap(mark, t.record);
       rec.submit();
       pending[which] = true;
+      ++t.submissions;
+      lap(mark, t.submit);
       // Keep at most two command buffers in flight: wait for the older one, then record the
-      // next chunk while the GPU runs this one.
+      // next piece while the GPU runs this one.
       const int other = 1 - which;
-      if (pending[other]) {
-        pending[other] = false;
-        rec_[other]->wait();
-      }
+      if (pending[other]) wait_for(other);
       which = other;
       done = next;
+      if (pause < pauses.size() && pauses[pause] == done) {
+        // u of this substep: where the last step's fused force pass read it (record_steps).
+        shown_ = 1 - cur;
+        try {
+          at(done);
+        } catch (...) {
+          shown_ = 0;
+          throw;
+        }
+        shown_ = 0;
+        ++pause;
+        mark = Clock::now();  // the pause's time is its caller's
+      }
     }
     // The last submission is rec_[1 - which]: left running where the host has nothing to
     // finish.
     for (int k = 0; k < 2; ++k) {
       if (!pending[k]) continue;
-      pending[k] = false;
       if (finish_here || k != 1 - which) {
-        rec_[k]->wait();
+        wait_for(k);
       } else {
+        pending[k] = false;
         in_flight_ = k;
       }
     }
@@ -412,6 +456,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
   if (!tools_.empty()) finish_contact(substeps, true);
   if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
+  lap(mark, t.rest);
 }
 
 void GpuSolver::compute_forces() {

@@ -4,12 +4,13 @@
 //   construction  neighbour search on the GPU (hash grid, counting sort, CSR rows sorted by
 //                 index), per-pair poly6 weights, moment matrices and their regularised
 //                 inverses, hourglass stiffness, the forces of the initial state
-//   advance(n)    n velocity-Verlet steps, recorded up to kStepsPerSubmit per command buffer
-//                 (two command buffers in flight: the next is recorded while the GPU runs
-//                 the last); per step a stress pass (D_i) and a force pass (gather, half
-//                 kick, and fused with the next step's half kick and drift), each over its
-//                 pass list (CpuSolver's pass selection and sleeping: gpu_solver_passes.cpp);
-//                 while principal stress is on (tearing), the stress pass also writes it
+//   advance(n)    n velocity-Verlet steps, recorded in submissions that grow from
+//                 kFirstSubmitSteps to kStepsPerSubmit (two command buffers in flight: the
+//                 next is recorded while the GPU runs the last); per step a stress pass (D_i) and a
+//                 force pass (gather, half kick, and fused with the next step's half kick and
+//                 drift), each over its pass list (CpuSolver's pass selection and sleeping:
+//                 gpu_solver_passes.cpp); while principal stress is on (tearing), the stress pass
+//                 also writes it
 //   contact       with tools (set_tools), after every drift: the tools' correction of u and v
 //                 over the chunk's candidate list, per-tool force samples by a fixed-order
 //                 reduction (gpu_solver_contact.cpp; CpuSolver's semantics)
@@ -22,6 +23,7 @@
 // sides, kRemoved in the flags word) and the precompute pass rerun for the phyxels it touches.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -102,6 +104,23 @@ class SolverKernels;
 class GpuSolver final : public SolverWithAllFacets {
  public:
   static constexpr int64_t kStepsPerSubmit = 256;
+  // An advance's first submission: the GPU starts after recording this many substeps, not the
+  // whole advance (a tool chunk of 64 substeps cost the brain about 18 us of idle GPU per
+  // substep while its host recorded; docs/performance-log.md, "Recording off the critical
+  // path"). Each later one holds half the substeps recorded so far, up to kStepsPerSubmit.
+  static constexpr int64_t kFirstSubmitSteps = 8;
+  // Substeps of the submission after `done` substeps of an advance.
+  static int64_t submit_steps(int64_t done) {
+    return std::min(kStepsPerSubmit, std::max(kFirstSubmitSteps, done / 2));
+  }
+  // The host's side of the advances so far (phyxel bench --surgery --profile-parts): seconds
+  // recording the substeps, submitting, waiting for the GPU, and the rest (the tools' motion
+  // table and broad phase before, the samples and cut log read after); submissions and waits.
+  struct AdvanceHostTimes {
+    double record = 0, submit = 0, wait = 0, rest = 0;
+    int64_t advances = 0, submissions = 0, waits = 0;
+  };
+  const AdvanceHostTimes& advance_host_times() const { return host_times_; }
 
   // Uses (does not own) `ctx`, which must outlive the solver.
   GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
@@ -119,6 +138,11 @@ class GpuSolver final : public SolverWithAllFacets {
   // for it (no tools, cutting or tearing); every other non-const member
   // waits for that submission first (settle()), and so does finish().
   void advance(int64_t substeps, double dt) override;
+  // Each pause ends a submission; at(k) runs with buffers() showing u of substep k (which the
+  // next submission's opening barrier keeps until at(k)'s work on the queue has read it).
+  bool pauses_within_advance() const override { return true; }
+  void advance_paused(int64_t substeps, double dt, const std::vector<int64_t>& pauses,
+                      const std::function<void(int64_t)>& at) override;
   void finish() override { settle(); }
   bool advance_in_flight() const { return in_flight_ >= 0; }
   Energies energies() override;
@@ -373,6 +397,8 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<uint32_t> stress_list_host_, force_list_host_;
   std::vector<uint8_t> in_force_;
   std::vector<uint32_t> stress_refs_;
+  AdvanceHostTimes host_times_;
+  int shown_ = 0;  // the displacement buffer buffers() shows: 1 at some pauses of an advance
   int64_t substeps_run_ = 0;         // by advance(), over the solver's life (the device-loss hook)
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
   bool principal_ = false;           // set_principal_stress

@@ -68,7 +68,8 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   add("  load changes: %zu (loads with from/until)", events.size());
   const bool energies = scene.simulation.until_rest.enabled || sleeping;
   add("  checks: finiteness and the largest speed every %lld steps%s",
-      static_cast<long long>(check_interval(scene, options, sleeping)),
+      static_cast<long long>(check_interval(scene, options, sleeping,
+                                            tool_chunk_steps(scene, options, plan.substeps))),
       energies ? ", with kinetic energies (the state read back) for until_rest or sleep"
                : "; the state is read back only when a phyxel outruns the slowest wave speed");
   if (scene.output.every > 0)

@@ -157,12 +157,10 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
     principal->set_principal_stress(tearing);
   if (Tearing* tear = solver.tearing()) tear->set_tearing(tearing);
   sleeping_ = select && scene.simulation.sleep.enabled;
-  check_ = check_interval(scene, options, sleeping_);
+  tool_chunk_ = tool_chunk_steps(scene, options, result_.plan.substeps);
+  check_ = check_interval(scene, options, sleeping_, tool_chunk_);
   contacts_since_check_.assign(tools_.size(), 0u);
   if (!tools_.empty()) solver.tools()->set_tools(contact_tools(scene.tools));  // required above
-  tool_chunk_ = tools_.empty()
-                    ? 0
-                    : std::max<int64_t>(1, options.tool_chunk_substeps / result_.plan.substeps);
   last_u_.assign(set.size(), Vec3::Zero());
   slowest_wave_ = std::numeric_limits<double>::infinity();
   for (const Material& m : set.materials) slowest_wave_ = std::min(slowest_wave_, p_wave_speed(m));
@@ -179,6 +177,9 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   long_steps_ = polled_ && !tearing && result_.plan.substeps > 1;
   long_tool_steps_ =
       options.stop_requested && (tearing || !tools_.empty()) && result_.plan.substeps > 1;
+  frames_within_ = options.frames_within_advance && options.on_frame && options.frame_every > 0 &&
+                   tool_chunk_ > 0 && !tools_.live() && !options.real_time &&
+                   solver.pauses_within_advance();
   if (options.resume) {
     resume(*options.resume);
     checkpointed_ = step_;
@@ -297,7 +298,9 @@ bool RunLoop::polled_within_steps() const {
 int64_t RunLoop::next_stop() const {
   int64_t next = std::min(total_, next_multiple(step_, check_));
   if (every_ > 0) next = std::min(next, next_multiple(step_, every_));
-  if (options_.frame_every > 0) next = std::min(next, next_multiple(step_, options_.frame_every));
+  // Frames drawn inside the advance do not end it (frame_pauses).
+  if (options_.frame_every > 0 && !(frames_within_ && !polled_within_steps()))
+    next = std::min(next, next_multiple(step_, options_.frame_every));
   if (next_event_ < events_.size()) next = std::min(next, events_[next_event_]);
   // Tool chunks on a fixed grid from step 0, whatever else splits an advance (frames,
   // outputs, checks, real-time pacing): the aspirator acts only at its lines, so what is
@@ -334,7 +337,8 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
     within_step_ = r.within_step > 0;
   } else
     records = advance_with_tools(solver_, tools_, step_, next - step_, result_.plan.substeps,
-                                 result_.plan.dt_used);
+                                 result_.plan.dt_used, frame_pauses(next),
+                                 [this](int64_t substep) { frame_at_pause(substep); });
   for (size_t r = 0; r < records.size(); ++r) {
     uint32_t& most = contacts_since_check_[r % tools_.size()];
     most = std::max(most, records[r].contacts);
@@ -348,6 +352,20 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
         double(next - step_);
   lap(result_.split.advance);
   return records;
+}
+
+std::vector<int64_t> RunLoop::frame_pauses(int64_t next) const {
+  std::vector<int64_t> pauses;
+  if (!frames_within_) return pauses;
+  for (int64_t s = next_multiple(step_, options_.frame_every); s < next; s += options_.frame_every)
+    pauses.push_back((s - step_) * result_.plan.substeps);
+  return pauses;
+}
+
+// A frame inside the advance: the tools where they are at its step, then the frame.
+void RunLoop::frame_at_pause(int64_t substep) {
+  if (options_.on_frame_tool_poses) options_.on_frame_tool_poses(tools_.poses_after(substep));
+  options_.on_frame(step_ + substep / result_.plan.substeps, solver_);
 }
 
 // The tools' records to the caller, then the paper's hybrid tearing at the aspirators' mouths

@@ -57,6 +57,9 @@ class RunLoop {
   int64_t next_stop() const;         // phase "next stop"
   bool polled_within_steps() const;  // the next advance polls between substeps
   std::vector<ToolStepRecord> advance(int64_t& next);
+  // Frames inside the advance to `next` (RunOptions::frames_within_advance): their substeps.
+  std::vector<int64_t> frame_pauses(int64_t next) const;
+  void frame_at_pause(int64_t substep);
   void surgery_events(int64_t next, const std::vector<ToolStepRecord>& records);
   void tool_rows(int64_t next, const std::vector<ToolStepRecord>& records);
   void pacing(int64_t next);
@@ -86,7 +89,8 @@ class RunLoop {
   // non_finite_tool).
   std::vector<uint32_t> contacts_since_check_;
   Aspirator aspirator_;
-  int64_t tool_chunk_ = 0;  // steps per advance while tools move
+  int64_t tool_chunk_ = 0;      // steps per advance while tools move
+  bool frames_within_ = false;  // RunOptions::frames_within_advance, where it holds
   // Each sleeping object's displacement when it went to sleep (its u does not change asleep).
   std::vector<Vec3> last_u_;
   double slowest_wave_ = 0;  // find_runaway's bound

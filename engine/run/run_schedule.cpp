@@ -23,10 +23,18 @@ bool has_grasper(const Scene& scene) {
                      [](const ToolDesc& t) { return t.grasp.grasps(); });
 }
 
-int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping) {
+int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps) {
+  if (scene.tools.empty()) return 0;
+  return std::max<int64_t>(1, options.tool_chunk_substeps / std::max<int64_t>(1, substeps));
+}
+
+int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping,
+                       int64_t tool_chunk) {
   if (options.check_every > 0) return options.check_every;
   int64_t check = 100;
   const UntilRest& rest = scene.simulation.until_rest;
+  if (!rest.enabled && !sleeping && tool_chunk > 0)
+    return std::max<int64_t>(1, std::llround(100.0 / double(tool_chunk))) * tool_chunk;
   if (rest.enabled) check = std::min(check, std::clamp<int64_t>(rest.for_steps / 10, 1, 100));
   if (sleeping)
     check = std::min(check, std::clamp<int64_t>(scene.simulation.sleep.for_steps / 10, 1, 100));

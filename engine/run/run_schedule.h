@@ -16,8 +16,16 @@ std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, in
 // Whether a tool grasps (engine/solver/grasper.h): the grasp passes run only then.
 bool has_grasper(const Scene& scene);
 
+// Steps per advance while tools move (the tool chunks' grid from step 0, at whose lines the
+// aspirator acts): options.tool_chunk_substeps over `substeps` per step, at least 1; 0 without
+// tools.
+int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps);
+
 // Steps between the run loop's checks (rest, sleep, runaway): options.check_every when set,
-// else 100, fewer when rest or sleep must be decided sooner.
-int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping);
+// else 100, fewer when rest or sleep must be decided sooner. Where tools move (`tool_chunk` >
+// 0) and no check decides rest or sleep, the multiple of the chunk nearest 100: a check then
+// ends no advance off the chunks' grid (each such end a drain of the GPU and a read-back).
+int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping,
+                       int64_t tool_chunk);
 
 }  // namespace phyxel

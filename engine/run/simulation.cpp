@@ -46,14 +46,22 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
 }
 
 std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools, int64_t first,
-                                               int64_t steps, int64_t substeps, double dt) {
+                                               int64_t steps, int64_t substeps, double dt,
+                                               const std::vector<int64_t>& pauses,
+                                               const std::function<void(int64_t)>& at) {
+  auto advance = [&] {
+    if (pauses.empty())
+      solver.advance(steps * substeps, dt);
+    else
+      solver.advance_paused(steps * substeps, dt, pauses, at);
+  };
   if (tools.empty()) {
-    solver.advance(steps * substeps, dt);
+    advance();
     return {};
   }
   Tools& facet = need(solver.tools(), solver, "simulate tools");
   facet.set_tool_motion(tools.motions(first * substeps, steps * substeps, dt));
-  solver.advance(steps * substeps, dt);
+  advance();
   return tools.fold(facet.tool_samples(), steps, substeps);
 }
 

@@ -39,6 +39,15 @@ struct RunOptions {
   // Frames: on_frame(step, solver) every frame_every steps and at the end (0: never).
   int64_t frame_every = 0;
   std::function<void(int64_t step, Solver& solver)> on_frame;
+  // Frames inside the advances (an on_frame that only draws from the GPU solver's buffers, as
+  // Solver::advance_paused allows): with path tools, a frame between the tool chunks' lines is
+  // drawn from inside the advance, after its step's work is submitted, instead of ending the
+  // advance there (a drain of the GPU and a read-back of the tools). The tools' poses at its
+  // step come first, by on_frame_tool_poses; the tool rows of its steps (on_tool_step) and
+  // the cuts it draws (severed_since) are those up to the advance's start until the advance
+  // ends. Ignored where the solver cannot pause (the CPU's), for live tools and in real time.
+  bool frames_within_advance = false;
+  std::function<void(const std::vector<ToolPose>& poses)> on_frame_tool_poses;
   // Tools (scene.tools): the pose of a haptic-controlled tool at simulated time t (required
   // when the scene has one); path tools follow their paths.
   ToolTrack::PoseSource tool_pose;
@@ -135,8 +144,11 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
 // moving as `tools` says (ToolTrack::motions for the advance, then ToolTrack::fold of the
 // solver's samples). Returns the per-step records (steps x tools; empty without tools). The run
 // loop and the viewer step tools this way.
+// With `pauses` (substeps into the advance), Solver::advance_paused calls at(k) at each.
 std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools, int64_t first,
-                                               int64_t steps, int64_t substeps, double dt);
+                                               int64_t steps, int64_t substeps, double dt,
+                                               const std::vector<int64_t>& pauses = {},
+                                               const std::function<void(int64_t)>& at = {});
 
 // A finite state running away: the first phyxel faster than its material's p-wave speed
 // (which no elastic tissue is: it would mean a strain above one per step), or phyxel -1.

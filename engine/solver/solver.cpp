@@ -5,6 +5,11 @@
 
 namespace phyxel {
 
+void Solver::advance_paused(int64_t, double, const std::vector<int64_t>&,
+                            const std::function<void(int64_t)>&) {
+  throw std::logic_error(device() + " cannot pause inside an advance");
+}
+
 std::pair<double, double> Solver::max_norms() {
   const PointState s = read_state(false);
   double u = 0, v = 0;

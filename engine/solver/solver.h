@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -169,6 +170,17 @@ class Solver {
   // advance calls finish() before it reads the clock.
   virtual void advance(int64_t substeps, double dt) = 0;
   virtual void finish() {}  // waits for what the last advance left running
+  // An advance with pauses inside it (frames between the tool chunks' lines without ending
+  // the advance, which reads the tools back): as advance(substeps, dt), the same states bit for
+  // bit, calling at(k) once the work of its first k substeps is submitted, for each k of
+  // `pauses` (ascending, each in (0, substeps)), u of substep k then being what the solver
+  // shows for drawing (the GPU solver's buffers()). at(k) may submit work that reads it to the
+  // solver's queue (a frame) and call nothing of the solver but neighbours() and
+  // severed_since(), which give the cuts as of the advance's start. Where pauses_within_advance
+  // is false (the default), advance_paused throws std::logic_error.
+  virtual bool pauses_within_advance() const { return false; }
+  virtual void advance_paused(int64_t substeps, double dt, const std::vector<int64_t>& pauses,
+                              const std::function<void(int64_t)>& at);
   virtual Energies energies() = 0;
   virtual long first_non_finite() = 0;  // phyxel index or -1
   virtual PointState read_state(bool with_stress) = 0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace phyxel {
@@ -72,6 +73,17 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
     last_[t] = from;
   }
   return motions_;
+}
+
+std::vector<ToolPose> ToolTrack::poses_after(int64_t substeps) const {
+  const size_t nt = tools_.size();
+  if (substeps < 1 || static_cast<size_t>(substeps) * nt > motions_.size())
+    throw std::logic_error("ToolTrack::poses_after: " + std::to_string(substeps) +
+                           " substeps, outside the last chunk's motions");
+  std::vector<ToolPose> poses(nt);
+  for (size_t t = 0; t < nt; ++t)
+    poses[t] = motions_[static_cast<size_t>(substeps - 1) * nt + t].to;
+  return poses;
 }
 
 Bounds ToolTrack::swept_bounds(double from, double to) const {

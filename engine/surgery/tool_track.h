@@ -87,6 +87,9 @@ class ToolTrack {
   const std::vector<ToolRunStats>& stats() const { return stats_; }
   // The pose every tool ended the last chunk at.
   const std::vector<ToolPose>& poses() const { return last_; }
+  // The pose every tool has after `substeps` (in [1, the chunk's]) substeps of the last chunk's
+  // motions (a frame drawn inside the advance).
+  std::vector<ToolPose> poses_after(int64_t substeps) const;
   // Continues a checkpointed run: the poses the tools ended its last chunk at and its
   // statistics (one each per tool; throws std::invalid_argument otherwise).
   void restore(const std::vector<ToolPose>& poses, const std::vector<ToolRunStats>& stats);
