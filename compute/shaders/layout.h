@@ -89,6 +89,9 @@ PHYXEL_CONST uint kFlagRegularised = 256u;  // set by solver_precompute: A_i was
 PHYXEL_CONST uint kFlagPairsEdited = 512u;
 // In the current substep's cut list (tool_sever); solver_precompute's cut mode clears it.
 PHYXEL_CONST uint kFlagCutDirty = 1024u;
+// Set by solver_precompute: left without a fit (engine/solver/tearing.h left_without_fit:
+// regularised after it lost a pair, not fixed); solver_tear severs every pair it still has.
+PHYXEL_CONST uint kFlagNoFit = 2048u;
 PHYXEL_CONST uint kFlagClassShift = 16u;  // flags >> 16 = index into the SolverClass array
 PHYXEL_CONST uint kMaxSolverClasses = 65536u;
 

@@ -56,7 +56,10 @@ void precompute_phyxel(uint i, bool cut_list) {
   resid[2u * i] = vec4(residual[0][0], residual[1][0], residual[2][0], residual[1][1]);
   resid[2u * i + 1u] = vec4(residual[2][1], residual[2][2], 0.0, 0.0);
   const uint kept = cut_list ? (fl & ~kFlagCutDirty) : fl;
-  flags[i] = regularised ? (kept | kFlagRegularised) : (kept & ~kFlagRegularised);
+  // tearing.h left_without_fit (kFlagPairsEdited: a pair of it was cut, torn or removed).
+  const bool no_fit = regularised && (fl & kFlagPairsEdited) != 0u && (fl & kFlagFixed) == 0u;
+  flags[i] = (kept & ~(kFlagRegularised | kFlagNoFit)) | (regularised ? kFlagRegularised : 0u) |
+             (no_fit ? kFlagNoFit : 0u);
 }
 
 #endif  // PHYXEL_SOLVER_PRECOMPUTE_GLSL

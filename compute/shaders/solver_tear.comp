@@ -5,8 +5,11 @@
 // phyxel taking every p.lanes-th pair (no pair's test reads another's outcome: the same pairs
 // tear in any order and with any lanes); a pair whose mean normal stress reaches the mean of the
 // two strengths is severed on both sides, logged (i, j, 0.5, torn) and both phyxels go to the
-// dirty list. Then the workgroup that finishes last reruns the precompute of the phyxels in the
-// dirty list (none most substeps: no dependent dispatch).
+// dirty list. A phyxel left without a fit (kFlagNoFit, set by a precompute before this pass)
+// severs every pair it still has to a phyxel that tears, lower indices too, but for those to a
+// lower such phyxel (that one's); the stress test leaves pairs to such a phyxel alone. Then the
+// workgroup that finishes last reruns the precompute of the phyxels in the dirty list (none most
+// substeps: no dependent dispatch).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -57,6 +60,27 @@ float strength(uint x) {
   return classes[flags[x] >> kFlagClassShift].search.w;
 }
 
+// Severs pair slot k of row i (to j): both sides, the dirty list and the log (i < j first).
+void tear(uint i, uint k, uint j) {
+  clear_pair_weight(k);
+  clear_pair_weight(find_slot(j, i));
+  mark_dirty(i);
+  mark_dirty(j);
+  const uint at = atomicAdd(cut_log[0].x, 1u);
+  if (at < p.log_capacity)
+    cut_log[1u + at] = uvec4(min(i, j), max(i, j), floatBitsToUint(0.5), 1u);
+}
+
+// A phyxel left without a fit: every live pair of row i (strength ti) to a phyxel that tears.
+void tear_unfit(uint i, float ti, uint lane) {
+  for (uint k = offset[i] + lane; k < offset[i + 1u]; k += p.lanes) {
+    if (pair_weight_bits(k) == 0u) continue;
+    const uint j = nbr_index(k);
+    if (j < i && (flags[j] & kFlagNoFit) != 0u) continue;  // j's
+    if (pair_threshold(ti, strength(j)) > 0.0) tear(i, k, j);
+  }
+}
+
 void tear_pairs(uint invocation) {
   const uint slot = invocation / p.lanes;
   const uint lane = invocation % p.lanes;
@@ -64,6 +88,10 @@ void tear_pairs(uint invocation) {
   const uint i = list[slot];
   const float ti = strength(i);
   if (!(ti > 0.0)) return;
+  if ((flags[i] & kFlagNoFit) != 0u) {
+    tear_unfit(i, ti, lane);
+    return;
+  }
   const vec3 xi = rest[i].xyz + disp[i].xyz;
   const float pi = principal[i];
   bool loaded = false;
@@ -78,6 +106,7 @@ void tear_pairs(uint invocation) {
     const uint j = nbr_index(k);
     if (j <= i) break;  // and every pair before it
     if (pi + principal[j] < no_tear_below || pair_weight_bits(k) == 0u) continue;
+    if ((flags[j] & kFlagNoFit) != 0u) continue;  // j tears it (tear_unfit)
     const float threshold = pair_threshold(ti, strength(j));
     if (!(threshold > 0.0)) continue;
     if (0.5 * (pi + principal[j]) < 0.9999 * threshold) continue;  // s_ij cannot reach it
@@ -90,12 +119,7 @@ void tear_pairs(uint invocation) {
     if (!(len2 > 0.0)) continue;
     const float s_ij = dot(r, (0.5 * (si + tensor(j))) * r) / len2;
     if (!(s_ij >= threshold)) continue;
-    clear_pair_weight(k);
-    clear_pair_weight(find_slot(j, i));
-    mark_dirty(i);
-    mark_dirty(j);
-    const uint at = atomicAdd(cut_log[0].x, 1u);
-    if (at < p.log_capacity) cut_log[1u + at] = uvec4(i, j, floatBitsToUint(0.5), 1u);
+    tear(i, k, j);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "engine/solver/kernel.h"
 #include "engine/solver/suction.h"
+#include "engine/solver/tearing.h"
 
 namespace phyxel {
 
@@ -28,6 +29,7 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
   a_inv_.resize(n);
   a_residual_.resize(n);
   regularised_.assign(n, 0);
+  no_fit_.assign(n, 0);
   external_.resize(n);
   w_.resize(nbr_.index.size());
   for (size_t i = 0; i < n; ++i) {
@@ -99,20 +101,24 @@ void CpuSolver<Real>::precompute(size_t i) {
   // the phyxel's neighbourhood is without cuts and tears, as if sampled without the removed).
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), reference = Eigen::Matrix3d::Zero();
   bool damaged = false;  // a pair cut or torn (not lost to a removal): reference != a
+  bool lost = false;     // a pair cut, torn or lost to a removal
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
     const uint32_t j = nbr_.index[k];
     const Vec3 x = rest_d_[j] - rest_d_[i];
     const Eigen::Matrix3d term = poly6(x.squaredNorm(), h) * x * x.transpose();
     if (!(flags_[j] & kRemoved)) reference += term;
-    if (w_[k] != Real(0))
+    if (w_[k] != Real(0)) {
       a += term;
-    else
+    } else {
       damaged = damaged || !(flags_[j] & kRemoved);
+      lost = true;
+    }
   }
   const MomentInverse inv = regularised_inverse(a);
   a_inv_[i] = inv.inverse.cast<Real>();
   a_residual_[i] = inv.residual.cast<Real>();
   regularised_[i] = inv.regularised;
+  no_fit_[i] = left_without_fit(inv.regularised, lost, (flags_[i] & kFixed) != 0);
   // Damage: once pairs are cut or torn, the smallest eigenvalue of A_i falls and the
   // gradient's stiffest mode grows as 1/lambda_min, beyond what the stable step allows. The
   // phyxel's elastic response is scaled by lambda_min over the reference's, so no mode gets

@@ -35,6 +35,10 @@ void CpuSolver<Real>::apply_tears() {
         if (j <= i || w_[k] == Real(0)) continue;
         const Real threshold = pair_tear_threshold(tear_[i], tear_[j]);
         if (!(threshold > Real(0))) continue;
+        if (no_fit_[i] || no_fit_[j]) {  // a phyxel left without a fit keeps no pair
+          mine.emplace_back(i, k);
+          continue;
+        }
         // The normal stress is at most the mean of the largest principal values: most pairs
         // stop here (the slack keeps rounding from deciding).
         if (Real(0.5) * (max_principal_[i] + max_principal_[j]) < Real(0.9999) * threshold)

@@ -23,6 +23,15 @@
 // cut faces, pieces, checkpoints and the renderer treat both alike. The forces of the substep in
 // which a pair tears are those before it tore (it takes effect from the next stress pass).
 //
+// A phyxel left without a fit holds no pair: once cuts, tears or removals have left its live pairs
+// too few or too flat to determine its gradient (its moment matrix regularised, mls_model.h), every
+// pair it still has to a phyxel that tears also tears, at the next tear pass, whatever the
+// stress. Such a phyxel carries little or no elastic energy of its own (docs/tearing.md,
+// "Damaged phyxels"), and its stress says nothing of its pairs: a fragment left on one pair flew
+// off to 5 cm (13 times the pair's rest length) while its inverted one-pair fit read -29 MPa, until
+// the pair dominated the wall phyxel's fit and threw its neighbour out (docs/suction.md,
+// "Resolution").
+//
 // Both sides of a pair decide alike: the pair is tested once, by its lower index, over the
 // phyxels of the stress pass (the others have no current stress). In float (GPU) and double
 // (CPU) decisions can differ only for pairs with s_ij within kTearParityTolerance (relative) of
@@ -59,6 +68,12 @@ Real pair_normal_stress(const Eigen::Matrix<Real, 3, 3>& sigma_i,
   if (!(len2 > Real(0))) return Real(0);
   const Eigen::Matrix<Real, 3, 3> mean = Real(0.5) * (sigma_i + sigma_j);
   return r.dot(mean * r) / len2;
+}
+
+// Whether a phyxel is left without a fit (see the top): its moment matrix regularised after it lost
+// a pair (cut, torn or removed); fixed phyxels never are.
+inline bool left_without_fit(bool regularised, bool lost_a_pair, bool fixed) {
+  return regularised && lost_a_pair && !fixed;
 }
 
 // Whether the pair tears: a threshold (> 0) and s_ij at or above it.

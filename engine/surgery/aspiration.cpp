@@ -25,13 +25,13 @@ double tear_stress_of(const PhyxelSet& set, uint32_t i) {
 }  // namespace
 
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
-                                const std::vector<uint8_t>& surface,
-                                const std::vector<uint8_t>& torn, const MouthPhyxels& near,
-                                const ToolPose& mouth, double reach, double shell) {
+                                const std::vector<uint8_t>& surface, const Tears& torn,
+                                const MouthPhyxels& near, const ToolPose& mouth, double reach,
+                                double shell) {
   const size_t n = set.size();
   const size_t m = near.ids.size();
-  if (removed.size() != n || surface.size() != n || torn.size() != n || near.x.size() != m ||
-      near.principal.size() != m)
+  if (removed.size() != n || surface.size() != n || torn.partners.size() != n ||
+      torn.loose.size() != n || near.x.size() != m || near.principal.size() != m)
     throw std::invalid_argument("fracture_sphere: per-phyxel arrays of different sizes");
   AspirationEvent e;
   e.mouth = e.centre = mouth.position;
@@ -39,17 +39,28 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
   auto takes = [&](uint32_t i) {
     return !removed[i] && !(set.flags[i] & kFixed) && tear_stress_of(set, i) > 0;
   };
-  // Steps 1 and 2: the overstressed phyxels in reach; the farthest of those on a surface.
+  auto position = [&](uint32_t j, const Vec3& otherwise) {  // near.ids is ascending
+    const auto it = std::lower_bound(near.ids.begin(), near.ids.end(), j);
+    return it != near.ids.end() && *it == j ? near.x[size_t(it - near.ids.begin())] : otherwise;
+  };
+  // Steps 1 and 2: the farthest failure point in reach: an overstressed surface phyxel or one
+  // torn loose, at the phyxel; the crack of a torn pair, at the pair's midpoint (the log's
+  // t = 0.5) between two live phyxels.
   double radius = -1;
-  for (size_t k = 0; k < m; ++k) {
-    const uint32_t i = near.ids[k];
-    if (!takes(i) || !(surface[i] || torn[i]) || !in_suction_reach(mouth, reach, near.x[k]))
-      continue;
-    const double d = (near.x[k] - mouth.position).norm();
-    if ((torn[i] || near.principal[k] >= tear_stress_of(set, i)) && d > radius) {
+  auto candidate = [&](uint32_t i, const Vec3& at) {
+    const double d = (at - mouth.position).norm();
+    if (d > radius && in_suction_reach(mouth, reach, at)) {
       radius = d;
       e.breaking = i;
     }
+  };
+  for (size_t k = 0; k < m; ++k) {
+    const uint32_t i = near.ids[k];
+    if (!takes(i)) continue;
+    if ((surface[i] && near.principal[k] >= tear_stress_of(set, i)) || torn.loose[i])
+      candidate(i, near.x[k]);
+    for (const uint32_t j : torn.partners[i])
+      if (!removed[j]) candidate(i, 0.5 * (near.x[k] + position(j, near.x[k])));
   }
   if (radius < 0) return e;
   e.radius = e.rest_radius = radius;
@@ -69,10 +80,9 @@ AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>
 }
 
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
-                                const std::vector<uint8_t>& surface,
-                                const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
-                                const std::vector<double>& principal, const ToolPose& mouth,
-                                double reach, double shell) {
+                                const std::vector<uint8_t>& surface, const Tears& torn,
+                                const std::vector<Vec3>& x, const std::vector<double>& principal,
+                                const ToolPose& mouth, double reach, double shell) {
   if (x.size() != set.size() || principal.size() != set.size())
     throw std::invalid_argument("fracture_sphere: per-phyxel arrays of different sizes");
   MouthPhyxels all;
@@ -124,7 +134,7 @@ Aspirator::Aspirator(const Scene& scene, const PhyxelSet& set)
       set_(&set),
       removed_(set.size(), 0),
       surface_(set.size(), 0),
-      torn_(set.size(), 0) {
+      torn_{TornPartners(set.size()), std::vector<uint8_t>(set.size(), 0)} {
   bool suction = false;
   for (const ToolDesc& t : scene.tools) suction = suction || t.suction.sucks();
   active_ = suction && scene.tearing_possible();
@@ -163,14 +173,32 @@ void Aspirator::account(const AspirationEvent& e) {
   }
 }
 
+void Aspirator::add_torn(const SeveredPair& p) {
+  torn_.partners[p.i].push_back(p.j);
+  torn_.partners[p.j].push_back(p.i);
+}
+
+void Aspirator::refresh_loose(const MouthPhyxels& near, const NeighbourLists& nbr) {
+  for (const uint32_t i : near.ids) {
+    if (torn_.partners[i].empty() || removed_[i]) continue;
+    int live = 0, intact = 0;
+    for (uint32_t s = nbr.offset[i]; s < nbr.offset[i + 1]; ++s) {
+      const uint32_t j = nbr.index[s];
+      live += !removed_[j];
+      intact += !removed_[j] && !severed_.count(pair_key(i, j));
+    }
+    torn_.loose[i] = 2 * intact < live;
+  }
+}
+
 void Aspirator::read_severed(Solver& solver) {
-  // What tore or was cut since the last aspiration: torn phyxels have failed, and every
+  // What tore or was cut since the last aspiration: torn pairs are cracks (failures), and every
   // severed pair opened a face (a surface).
   Cutting* cut = solver.cutting();
   if (!cut || cut->severed_pairs() <= log_cursor_) return;
   for (const SeveredPair& p : cut->severed_since(log_cursor_)) {
     surface_[p.i] = surface_[p.j] = 1;
-    if (p.torn) torn_[p.i] = torn_[p.j] = 1;
+    if (p.torn) add_torn(p);
     severed_.insert(pair_key(p.i, p.j));
   }
   log_cursor_ = cut->severed_pairs();
@@ -231,6 +259,7 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
   const MouthPhyxels near = read_mouths(solver, box);  // one read for every tool
   ++times_.reads;
   lap(times_.read, mark);
+  refresh_loose(near, solver.neighbours());
   for (const size_t k : on) {
     AspirationEvent e = fracture_sphere(*set_, removed_, surface_, torn_, near, poses[k],
                                         scene_->tools[k].suction.reach, shell_);
@@ -277,7 +306,7 @@ void Aspirator::restore(const AspiratorState& s, Solver& solver,
   surface_ = s.surface;
   for (size_t k = 0; k < s.log_cursor; ++k) {
     const SeveredPair& p = severed[k];
-    if (p.torn) torn_[p.i] = torn_[p.j] = 1;
+    if (p.torn) add_torn(p);
     severed_.insert(pair_key(p.i, p.j));
   }
   log_cursor_ = s.log_cursor;

@@ -1,16 +1,20 @@
 // The paper's hybrid tearing at an aspirator's mouth (section V.A, docs/suction.md), applied by
 // the run loop between advances while a suction tool is on in a scene that can tear:
 //
-//  1. F: the phyxels in the mouth's reach (solver/suction.h in_suction_reach) that are
-//     neither fixed nor removed, whose material has a tear_stress, and that have failed: their
-//     largest principal stress reaches it (the paper's step 1), or a pair of theirs has torn
-//     (docs/tearing.md: tearing runs every substep, so the tissue the pull overloads
-//     has often torn, relieving its stress, by the end of the advance).
-//  2. The phyxels of F on the tissue's surface (the outer surface, a fracture surface an
-//     earlier aspiration exposed, or a face a tear or a cut opened): the one farthest from the
-//     collision point c, the mouth, is the breaking point and its distance the fracture radius R
-//     (step 2). No surface phyxel in F: nothing tears yet (the overstressed tissue is still
-//     inside).
+//  1. F: the failure points in the mouth's reach (solver/suction.h in_suction_reach) of the
+//     phyxels that are neither fixed nor removed and whose material has a tear_stress: such a
+//     phyxel whose largest principal stress reaches it (the paper's step 1), at the phyxel; and
+//     the crack of each torn pair of such a phyxel with a live phyxel, at the pair's midpoint
+//     (docs/tearing.md: tearing runs every substep, so the tissue the pull overloads has often
+//     torn, relieving its stress, by the end of the advance); a phyxel torn loose (Tears), at
+//     the phyxel. A crack is not its far phyxel: that phyxel lies up to a support radius
+//     beyond it (docs/suction.md, "Resolution").
+//  2. Of F, the overstressed phyxels on the tissue's surface (the outer surface, a fracture
+//     surface an earlier aspiration exposed, or a face a tear or a cut opened), the cracks
+//     (faces themselves) and the loose phyxels: the point farthest from the collision point c,
+//     the mouth, gives the
+//     breaking point (its phyxel) and the fracture radius R, its distance (step 2). No such
+//     point: nothing tears yet (the overstressed tissue is still inside).
 //  3. The phyxels within R of c whose material has a tear_stress are aspirated: removed from the
 //     physics, their mass and volume accounted per material (objects' and inclusions'). Those
 //     with R < |x - c| <= R + delta (delta: the largest object spacing) form the new fracture
@@ -59,6 +63,17 @@ struct AspirationEvent {
   double rest_radius = 0;  // m
 };
 
+// Per phyxel the phyxels it was torn from (the severed log's torn pairs, both ways).
+using TornPartners = std::vector<std::vector<uint32_t>>;
+
+// What fracture_sphere knows of the tears, per phyxel: the phyxels it was torn from, and 1
+// where it is torn loose: fewer than half of its pairs to live phyxels are intact (read only
+// at the phyxels it looks at).
+struct Tears {
+  TornPartners partners;
+  std::vector<uint8_t> loose;
+};
+
 // Pairs (i, j) of the neighbour lists that a cut or a tear severed, keyed by pair_key.
 using SeveredKeys = std::unordered_set<uint64_t>;
 inline uint64_t pair_key(uint32_t i, uint32_t j) {
@@ -75,20 +90,20 @@ struct MouthPhyxels {
 
 // Steps 1-3 for one mouth, over the phyxels of `near` (those within reach + shell of the mouth
 // at least; the result is as over every phyxel). removed, surface, torn: per phyxel (1:
-// removed; 1: on a surface; 1: a pair of its tore); shell: delta.
+// removed; 1: on a surface; the tears); shell: delta. A torn partner outside `near` counts at
+// the phyxel's own position.
 // Returns an event with no removed phyxel when nothing tears. Its rest-space fields are still
 // in current positions (centre = mouth): map_fracture_to_rest maps them.
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
-                                const std::vector<uint8_t>& surface,
-                                const std::vector<uint8_t>& torn, const MouthPhyxels& near,
-                                const ToolPose& mouth, double reach, double shell);
+                                const std::vector<uint8_t>& surface, const Tears& torn,
+                                const MouthPhyxels& near, const ToolPose& mouth, double reach,
+                                double shell);
 
 // The same over every phyxel: x the current positions, principal the stresses, per phyxel.
 AspirationEvent fracture_sphere(const PhyxelSet& set, const std::vector<uint8_t>& removed,
-                                const std::vector<uint8_t>& surface,
-                                const std::vector<uint8_t>& torn, const std::vector<Vec3>& x,
-                                const std::vector<double>& principal, const ToolPose& mouth,
-                                double reach, double shell);
+                                const std::vector<uint8_t>& surface, const Tears& torn,
+                                const std::vector<Vec3>& x, const std::vector<double>& principal,
+                                const ToolPose& mouth, double reach, double shell);
 
 // The event's rest-space fields from the current ones, with the displacement u, the rest
 // neighbour lists, the phyxels removed before it and the pairs severed (see the top). Reads u
@@ -146,6 +161,9 @@ class Aspirator {
 
  private:
   void account(const AspirationEvent& e);
+  void add_torn(const SeveredPair& p);
+  // torn_.loose at the torn phyxels of `near`, from the rest lists, removed_ and severed_.
+  void refresh_loose(const MouthPhyxels& near, const NeighbourLists& nbr);
   void read_severed(Solver& solver);
   // The phyxels in `box` (Solver::read_near), u_ set at them.
   MouthPhyxels read_mouths(Solver& solver, const Bounds& box);
@@ -157,7 +175,7 @@ class Aspirator {
   bool active_ = false;
   double shell_ = 0;
   std::vector<uint8_t> removed_, surface_;
-  std::vector<uint8_t> torn_;  // a pair of the phyxel has torn
+  Tears torn_;  // loose: as of the last refresh_loose
   // u as last read, valid only where read (the phyxels near the mouths, an event's and their
   // neighbours): what map_fracture_to_rest looks at.
   std::vector<Vec3> u_;

@@ -2,9 +2,11 @@
 // crosses it, and a bar pulled apart by end loads.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../physics/physics_fixtures.h"
@@ -110,6 +112,29 @@ struct PulledBar {
     return f;
   }
 };
+
+// The phyxel with the most pairs (the first such) left with one, to q (its first neighbour),
+// by tears (torn) or by removals of its other neighbours (docs/tearing.md, "A phyxel left
+// without a fit"). Returns (p, q).
+inline std::pair<uint32_t, uint32_t> leave_one_pair(Solver& solver, bool torn) {
+  const NeighbourLists& nbr = solver.neighbours();
+  uint32_t p = 0;
+  for (uint32_t i = 0; i + 1 < nbr.offset.size(); ++i)
+    if (nbr.offset[i + 1] - nbr.offset[i] > nbr.offset[p + 1] - nbr.offset[p]) p = i;
+  const uint32_t q = nbr.index[nbr.offset[p]];
+  std::vector<SeveredPair> pairs;
+  std::vector<uint32_t> others;
+  for (uint32_t k = nbr.offset[p] + 1; k < nbr.offset[p + 1]; ++k) {
+    const uint32_t j = nbr.index[k];
+    pairs.push_back({std::min(p, j), std::max(p, j), 0.5f, true});
+    others.push_back(j);
+  }
+  if (torn)
+    solver.cutting()->sever_pairs(pairs);
+  else
+    solver.removal()->remove_phyxels(others);
+  return {p, q};
+}
 
 // A 2 x 2 x 1 cm block of brain-like tissue on a fixed base, an aspirator (20 kPa) on the middle
 // of its top, held there for 0.15 s, or (descending) sucking its way 6 mm down over 0.3 s.

@@ -282,7 +282,8 @@ TEST(FractureSphere, TheFarthestOverstressedSurfacePhyxelSetsTheRadius) {
     set.flags.push_back(kSurface);
   }
   const ToolPose mouth{Vec3::Zero(), Vec3::UnitZ()};
-  std::vector<uint8_t> removed(n, 0), surface(n, 1), torn(n, 0);
+  std::vector<uint8_t> removed(n, 0), surface(n, 1);
+  Tears torn{TornPartners(n), std::vector<uint8_t>(n, 0)};
   std::vector<double> principal(n, 50);
   principal[0] = principal[2] = 150;  // overstressed at 1 and 3 mm
   const std::vector<Vec3> x = set.rest;
@@ -301,13 +302,19 @@ TEST(FractureSphere, TheFarthestOverstressedSurfacePhyxelSetsTheRadius) {
   surface[1] = 0;
   EXPECT_TRUE(fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015)
                   .removed.empty());
-  // A torn phyxel has failed whatever its stress now: torn at 2 mm, R = 2 mm.
+  // A crack has failed whatever the stress now: 2 and 3 mm torn apart, R = 2.5 mm (the
+  // crack, not the far phyxel); torn loose, 3 mm counts at its own position.
   principal[1] = 50;
-  torn[1] = 1;
+  torn.partners[1] = {2};
+  torn.partners[2] = {1};
   e = fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015);
-  EXPECT_DOUBLE_EQ(e.radius, 0.002);
+  EXPECT_NEAR(e.radius, 0.0025, 1e-15);
   EXPECT_EQ(e.removed, (std::vector<uint32_t>{0, 1}));
-  torn[1] = 0;
+  torn.loose[2] = 1;
+  e = fracture_sphere(set, removed, surface, torn, x, principal, mouth, 0.005, 0.0015);
+  EXPECT_DOUBLE_EQ(e.radius, 0.003);
+  EXPECT_EQ(e.removed, (std::vector<uint32_t>{0, 1, 2}));
+  torn = Tears{TornPartners(n), std::vector<uint8_t>(n, 0)};
   // Behind the mouth nothing is in reach.
   const ToolPose turned{Vec3::Zero(), -Vec3::UnitZ()};
   surface.assign(n, 1);

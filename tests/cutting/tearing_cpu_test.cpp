@@ -2,7 +2,8 @@
 // on closed forms; a bar pulled by a rising end load tears when its stress reaches tear_stress
 // (the load at the first tear within 10 % of tear_stress x area) and not below it, across the
 // load, into pieces that part; a material without tear_stress never tears; every value stays
-// finite through repeated tearing; torn pairs are logged as torn and resume through sever_pairs.
+// finite through repeated tearing; torn pairs are logged as torn and resume through sever_pairs;
+// a phyxel left without a fit loses its last pair.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,6 +143,28 @@ TEST(Tearing, TornPairsResumeThroughSeverPairsWithTheirFlag) {
   for (size_t k = 0; k < solver.severed_count(); ++k)
     EXPECT_EQ(resumed.severed_log()[k].torn, solver.severed_log()[k].torn) << k;
   EXPECT_EQ(resumed.pair_weights(), solver.pair_weights());
+}
+
+// docs/tearing.md, "A phyxel left without a fit": its last pairs cannot determine its gradient, its
+// stress says nothing of them, and they tear at the next tear pass. Until 2026-11-27 such a pair
+// held (the brain scene's fragment on one pair, 13 times its rest length: docs/suction.md).
+TEST(Tearing, APhyxelLeftWithoutAFitLosesItsLastPair) {
+  for (const bool torn : {true, false}) {
+    test::PulledBar bar;
+    std::unique_ptr<Solver> solver = make_cpu_solver(bar.set, Vec3::Zero(), 1, false);
+    solver->load_changes()->set_external_forces(bar.load(0));  // at rest, unloaded
+    const auto [p, q] = test::leave_one_pair(*solver, torn);
+    const size_t before = solver->cutting()->severed_pairs();
+    solver->tearing()->set_tearing(true);
+    solver->advance(1, bar.dt);  // at rest: no stress tears anything
+    const std::vector<SeveredPair> after = solver->cutting()->severed_since(before);
+    ASSERT_EQ(after.size(), 1u) << (torn ? "torn" : "removed");
+    EXPECT_EQ(after[0].i, std::min(p, q));
+    EXPECT_EQ(after[0].j, std::max(p, q));
+    EXPECT_TRUE(after[0].torn);
+    solver->advance(20, bar.dt);  // nothing else is left without a fit
+    EXPECT_EQ(solver->cutting()->severed_pairs(), before + 1);
+  }
 }
 
 }  // namespace

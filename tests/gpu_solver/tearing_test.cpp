@@ -1,7 +1,8 @@
 // Tearing on the GPU against the CPU reference (engine/solver/cpu_solver_tearing.cpp): from the
 // same overstressed state, one substep tears the same pairs but for those whose stress lies
 // within kTearParityTolerance of the threshold, and the positions after agree; two GPU runs of
-// a bar pulled apart give the same bits; without tearing nothing is torn.
+// a bar pulled apart give the same bits; a phyxel left without a fit loses its last pair as on the
+// CPU; without tearing nothing is torn.
 #include <set>
 #include <utility>
 
@@ -111,6 +112,31 @@ TEST_F(GpuSolverTest, TwoGpuRunsOfABarPulledApartAreBitIdentical) {
     EXPECT_TRUE(log_a[k].torn);
   }
   EXPECT_EQ(u_a, u_b);
+}
+
+// A phyxel left without a fit (tearing.h left_without_fit: left with one pair by tears or by
+// removals) loses that pair at the next tear pass, at rest, as on the CPU.
+TEST_F(GpuSolverTest, APhyxelLeftWithoutAFitLosesItsLastPairAsOnTheCpu) {
+  for (const bool torn : {true, false}) {
+    const PulledBar bar;
+    std::unique_ptr<Solver> cpu = make_cpu_solver(bar.set, Vec3::Zero(), 1, false);
+    GpuSolver gpu(ctx(), bar.set, Vec3::Zero());
+    cpu->load_changes()->set_external_forces(bar.load(0));  // at rest, unloaded
+    gpu.set_external_forces(bar.load(0));
+    const auto [p, q] = phyxel::test::leave_one_pair(*cpu, torn);
+    EXPECT_EQ(phyxel::test::leave_one_pair(gpu, torn), std::make_pair(p, q));
+    const size_t before = gpu.severed_pairs();
+    cpu->tearing()->set_tearing(true);
+    gpu.set_tearing(true);
+    cpu->advance(1, bar.dt);
+    gpu.advance(1, bar.dt);
+    const std::vector<SeveredPair> got = gpu.severed_since(before);
+    ASSERT_EQ(got.size(), 1u) << (torn ? "torn" : "removed");
+    EXPECT_EQ(got[0].i, std::min(p, q));
+    EXPECT_EQ(got[0].j, std::max(p, q));
+    EXPECT_TRUE(got[0].torn);
+    EXPECT_EQ(pair_set(gpu.severed_since(0)), pair_set(cpu->cutting()->severed_since(0)));
+  }
 }
 
 TEST_F(GpuSolverTest, WithoutTearingNothingTearsAndThePassIsNotRecorded) {
