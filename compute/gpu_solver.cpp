@@ -359,6 +359,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
       rec_[0]->submit_and_wait();
       finish_contact(substeps, false);
     }
+    cut_pass_ += uint32_t(substeps);
     return;
   }
   const float fdt = static_cast<float>(dt);
@@ -408,6 +409,7 @@ void GpuSolver::advance(int64_t substeps, double dt) {
     throw;
   }
   substeps_run_ += substeps;
+  cut_pass_ += uint32_t(substeps);  // the passes record_sever numbered from it
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
   if (!tools_.empty()) finish_contact(substeps, true);

@@ -3,7 +3,8 @@
 // pairs against the quad each cutting blade swept, in the canonical order (lower index first)
 // with the tie rule of engine/solver/cutting.cpp (an endpoint on the plane is on the positive
 // side; a segment through an edge crosses, except through the front), and the pairs its edge
-// holds (blade_edge.glsl). Positions relative to the motion table's origin.
+// holds (blade_edge.glsl), except those that would cut a phyxel from the side its blade keeps it
+// on (sides_allow). Positions relative to the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -27,6 +28,7 @@ layout(std430, binding = kSeverBindingSamples) readonly buffer Samples { vec4 sa
 layout(std430, binding = kSeverBindingDirty) buffer Dirty { uint dirty[]; };
 layout(std430, binding = kSeverBindingLog) buffer Log { uvec4 cut_log[]; };
 layout(std430, binding = kSeverBindingCount) readonly buffer Count { ContactCount count; };
+layout(std430, binding = kSeverBindingSides) buffer Sides { uint sides[]; };
 
 const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
 
@@ -97,14 +99,24 @@ void main() {
     const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
     // cut_force of engine/solver/cutting.cpp: the edge pressed in, or the point (a stab).
     const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
-    if (max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) < threshold) continue;
-    for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
-      if (pair_weight_bits(k) == 0u) continue;
+    const bool cuts = max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) >= threshold;
+    // The side the blade keeps i on (blade_edge.glsl): renewed by i alone, every substep.
+    const bool sided = threshold > 0.0;  // blades with a threshold only (CpuSolver's)
+    const uint side_i = sided ? side_at_start(sides[tool * p.phyxels + i], p.pass) : kSideNone;
+    const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
+    uint cut_to = kSideNone;
+    for (uint k = offset[i]; cuts && k < offset[i + 1u]; ++k) {
+      if (!sided && pair_weight_bits(k) == 0u) continue;
       const uint j = nbr_index(k);
       const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
       float t;
       const bool crosses = i < j ? crosses_blade(xi, xj, quad, t) : crosses_blade(xj, xi, quad, t);
-      if (!crosses) continue;
+      if (!crosses ||
+          (sided && !sides_allow(side_i, side_at_start(sides[tool * p.phyxels + j], p.pass),
+                                 normal, xi, xj)))
+        continue;
+      cut_to |= side_from(normal, xi, xj);  // severed now or before: no race on the weights
+      if (pair_weight_bits(k) == 0u) continue;
       const uint lo = min(i, j), hi = max(i, j);
       const uint lo_slot = i < j ? k : find_slot(j, i);
       if (sever_pair_weight(lo_slot) == 0u) continue;  // another thread has it
@@ -115,5 +127,6 @@ void main() {
       const uint at = atomicAdd(cut_log[0].x, 1u);
       if (at < p.log_capacity) cut_log[1u + at] = uvec4(lo, hi, floatBitsToUint(t), 0u);
     }
+    if (sided) sides[tool * p.phyxels + i] = side_entry(p.pass, side_i, side_after(side_i, cut_to));
   }
 }
