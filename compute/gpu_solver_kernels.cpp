@@ -73,8 +73,8 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   tear = make(PHYXEL_SHADER(solver_tear), 18, sizeof(TearPush));
-  sever = make(PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush));
-  resist = make(PHYXEL_SHADER(tool_resist), 15, sizeof(ResistPush));
+  sever = make(PHYXEL_SHADER(tool_sever), 19, sizeof(SeverPush));
+  resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }
 

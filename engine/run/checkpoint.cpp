@@ -30,7 +30,6 @@ enum Section : uint32_t {
   kTorn = 11,         // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
   kGrips = 12,        // per tool: the grasper's jaws closed and what they hold
   kAspiration = 13,   // the aspirator: removed phyxels, surface, severed log read, totals
-  kBladeSides = 14,   // per tool: the phyxels its blade keeps on one side, and the side
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -247,32 +246,6 @@ void write_sections(Writer& w, const Checkpoint& c) {
   w.put_array(a.removed_mass);
   w.put_array(a.removed_volume);
   w.end_section();
-
-  w.begin_section(kBladeSides);
-  w.put<uint64_t>(c.blade_sides.size());
-  for (const std::vector<BladeSide>& tool : c.blade_sides) {
-    w.put<uint64_t>(tool.size());
-    for (const BladeSide& b : tool) {
-      w.put<uint32_t>(b.phyxel);
-      w.put<uint8_t>(uint8_t(b.side));
-    }
-  }
-  w.end_section();
-}
-
-void read_blade_sides(Reader& r, Checkpoint& c) {
-  const uint64_t tools = r.get<uint64_t>();
-  for (uint64_t t = 0; t < tools; ++t) {
-    std::vector<BladeSide> kept(r.get<uint64_t>());
-    for (BladeSide& b : kept) {
-      b.phyxel = r.get<uint32_t>();
-      b.side = r.get<uint8_t>();
-      if (b.side != kSidePlus && b.side != kSideMinus)
-        throw CheckpointError("corrupt checkpoint: blade side " + std::to_string(b.side) +
-                              " for phyxel " + std::to_string(b.phyxel));
-    }
-    c.blade_sides.push_back(std::move(kept));
-  }
 }
 
 void read_grips(Reader& r, Checkpoint& c) {
@@ -404,9 +377,6 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
       break;
     case kAspiration:
       read_aspiration(r, c.aspiration);
-      break;
-    case kBladeSides:
-      read_blade_sides(r, c);
       break;
     default:  // a section this version does not know: skipped
       break;

@@ -68,9 +68,6 @@ struct Checkpoint {
   // (its surface empty without one).
   std::vector<Grip> grips;
   AspiratorState aspiration;
-  // Per tool, the sides its blade keeps (engine/solver/cutting.h, BladeSide; empty without a
-  // blade or in a checkpoint written before them: none kept).
-  std::vector<std::vector<BladeSide>> blade_sides;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

@@ -231,8 +231,6 @@ void RunLoop::resume(const Checkpoint& c) {
   if (!c.severed.empty())  // the cuts, before the state's forces
     need(solver_.cutting(), solver_, "sever pairs").sever_pairs(c.severed);
   try {
-    if (!c.blade_sides.empty())  // the sides the blades keep (after set_tools)
-      need(solver_.cutting(), solver_, "keep a blade's sides").restore_blade_sides(c.blade_sides);
     aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
     if (has_grasper(scene_))
       need(solver_.tools(), solver_, "restore a grasper's grip").restore_grips(c.grips);
@@ -457,10 +455,7 @@ Checkpoint RunLoop::checkpoint() {
     c.tool_poses = tools_.poses();
     c.tool_stats = tools_.stats();
   }
-  if (Cutting* cut = solver_.cutting()) {
-    c.severed = cut->severed_since(0);
-    if (!tools_.empty()) c.blade_sides = cut->blade_sides();
-  }
+  if (Cutting* cut = solver_.cutting()) c.severed = cut->severed_since(0);
   if (has_grasper(scene_))
     c.grips = need(solver_.tools(), solver_, "hold a grasper's grip").grips();
   c.aspiration = aspirator_.state();

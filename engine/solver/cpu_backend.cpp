@@ -106,14 +106,6 @@ class CpuBackend final : public SolverWithAllFacets {
     solver_->sort_severed_from(logged_);
     logged_ = solver_->severed_log().size();
   }
-  std::vector<std::vector<BladeSide>> blade_sides() override {
-    std::vector<std::vector<BladeSide>> sides(solver_->tool_count());
-    for (size_t t = 0; t < sides.size(); ++t) sides[t] = solver_->blade_sides(t);
-    return sides;
-  }
-  void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override {
-    for (size_t t = 0; t < sides.size(); ++t) solver_->restore_blade_sides(t, sides[t]);
-  }
 
  private:
   int threads_;

@@ -155,10 +155,6 @@ class Cutting {
   virtual std::vector<SeveredPair> severed_since(size_t first) = 0;
   virtual std::vector<uint8_t> pair_alive() = 0;
   virtual void sever_pairs(const std::vector<SeveredPair>& pairs) = 0;
-  // Per tool, the sides its blade keeps (cutting.h, BladeSide; empty for a tool without a
-  // blade), for checkpoints; restore_blade_sides puts them back after set_tools.
-  virtual std::vector<std::vector<BladeSide>> blade_sides() = 0;
-  virtual void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) = 0;
 
  protected:
   ~Cutting() = default;
