@@ -33,7 +33,7 @@ bool by_pair(const SeveredPair& a, const SeveredPair& b) {
 void GpuSolver::prepare_cutting() {
   Context& ctx = *ctx_;
   if (!cut_dirty_)
-    cut_dirty_ = Buffer(ctx, (uint64_t{count_} + 4) * sizeof(uint32_t), MemoryIntent::Device,
+    cut_dirty_ = Buffer(ctx, (uint64_t{count_} + 1) * sizeof(uint32_t), MemoryIntent::Device,
                         "cut dirty phyxels");
   if (!cut_done_) {
     cut_done_ = Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "cut workgroups done");

@@ -87,7 +87,7 @@ PHYXEL_CONST uint kFlagRegularised = 256u;  // set by solver_precompute: A_i was
 // Some of the phyxel's pairs were deactivated (weight 0 in the pair-weight buffer): the passes
 // read its stored weights instead of recomputing them from x0 (see kWeightsAuto).
 PHYXEL_CONST uint kFlagPairsEdited = 512u;
-// In the current substep's cut list (tool_sever); solver_precompute's cut mode clears it.
+// In the current substep's dirty list (tool_sever, solver_tear); its precompute clears it.
 PHYXEL_CONST uint kFlagCutDirty = 1024u;
 // Set by solver_precompute: left without a fit (engine/solver/tearing.h left_without_fit:
 // regularised after it lost a pair, not fixed); solver_tear severs every pair it still has.

@@ -53,8 +53,6 @@ mat3 tensor(uint i) {
 }
 
 #include "pair_edit.glsl"
-#include "last_workgroup.glsl"
-#include "solver_precompute.glsl"
 
 float strength(uint x) {
   return classes[flags[x] >> kFlagClassShift].search.w;
@@ -66,9 +64,7 @@ void tear(uint i, uint k, uint j) {
   clear_pair_weight(find_slot(j, i));
   mark_dirty(i);
   mark_dirty(j);
-  const uint at = atomicAdd(cut_log[0].x, 1u);
-  if (at < p.log_capacity)
-    cut_log[1u + at] = uvec4(min(i, j), max(i, j), floatBitsToUint(0.5), 1u);
+  log_severed(min(i, j), max(i, j), 0.5, 1u);
 }
 
 // A phyxel left without a fit: every live pair of row i (strength ti) to a phyxel that tears.
@@ -125,8 +121,5 @@ void tear_pairs(uint invocation) {
 
 void main() {
   tear_pairs(PHYXEL_GLOBAL_INDEX);
-  if (!finished_last()) return;
-  const uint dirtied = dirty[0];
-  for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
-    precompute_phyxel(dirty[4u + e], true);
+  precompute_dirty_list();
 }

@@ -99,8 +99,6 @@ bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
 }
 
 #include "pair_edit.glsl"
-#include "last_workgroup.glsl"
-#include "solver_precompute.glsl"
 
 // Whether the tool's blade cuts in this substep: its sample presses the edge in, or the point
 // (a stab), with at least its threshold (cut_force of engine/solver/cutting.cpp).
@@ -137,8 +135,7 @@ void sever_pair(uint i, vec3 xi, uint k) {
     clear_pair_weight(i < j ? find_slot(j, i) : k);
     mark_dirty(lo);
     mark_dirty(hi);
-    const uint at = atomicAdd(cut_log[0].x, 1u);
-    if (at < p.log_capacity) cut_log[1u + at] = uvec4(lo, hi, floatBitsToUint(t), 0u);
+    log_severed(lo, hi, t, 0u);
     return;
   }
 }
@@ -154,8 +151,5 @@ void main() {
     for (uint k = offset[i] + invocation % lanes; k < end; k += lanes)
       sever_pair(i, xi, k);
   }
-  if (!finished_last()) return;
-  const uint dirtied = dirty[0];
-  for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
-    precompute_phyxel(dirty[4u + e], true);
+  precompute_dirty_list();
 }

@@ -177,8 +177,8 @@ class CpuSolver {
   std::vector<ElasticParams<Real>> params_;
   std::vector<M3> a_inv_, a_residual_;
   std::vector<uint8_t> regularised_;
-  std::vector<uint8_t>
-      no_fit_;                // left_without_fit (tearing.h): its pairs tear at the next tear pass
+  // left_without_fit (tearing.h): its pairs tear at the next tear pass.
+  std::vector<uint8_t> no_fit_;
   std::vector<V3> external_;  // m g + loads
   std::vector<double> mass_d_;
   NeighbourLists nbr_;
