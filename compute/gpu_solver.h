@@ -247,10 +247,11 @@ class GpuSolver final : public SolverWithAllFacets {
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
   // median time per pass name ("kick_drift" once, then "stress" (with the principal stress
-  // while on) and "force" per step, and "contact" after every drift while tools touch the
-  // candidates' chunk). Empty where the device has no timestamps. Advances the state like
-  // advance(steps, dt). per_dispatch: the contact, cut and tear passes timed by their parts
-  // ("contact: tool", "cut: sever", "tear: pairs", ...; a barrier counts with the part after it).
+  // while on) and "force" per step ("force+tear" while tearing, after "tear: reset" where the
+  // substep needs one), and "contact" after every drift while tools touch the candidates'
+  // chunk). Empty where the device has no timestamps. Advances the state like advance(steps,
+  // dt). per_dispatch: the contact and cut passes timed by their parts ("contact: tool", "cut:
+  // sever", ...; a barrier counts with the part after it).
   std::vector<PassTime> profile(int64_t steps, double dt, bool per_dispatch = false);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
@@ -342,8 +343,9 @@ class GpuSolver final : public SolverWithAllFacets {
   void mark_severed(const SeveredPair& p);  // alive_ of both slots
   bool contact_recorded() const { return contact_active_; }
   // tool_contact writes the samples itself (no tool_resist adds to its partials after it), and
-  // the dirty list's empty header where there is one: the sever and tear passes that follow it
-  // in the substep (without a sever between for the tear) need no reset of their own.
+  // the dirty list's empty header where there is one: the sever pass and the force pass's tear
+  // test that follow it in the substep (without a sever between for the tear) need no reset of
+  // their own.
   bool contact_fused() const { return contact_active_ && !resisting_; }
 
   std::unique_ptr<Context> owned_ctx_;
