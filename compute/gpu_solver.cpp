@@ -167,7 +167,7 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   }
 
   upload(ctx, classes_, host.classes);
-  for (const SolverClass& c : host.classes)  // the tear pass's bound (solver_tear.comp)
+  for (const SolverClass& c : host.classes)  // the tear test's bound (solver_force_tear.comp)
     if (c.search.w > 0 && std::isfinite(c.search.w))
       weakest_tear_ = std::min(weakest_tear_, c.search.w);
   upload(ctx, rest_, host.rest);
@@ -291,10 +291,12 @@ void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffe
 void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt,
                              int& cur, PassTimer* timer) {
   auto timed = [&](const char* name, auto&& record) {
-    // With part_timer_ the surgical passes time their parts themselves.
+    // With part_timer_ the surgical passes time their parts themselves; the step passes (the
+    // fused force and tear test among them) and the tear's reset are one part each.
     const bool whole =
-        timer && !(part_timer_ && std::strcmp(name, "stress") != 0 &&
-                   std::strcmp(name, "force") != 0 && std::strcmp(name, "kick_drift") != 0);
+        timer &&
+        !(part_timer_ && std::strcmp(name, "stress") != 0 && std::strncmp(name, "force", 5) != 0 &&
+          std::strcmp(name, "kick_drift") != 0 && std::strcmp(name, "tear: reset") != 0);
     if (whole) timer->begin(rec, name);
     record();
     if (whole) timer->end(rec);
@@ -323,13 +325,20 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       }
     }
     timed("stress", [&] { record_stress(rec, disp_[cur]); });
-    if (step == total - 1) {
-      timed("force", [&] { record_force(rec, kForceKick, dt, disp_[cur], disp_[cur]); });
-      if (tearing_) timed("tear", [&] { record_tear(rec, disp_[cur]); });
+    // The closing kick, or with the next step's kick and drift into the other buffer (its
+    // neighbours still read the current one); while tearing, with the tear test after it.
+    const bool last = step == total - 1;
+    const uint32_t mode = last ? kForceKick : kForceKickDrift;
+    const Buffer& out = disp_[last ? cur : 1 - cur];
+    if (tearing_) {
+      // The dirty list's count (tool_contact emptied it unless a sever filled it after).
+      if (tear_needs_reset())
+        timed("tear: reset", [&] { rec.fill(cut_dirty_, 0, 0, sizeof(uint32_t)); });
+      timed("force+tear", [&] { record_force_tear(rec, mode, dt, disp_[cur], out); });
     } else {
-      timed("force", [&] { record_force(rec, kForceKickDrift, dt, disp_[cur], disp_[1 - cur]); });
-      // The stress pass's u is still in disp_[cur]: the fused pass wrote the next one beside it.
-      if (tearing_) timed("tear", [&] { record_tear(rec, disp_[cur]); });
+      timed("force", [&] { record_force(rec, mode, dt, disp_[cur], out); });
+    }
+    if (!last) {
       cur = 1 - cur;
       if (contact_recorded()) {
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });

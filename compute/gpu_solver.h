@@ -199,10 +199,11 @@ class GpuSolver final : public SolverWithAllFacets {
   void set_principal_stress(bool on) override;
   bool principal_stress_on() const { return principal_; }
   // Tearing, with CpuSolver's semantics (engine/solver/tearing.h): while on, the stress
-  // pass also keeps each phyxel's Cauchy tensor, and solver_tear follows every substep's force
-  // pass over the stress list (on the u that pass read), then solver_precompute over the
-  // phyxels it touched (indirect, as the cut): nothing is read back during the advance; the
-  // torn pairs come back with the cut log once per advance.
+  // pass also keeps each phyxel's Cauchy tensor, and the force pass of every substep is
+  // solver_force_tear: the forces, then the tear test over the stress list (on the u the
+  // stress pass read), its last workgroup rerunning the precompute of the phyxels it touched:
+  // nothing is read back during the advance; the torn pairs come back with the cut log once per
+  // advance.
   void set_tearing(bool on) override;
   // Cutting, with CpuSolver's semantics (engine/solver/cpu_solver.h): after each substep's
   // contact reduction, tool_sever over the candidates (dispatched indirectly) for every blade
@@ -246,10 +247,11 @@ class GpuSolver final : public SolverWithAllFacets {
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
   // median time per pass name ("kick_drift" once, then "stress" (with the principal stress
-  // while on) and "force" per step, and "contact" after every drift while tools touch the
-  // candidates' chunk). Empty where the device has no timestamps. Advances the state like
-  // advance(steps, dt). per_dispatch: the contact, cut and tear passes timed by their parts
-  // ("contact: tool", "cut: sever", "tear: pairs", ...; a barrier counts with the part after it).
+  // while on) and "force" per step ("force+tear" while tearing, after "tear: reset" where the
+  // substep needs one), and "contact" after every drift while tools touch the candidates'
+  // chunk). Empty where the device has no timestamps. Advances the state like advance(steps,
+  // dt). per_dispatch: the contact and cut passes timed by their parts ("contact: tool", "cut:
+  // sever", ...; a barrier counts with the part after it).
   std::vector<PassTime> profile(int64_t steps, double dt, bool per_dispatch = false);
   // Bytes each phyxel moves to and from device memory per step, as counted for the roofline
   // (per-phyxel and per-pair data read or written once per pass; a neighbour's data is counted
@@ -297,8 +299,11 @@ class GpuSolver final : public SolverWithAllFacets {
     if (part_timer_) part_timer_->end(rec);
   }
   void record_stress(Recorder& rec, const Buffer& disp);
-  void record_tear(Recorder& rec, const Buffer& disp);  // gpu_solver_tearing.cpp
-  // The dirty list's header reset before a pass that fills it (tool_sever, solver_tear).
+  // solver_force_tear in place of record_force (gpu_solver_tearing.cpp).
+  void record_force_tear(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
+                         const Buffer& out);
+  bool tear_needs_reset() const { return !contact_fused() || cutting_; }
+  // The dirty list's header reset before tool_sever, which fills it.
   void record_dirty_reset(Recorder& rec);
   // The precompute pass over the phyxels of `list` (`elements` of them).
   void record_precompute(Recorder& rec, const layout::PrecomputePush& pc, const Buffer& list,
@@ -338,8 +343,9 @@ class GpuSolver final : public SolverWithAllFacets {
   void mark_severed(const SeveredPair& p);  // alive_ of both slots
   bool contact_recorded() const { return contact_active_; }
   // tool_contact writes the samples itself (no tool_resist adds to its partials after it), and
-  // the dirty list's empty header where there is one: the sever and tear passes that follow it
-  // in the substep (without a sever between for the tear) need no reset of their own.
+  // the dirty list's empty header where there is one: the sever pass and the force pass's tear
+  // test that follow it in the substep (without a sever between for the tear) need no reset of
+  // their own.
   bool contact_fused() const { return contact_active_ && !resisting_; }
 
   std::unique_ptr<Context> owned_ctx_;
@@ -395,6 +401,9 @@ class GpuSolver final : public SolverWithAllFacets {
   // The pass lists on the host (ascending), membership of the force list, and per phyxel how
   // many force-list phyxels have it in their row (the stress pass's neighbourhood).
   std::vector<uint32_t> stress_list_host_, force_list_host_;
+  // The stress list's phyxels not in the force list: uploaded after the force list, where
+  // solver_force_tear tests their pairs.
+  std::vector<uint32_t> tear_only_host_;
   std::vector<uint8_t> in_force_;
   std::vector<uint32_t> stress_refs_;
   AdvanceHostTimes host_times_;
@@ -462,10 +471,10 @@ class GpuSolver final : public SolverWithAllFacets {
   double max_support_ = 0;              // the largest support radius (the broad phase's margin)
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
   Buffer cut_dirty_;                    // uint: count, phyxels
-  Buffer cut_done_;  // uint: finished workgroups of tool_sever or solver_tear; 0 between
+  Buffer cut_done_;  // uint: finished workgroups of tool_sever or solver_force_tear; 0 between
   Buffer cut_log_;   // Readback: uvec4 count, then (i, j, t bits, 0)
   uint32_t log_capacity_ = 0;
-  // The smallest tear strength of any class that tears (+inf if none): TearPush.weakest.
+  // The smallest tear strength of any class that tears (+inf if none): ForceTearPush.weakest.
   float weakest_tear_ = std::numeric_limits<float>::infinity();
   std::vector<SeveredPair> severed_;  // the log (Solver::severed_since)
   std::vector<uint8_t> alive_;        // per pair, as the log says (overflow and pair_alive)

@@ -12,6 +12,7 @@
 #include "phyxel_spv/solver_edit.spv.h"
 #include "phyxel_spv/solver_energy.spv.h"
 #include "phyxel_spv/solver_force.spv.h"
+#include "phyxel_spv/solver_force_tear.spv.h"
 #include "phyxel_spv/solver_kick_drift.spv.h"
 #include "phyxel_spv/solver_max_norm.spv.h"
 #include "phyxel_spv/solver_motion.spv.h"
@@ -19,7 +20,6 @@
 #include "phyxel_spv/solver_precompute.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
 #include "phyxel_spv/solver_stress.spv.h"
-#include "phyxel_spv/solver_tear.spv.h"
 #include "phyxel_spv/solver_von_mises.spv.h"
 #include "phyxel_spv/tool_broad_phase.spv.h"
 #include "phyxel_spv/tool_broad_scan.spv.h"
@@ -72,7 +72,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   force = make(PHYXEL_SHADER(solver_force), 15, sizeof(StepPush));
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
-  tear = make(PHYXEL_SHADER(solver_tear), 18, sizeof(TearPush));
+  force_tear = make(PHYXEL_SHADER(solver_force_tear), 23, sizeof(ForceTearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 19, sizeof(SeverPush));
   resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));

@@ -35,7 +35,7 @@ class SolverKernels {
   Pipeline reduce;          // layout::ReducePush; kReduce* bindings
   Pipeline check;           // layout::CheckPush; kCheck* bindings
   Pipeline von_mises;       // layout::StepPush; kEnergy* bindings
-  Pipeline tear;            // layout::TearPush; kTear* bindings (over the stress list)
+  Pipeline force_tear;      // layout::ForceTearPush; kForce*, kForceTear* bindings
   Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
   Pipeline motion;          // layout::MotionPush; kMotion* bindings
   Pipeline contact;         // layout::ContactPush; kContact* bindings (over the candidates)

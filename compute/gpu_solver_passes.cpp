@@ -72,10 +72,16 @@ void GpuSolver::remove_from_pass_lists(const std::vector<uint32_t>& ids) {
 
 // Both lists through a persistent upload buffer (removals change them dozens of times a run),
 // recorded ahead of the forces that every caller recomputes next (compute_forces submits them);
-// while the solver is being built, in a submission of their own.
+// while the solver is being built, in a submission of their own. The force list's buffer holds
+// after it the stress list's phyxels that it lacks (fixed ones beside moving ones), whose pairs
+// solver_force_tear tests too: stress + force + those <= 2 N entries.
 void GpuSolver::upload_pass_lists() {
+  tear_only_host_.clear();
+  for (const uint32_t i : stress_list_host_)
+    if (!in_force_[i]) tear_only_host_.push_back(i);
   const VkDeviceSize stress_bytes = stress_list_host_.size() * 4,
-                     force_bytes = force_list_host_.size() * 4;
+                     force_bytes = force_list_host_.size() * 4,
+                     tear_bytes = tear_only_host_.size() * 4;
   if (stress_bytes + force_bytes > 0) {
     if (list_upload_.size() < stress_bytes + force_bytes)
       list_upload_ =
@@ -83,10 +89,12 @@ void GpuSolver::upload_pass_lists() {
     auto* up = static_cast<char*>(list_upload_.mapped());
     std::memcpy(up, stress_list_host_.data(), stress_bytes);
     std::memcpy(up + stress_bytes, force_list_host_.data(), force_bytes);
+    std::memcpy(up + stress_bytes + force_bytes, tear_only_host_.data(), tear_bytes);
     auto record = [&](Recorder& rec) {
       rec.barrier();  // the passes that read the lists before
       if (stress_bytes > 0) rec.copy(list_upload_, stress_list_, stress_bytes, 0, 0);
-      if (force_bytes > 0) rec.copy(list_upload_, force_list_, force_bytes, stress_bytes, 0);
+      if (force_bytes + tear_bytes > 0)
+        rec.copy(list_upload_, force_list_, force_bytes + tear_bytes, stress_bytes, 0);
       rec.barrier();
     };
     if (rec_[0]) {

@@ -231,8 +231,9 @@ std::vector<float> GpuSolver::pair_weights() {
 std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt, bool per_dispatch) {
   settle();
   if (steps < 1) throw std::invalid_argument("GpuSolver::profile: steps must be at least 1");
-  // kick_drift once; per step stress (with the principal stress while on), force, tear while
-  // on, and contact and cut where there are tools; per dispatch, at most 4 parts of each.
+  // kick_drift once; per step stress (with the principal stress while on), force (fused with
+  // the tear test while tearing, after the dirty list's reset where it needs one), and contact
+  // and cut where there are tools; per dispatch, at most 4 parts of each.
   const int64_t per_step =
       2 +
       (per_dispatch ? 4 : 1) * ((tearing_ ? 1 : 0) + (tools_.empty() ? 0 : 1) + (cutting_ ? 1 : 0));

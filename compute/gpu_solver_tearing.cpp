@@ -1,9 +1,9 @@
 // GpuSolver: tearing with CpuSolver's semantics (engine/solver/cpu_solver_tearing.cpp,
-// engine/solver/tearing.h). Per substep, after the force pass and in the same command buffer:
-// the dirty list's count reset (unless tool_contact emptied it) and solver_tear over the stress
-// list (on the u the stress pass read), whose last workgroup reruns the precompute of the phyxels
-// it put in the dirty list. The torn pairs join the cut log, read back once per advance
-// (finish_cutting).
+// engine/solver/tearing.h). Per substep, in the same command buffer: the dirty list's count
+// reset (unless tool_contact emptied it), then solver_force_tear in place of the force pass: the
+// forces of the intact pairs, then the tear test over the stress list (on the u the stress pass
+// read), whose last workgroup reruns the precompute of the phyxels it put in the dirty list. The
+// torn pairs join the cut log, read back once per advance (finish_cutting).
 #include <algorithm>
 
 #include "compute/gpu_solver.h"
@@ -35,38 +35,39 @@ void GpuSolver::set_tearing(bool on) {
   }
 }
 
-void GpuSolver::record_tear(Recorder& rec, const Buffer& disp) {
-  const uint32_t n = static_cast<uint32_t>(stress_count_);
-  // tool_contact emptied the list in this substep unless a sever filled it after.
-  if (!contact_fused() || cutting_) {
-    part_begin(rec, "tear: reset");
-    record_dirty_reset(rec);
-    part_end(rec);
-  }
-  part_begin(rec, "tear: pairs");
-  // Lanes as the stress pass's gather: a pass of a few thousand phyxels is latency-bound.
-  const uint32_t lanes = lanes_for(Gather::Stress, n);
-  dispatch(rec, kernels_->tear, TearPush{n, log_capacity_, weakest_tear_, lanes},
-           {{"List", stress_list_},
-            {"Rest", rest_},
-            {"Disp", disp},
-            {"Offset", nbr_offset_},
+void GpuSolver::record_force_tear(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
+                                  const Buffer& out) {
+  const uint32_t n = static_cast<uint32_t>(force_count_);
+  const uint32_t tear_only = static_cast<uint32_t>(tear_only_host_.size());
+  // The force pass's lanes: the tear test shares its invocations.
+  const StepPush step = push(n, dt, mode, lanes_for(Gather::Force, n));
+  const ForceTearPush pc{step.count, step.dt,   step.mode,     step.weights,
+                         step.lanes, tear_only, log_capacity_, weakest_tear_};
+  dispatch(rec, kernels_->force_tear, pc,
+           {{"Offset", nbr_offset_},
             {"IndexLo", nbr_index_.lo()},
             {"WeightLo", weight_.lo()},
+            {"Local", local_},
+            {"DispIn", in},
+            {"DispOut", out},
+            {"Stress", stress_},
+            {"Vel", vel_},
+            {"Force", force_},
+            {"Ext", ext_},
             {"Flags", flags_},
             {"Classes", classes_},
+            {"List", force_list_},
+            {"IndexHi", nbr_index_.hi()},
+            {"WeightHi", weight_.hi()},
+            {"Rest", rest_},
             {"Principal", principal_stress_},
             {"Cauchy", cauchy_},
             {"Dirty", cut_dirty_},
             {"Log", cut_log_},
-            {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()},
-            {"Local", local_},
             {"Ainv", ainv_},
             {"Resid", resid_},
             {"Done", cut_done_}},
-           n * lanes);
-  part_end(rec);
+           (n + tear_only) * pc.lanes);
 }
 
 }  // namespace phyxel::gpu

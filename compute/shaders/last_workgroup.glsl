@@ -1,6 +1,6 @@
 // Whether this workgroup is the last of its dispatch to get here (tool_contact's fused
 // reduction, tool_grasp's hold then reduce, the dirty list's precompute of tool_sever and
-// solver_tear): each counts itself in the buffer variable `done`
+// solver_force_tear): each counts itself in the buffer variable `done`
 // (declared coherent before this include) after its own writes; the last one sees every other
 // workgroup's writes and sets `done` to 0 for the next dispatch. Call from every invocation.
 #ifndef PHYXEL_LAST_WORKGROUP_GLSL

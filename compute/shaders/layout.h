@@ -87,10 +87,10 @@ PHYXEL_CONST uint kFlagRegularised = 256u;  // set by solver_precompute: A_i was
 // Some of the phyxel's pairs were deactivated (weight 0 in the pair-weight buffer): the passes
 // read its stored weights instead of recomputing them from x0 (see kWeightsAuto).
 PHYXEL_CONST uint kFlagPairsEdited = 512u;
-// In the current substep's dirty list (tool_sever, solver_tear); its precompute clears it.
+// In the current substep's dirty list (tool_sever, solver_force_tear); its precompute clears it.
 PHYXEL_CONST uint kFlagCutDirty = 1024u;
 // Set by solver_precompute: left without a fit (engine/solver/tearing.h left_without_fit:
-// regularised after it lost a pair, not fixed); solver_tear severs every pair it still has.
+// regularised after it lost a pair, not fixed); solver_force_tear severs every pair it still has.
 PHYXEL_CONST uint kFlagNoFit = 2048u;
 PHYXEL_CONST uint kFlagClassShift = 16u;  // flags >> 16 = index into the SolverClass array
 PHYXEL_CONST uint kMaxSolverClasses = 65536u;
@@ -283,38 +283,33 @@ PHYXEL_CONST uint kEnergyBindingOut = 10;
 PHYXEL_CONST uint kEnergyBindingIndexHi = 11;
 PHYXEL_CONST uint kEnergyBindingWeightHi = 12;
 
-// solver_tear (engine/solver/tearing.h), over the stress pass list after the force pass of a
-// substep, on the u the stress pass read: each phyxel tests its live pairs to higher indices
-// (each pair has one owner: no atomics on the weights); a pair whose mean normal stress
-// reaches the mean of the two classes' tear_stress gets weight 0 in both slots, is logged as
-// (i, j, 0.5 bits, 1) in the cut log and puts both phyxels in the dirty list (tool_sever's);
-// the workgroup that finishes last (Done counts them) runs solver_precompute's per-phyxel work
-// over the dirty list.
-struct TearPush {
-  uint count;  // stress pass list length
+// solver_force_tear (engine/solver/tearing.h): the force pass (StepPush's first five fields, the
+// kForceBinding* bindings) over the force list, then the tear test over that list and the
+// stress pass's phyxels not in it (`tear_only` more entries of the same list buffer), on the u
+// the stress pass read: a pair whose mean normal stress reaches the mean of the two classes'
+// tear_stress gets weight 0 in both slots, is logged as (i, j, 0.5 bits, 1) in the cut log and
+// puts both phyxels in the dirty list (tool_sever's); the workgroup that finishes last (Done
+// counts them) clears the torn pairs' second slots and runs solver_precompute's per-phyxel
+// work over the dirty list.
+struct ForceTearPush {
+  uint count;  // force pass list length
+  float dt;
+  uint mode;
+  uint weights;
+  uint lanes;      // invocations per phyxel, for the force and the tear test (>= 1)
+  uint tear_only;  // stress pass phyxels after the force list: the tear test alone
   uint log_capacity;
   float weakest;  // the smallest tear strength of any class that tears
-  uint lanes;     // invocations per phyxel, each a share of its pairs (>= 1)
 };
-PHYXEL_ASSERT_SIZE(TearPush, 16);
-PHYXEL_CONST uint kTearBindingList = 0;  // the stress pass list
-PHYXEL_CONST uint kTearBindingRest = 1;
-PHYXEL_CONST uint kTearBindingDisp = 2;
-PHYXEL_CONST uint kTearBindingOffset = 3;
-PHYXEL_CONST uint kTearBindingIndex = 4;
-PHYXEL_CONST uint kTearBindingWeight = 5;  // the pair weights, as uint bits
-PHYXEL_CONST uint kTearBindingFlags = 6;
-PHYXEL_CONST uint kTearBindingClasses = 7;
-PHYXEL_CONST uint kTearBindingPrincipal = 8;  // float per phyxel (solver_stress)
-PHYXEL_CONST uint kTearBindingCauchy = 9;     // vec4[2 N] (solver_stress)
-PHYXEL_CONST uint kTearBindingDirty = 10;     // tool_sever's dirty list
-PHYXEL_CONST uint kTearBindingLog = 11;       // the cut log
-PHYXEL_CONST uint kTearBindingIndexHi = 12;
-PHYXEL_CONST uint kTearBindingWeightHi = 13;
-PHYXEL_CONST uint kTearBindingLocal = 14;  // the precompute's (kPrecomputeBinding*)
-PHYXEL_CONST uint kTearBindingAinv = 15;
-PHYXEL_CONST uint kTearBindingResid = 16;
-PHYXEL_CONST uint kTearBindingDone = 17;  // workgroups finished; 0 between dispatches
+PHYXEL_ASSERT_SIZE(ForceTearPush, 32);
+PHYXEL_CONST uint kForceTearBindingRest = 15;
+PHYXEL_CONST uint kForceTearBindingPrincipal = 16;  // float per phyxel (solver_stress)
+PHYXEL_CONST uint kForceTearBindingCauchy = 17;     // vec4[2 N] (solver_stress)
+PHYXEL_CONST uint kForceTearBindingDirty = 18;      // tool_sever's dirty list
+PHYXEL_CONST uint kForceTearBindingLog = 19;        // the cut log
+PHYXEL_CONST uint kForceTearBindingAinv = 20;       // the precompute's (kPrecomputeBinding*)
+PHYXEL_CONST uint kForceTearBindingResid = 21;
+PHYXEL_CONST uint kForceTearBindingDone = 22;  // workgroups finished; 0 between dispatches
 
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;

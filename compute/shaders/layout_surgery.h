@@ -75,7 +75,7 @@ PHYXEL_CONST uint kContactBindingForce = 8;
 PHYXEL_CONST uint kContactBindingContact = 9;
 PHYXEL_CONST uint kContactBindingCount = 10;    // ContactCount (tool_broad_scan)
 PHYXEL_CONST uint kContactBindingSamples = 11;  // as tool_contact_reduce's
-PHYXEL_CONST uint kContactBindingDirty = 12;    // the cut dirty list (tool_sever, solver_tear)
+PHYXEL_CONST uint kContactBindingDirty = 12;    // the dirty list (tool_sever, solver_force_tear)
 PHYXEL_CONST uint kContactBindingDone = 13;     // workgroups finished; 0 between dispatches
 
 // tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
@@ -294,11 +294,11 @@ PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i
 PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount, then SeverGroups
 PHYXEL_CONST uint kSeverBindingIndexHi = 12;
 PHYXEL_CONST uint kSeverBindingWeightHi = 13;
-PHYXEL_CONST uint kSeverBindingLocal = 14;    // the precompute's (kPrecomputeBinding*)
+PHYXEL_CONST uint kSeverBindingLocal = 14;  // the precompute's (kPrecomputeBinding*)
 PHYXEL_CONST uint kSeverBindingClasses = 15;
 PHYXEL_CONST uint kSeverBindingAinv = 16;
 PHYXEL_CONST uint kSeverBindingResid = 17;
-PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups finished (solver_tear's too); 0 between
+PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups done (solver_force_tear's too); 0 between
 
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor

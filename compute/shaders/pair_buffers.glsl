@@ -11,7 +11,7 @@
 //   PHYXEL_PAIR_ACCESS   0: read both (float weights; the step passes)
 //                        1: write the index, write float weights (nbr_pairs)
 //                        2: read the index, read and write the weights as uint bits (the
-//                           passes that sever pairs: tool_sever, solver_tear)
+//                           passes that sever pairs: tool_sever, solver_force_tear)
 //   PHYXEL_PAIR_WEIGHT_COHERENT   (optional, access 2) the weights coherent: a workgroup that
 //                           reads what others severed in the same dispatch (tool_sever's last)
 #ifndef PHYXEL_PAIR_BUFFERS_GLSL

@@ -6,7 +6,7 @@
 // read: the force pass gathers D_j and u_j of a neighbour in the same three loads. With mode
 // kStressWithPrincipal (tearing possible) it also writes the largest principal value of the
 // Cauchy stress sigma = P F^T / J (P itself where |J| <= 1e-12), and with kStressWithTensor the
-// symmetrised tensor for solver_tear: one gather of grad u for both (mls_model.h
+// symmetrised tensor for solver_force_tear: one gather of grad u for both (mls_model.h
 // max_principal_stress()). See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
 #version 450
 #extension GL_GOOGLE_include_directive : require

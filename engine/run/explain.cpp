@@ -51,9 +51,9 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
         "Cauchy stress, for tearing (%zu material(s) with tear_stress)",
         select ? passes->stress_pass_size() : n, tear_materials);
   if (tearing)
-    add("    tear           the same phyxels after the force pass: each live pair whose mean "
-        "normal stress reaches the mean tear_stress of its two phyxels is severed; then the "
-        "precompute of the phyxels it touched only");
+    add("    tear           the same phyxels after the forces, in the force pass's dispatch: "
+        "each live pair whose mean normal stress reaches the mean tear_stress of its two "
+        "phyxels is severed; then the precompute of the phyxels it touched only");
   const bool sleeping = select && scene.simulation.sleep.enabled;
   if (sleeping)
     add("  sleeping: on; an object whose kinetic energy stays below %.3g J for %lld steps "

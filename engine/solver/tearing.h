@@ -1,6 +1,6 @@
 // Tearing of overstressed tissue (issue #11, docs/tearing.md), shared by the CPU reference
 // (solver/cpu_solver_tearing.cpp) and mirrored by the GPU solver
-// (compute/shaders/solver_tear.comp).
+// (compute/shaders/solver_force_tear.comp).
 //
 // Material with `tear_stress` T (Pa) tears wherever it is overstressed, whatever loads it. At the
 // end of every substep, after the stress pass of the substep's positions, a live neighbour pair

@@ -1,8 +1,10 @@
 // Tearing on the GPU against the CPU reference (engine/solver/cpu_solver_tearing.cpp): from the
 // same overstressed state, one substep tears the same pairs but for those whose stress lies
-// within kTearParityTolerance of the threshold, and the positions after agree; two GPU runs of
-// a bar pulled apart give the same bits; a phyxel left without a fit loses its last pair as on the
-// CPU; without tearing nothing is torn.
+// within kTearParityTolerance of the threshold, leaves both slots of each torn pair at 0, and
+// the positions after agree (a torn pair's force gone from the next substep on both solvers),
+// also where fixed phyxels outside the force list tear; two GPU runs of a bar pulled apart give
+// the same bits; a phyxel left without a fit loses its last pair as on the CPU; without tearing
+// nothing is torn.
 #include <set>
 #include <utility>
 
@@ -33,28 +35,56 @@ void stretched_state(const PhyxelSet& set, std::vector<Vec3>& u, std::vector<Vec
     u[i] = Vec3(strain * set.rest[i].x(), 0, 0) + 2e-6 * Vec3(d(rng), d(rng), d(rng));
 }
 
-// lanes: GpuSolverOptions::lanes (0: auto), which the tear pass shares with the stress pass.
-void expect_the_cpus_tears(Context& ctx, uint32_t lanes) {
-  const PulledBar bar;
+// Both slots of a pair hold the same weight or both 0 (solver_force_tear clears the second slot
+// of a pair torn in its last workgroup).
+void expect_symmetric_weights(GpuSolver& gpu) {
+  const NeighbourLists& nbr = gpu.neighbours();
+  const std::vector<float> w = gpu.pair_weights();
+  size_t zero = 0;
+  for (uint32_t i = 0; i + 1 < nbr.offset.size(); ++i) {
+    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
+      const size_t back = nbr.slot(nbr.index[k], i);
+      ASSERT_NE(back, NeighbourLists::kNoSlot);
+      EXPECT_EQ(w[k] == 0.0f, w[back] == 0.0f) << "pair " << i << " " << nbr.index[k];
+      zero += w[k] == 0.0f ? 1 : 0;
+    }
+  }
+  EXPECT_GT(zero, 0u);
+}
+
+// The pairs torn whose lower phyxel, the one that tests them, is fixed: with pass selection
+// that one is outside the force list, and solver_force_tear tests its pairs after it.
+size_t torn_by_fixed(const PhyxelSet& set, const std::vector<SeveredPair>& torn) {
+  size_t n = 0;
+  for (const SeveredPair& p : torn) n += (set.flags[std::min(p.i, p.j)] & kFixed) ? 1 : 0;
+  return n;
+}
+
+// lanes: GpuSolverOptions::lanes (0: auto), which the tear test shares with the force pass.
+void expect_the_cpus_tears(Context& ctx, const PhyxelSet& set, double dt, uint32_t lanes) {
   std::vector<Vec3> u, v;
-  stretched_state(bar.set, u, v);
-  CpuSolver<double> cpu(bar.set, Vec3::Zero());
+  stretched_state(set, u, v);
+  CpuSolver<double> cpu(set, Vec3::Zero());
   cpu.displacement() = u;
   cpu.velocity() = v;
   cpu.set_tearing(true);
   GpuSolverOptions options;
   options.lanes = lanes;
-  GpuSolver gpu(ctx, bar.set, Vec3::Zero(), options);
+  GpuSolver gpu(ctx, set, Vec3::Zero(), options);
   gpu.set_state(u, v);
   gpu.set_tearing(true);
-  cpu.step(bar.dt);
+  cpu.step(dt);
   cpu.sort_severed_from(0);
-  gpu.advance(1, bar.dt);
+  gpu.advance(1, dt);
   const std::vector<SeveredPair> want = cpu.severed_log();
   const std::vector<SeveredPair> got = gpu.severed_since(0);
   ASSERT_GT(want.size(), 50u);
   ASSERT_LT(want.size(), cpu.neighbours().index.size() / 2) << "everything tore";
   for (const SeveredPair& p : got) EXPECT_TRUE(p.torn);
+  expect_symmetric_weights(gpu);
+  if (gpu.stress_pass_size() > gpu.force_pass_size()) {
+    EXPECT_GT(torn_by_fixed(set, got), 0u) << "no pair outside the force list tore";
+  }
   // Pairs decided differently: only within the documented band of the threshold (the stress
   // from the CPU's state after the step, which is what both decided on).
   const auto c = pair_set(want), g = pair_set(got);
@@ -62,8 +92,8 @@ void expect_the_cpus_tears(Context& ctx, uint32_t lanes) {
   std::set_symmetric_difference(c.begin(), c.end(), g.begin(), g.end(), std::back_inserter(differ));
   const double threshold = PulledBar::kTearStress;
   for (const auto& [i, j] : differ) {
-    const Vec3 xi = bar.set.rest[i] + cpu.displacement()[i];
-    const Vec3 xj = bar.set.rest[j] + cpu.displacement()[j];
+    const Vec3 xi = set.rest[i] + cpu.displacement()[i];
+    const Vec3 xj = set.rest[j] + cpu.displacement()[j];
     const double s =
         pair_normal_stress<double>(cpu.cauchy_stress()[i], cpu.cauchy_stress()[j], xi, xj);
     EXPECT_LT(std::abs(s - threshold), kTearParityTolerance * threshold)
@@ -74,21 +104,33 @@ void expect_the_cpus_tears(Context& ctx, uint32_t lanes) {
   // The positions after more substeps (tearing further) agree to float precision while the
   // decisions agree.
   if (!differ.empty()) return;
-  for (int k = 0; k < 20; ++k) cpu.step(bar.dt);
-  gpu.advance(20, bar.dt);
+  for (int k = 0; k < 20; ++k) cpu.step(dt);
+  gpu.advance(20, dt);
   const std::vector<Vec3> cu = cpu.displacement();
   const std::vector<Vec3> gu = gpu.read_state(false).displacement;
   EXPECT_EQ(pair_set(gpu.severed_since(0)), pair_set(cpu.severed_log()));
   EXPECT_LT(max_difference(cu, gu), 1e-4 * max_norm(cu));
+  expect_symmetric_weights(gpu);
 }
 
 TEST_F(GpuSolverTest, TearingFromAnOverstressedStateTearsTheCpusPairs) {
-  expect_the_cpus_tears(ctx(), 0);
+  const PulledBar bar;
+  expect_the_cpus_tears(ctx(), bar.set, bar.dt, 0);
 }
 
-// Four invocations per phyxel share its pairs (the tear pass's lanes on a GPU at small sizes).
+// Four invocations per phyxel share its pairs (the force pass's lanes on a GPU at small sizes).
 TEST_F(GpuSolverTest, TearingWithFourLanesPerPhyxelTearsTheCpusPairs) {
-  expect_the_cpus_tears(ctx(), 4);
+  const PulledBar bar;
+  expect_the_cpus_tears(ctx(), bar.set, bar.dt, 4);
+}
+
+// Three layers fixed at one end: the stress pass's fixed phyxels beside the moving ones are
+// outside the force list, and their pairs tear after it in the same pass, as on the CPU.
+TEST_F(GpuSolverTest, TearingBesideFixedPhyxelsTearsTheCpusPairs) {
+  PulledBar bar;
+  bar.scene.objects[0].fixed.push_back(box_shape(Vec3(-1, -1, -1), Vec3(0.006, 1, 1)));
+  const PhyxelSet set = sample_scene(bar.scene);
+  expect_the_cpus_tears(ctx(), set, bar.dt, 0);
 }
 
 std::pair<std::vector<SeveredPair>, std::vector<Vec3>> pulled_apart(Context& ctx,
@@ -146,12 +188,16 @@ TEST_F(GpuSolverTest, WithoutTearingNothingTearsAndThePassIsNotRecorded) {
   gpu.set_external_forces(bar.load(0.3));
   gpu.advance(100, bar.dt);
   EXPECT_EQ(gpu.severed_pairs(), 0u);
-  bool tear_timed = false;
-  for (const PassTime& t : gpu.profile(2, bar.dt)) tear_timed = tear_timed || t.name == "tear";
-  EXPECT_FALSE(tear_timed);
+  const auto tear_timed = [&] {
+    bool timed = false;
+    for (const PassTime& t : gpu.profile(2, bar.dt)) timed = timed || t.name == "force+tear";
+    return timed;
+  };
+  EXPECT_FALSE(tear_timed());
   gpu.set_tearing(true);
   gpu.advance(100, bar.dt);
   EXPECT_GT(gpu.severed_pairs(), 0u);
+  EXPECT_TRUE(tear_timed());
 }
 
 }  // namespace
