@@ -266,10 +266,14 @@ PHYXEL_ASSERT_SIZE(CutQuad, 112);
 // slot in the lower index's row is claimed by an atomic exchange (so each pair is severed and
 // logged once); the winner zeroes both slots, logs (i, j, t) and puts both phyxels in the dirty
 // list (once each, by kFlagCutDirty). The workgroup that finishes last (Done counts them) runs
-// solver_precompute's per-phyxel work over the dirty list. Its indirect dispatch follows the
+// solver_precompute's per-phyxel work over the dirty list (pair_edit.glsl: a short list with
+// several lanes loading each phyxel's pairs). Its indirect dispatch follows the
 // ContactCount in the candidates' count buffer (tool_broad_scan: SeverGroups).
 // A few candidates' pairs are tested all at once (a pair's test at a time, latency-bound); many
 // candidates fill the card with fewer lanes each, which repeat less of a candidate's setup.
+// Its workgroup is wider than the others': the last one reruns the dirty list's precompute
+// (a Jacobi decomposition per phyxel on one lane), which a cut through many pairs makes long.
+PHYXEL_CONST uint kSeverWorkgroupSize = 256u;
 PHYXEL_CONST uint kSeverMaxLanes = 32u;
 PHYXEL_CONST uint kSeverInvocations = 131072u;
 struct SeverPush {

@@ -48,7 +48,7 @@ void main() {
     count.groups_z = 1u;
     uint lanes = kSeverMaxLanes;
     while (lanes > 1u && total * lanes > kSeverInvocations) lanes /= 2u;
-    const uint sever_groups = (total * lanes + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
+    const uint sever_groups = (total * lanes + kSeverWorkgroupSize - 1u) / kSeverWorkgroupSize;
     sever = SeverGroups(min(sever_groups, 65535u), max((sever_groups + 65534u) / 65535u, 1u), 1u,
                         lanes);
   }

@@ -7,13 +7,13 @@
 // A pair goes to the first tool that crosses it (the CPU's tool by tool: a later tool finds it
 // severed); no pair's test reads another's outcome, so the same pairs are severed with the same
 // t in any order. Then the workgroup that finishes last reruns the precompute of the phyxels
-// put in the dirty list (none most substeps: no dependent dispatch). Positions relative to the
-// motion table's origin.
+// put in the dirty list (none most substeps: no dependent dispatch; kSeverWorkgroupSize lanes,
+// several per phyxel for a short list). Positions relative to the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
 
-layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
+layout(local_size_x = kSeverWorkgroupSize) in;
 
 layout(push_constant) uniform Push { SeverPush p; };
 layout(std430, binding = kSeverBindingList) readonly buffer List { uint list[]; };
