@@ -68,8 +68,9 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   add("  load changes: %zu (loads with from/until)", events.size());
   const bool energies = scene.simulation.until_rest.enabled || sleeping;
   add("  checks: finiteness and the largest speed every %lld steps%s",
-      static_cast<long long>(check_interval(scene, options, sleeping,
-                                            tool_chunk_steps(scene, options, plan.substeps))),
+      static_cast<long long>(
+          check_interval(scene, options, sleeping,
+                         tool_chunk_steps(scene, options, plan.substeps, plan.dt_requested))),
       energies ? ", with kinetic energies (the state read back) for until_rest or sleep"
                : "; the state is read back only when a phyxel outruns the slowest wave speed");
   if (scene.output.every > 0)
@@ -97,12 +98,16 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
           static_cast<size_t>(scalpels));
     const auto aspirators = std::count_if(scene.tools.begin(), scene.tools.end(),
                                           [](const ToolDesc& t) { return t.suction.sucks(); });
-    if (aspirators > 0)
-      add("    suction        %zu aspirator(s): their pull in the contact pass; %s",
+    if (aspirators > 0 && scene.tearing_possible())
+      add("    suction        %zu aspirator(s): their pull in the contact pass; the fracture "
+          "sphere at each mouth every %lld steps (state read back while on)",
           static_cast<size_t>(aspirators),
-          scene.tearing_possible()
-              ? "between advances the fracture sphere at each mouth (state read back while on)"
-              : "nothing aspirated (no material has tear_stress)");
+          static_cast<long long>(
+              tool_chunk_steps(scene, options, plan.substeps, plan.dt_requested)));
+    else if (aspirators > 0)
+      add("    suction        %zu aspirator(s): their pull in the contact pass; nothing "
+          "aspirated (no material has tear_stress)",
+          static_cast<size_t>(aspirators));
     const auto graspers = std::count_if(scene.tools.begin(), scene.tools.end(),
                                         [](const ToolDesc& t) { return t.grasp.grasps(); });
     if (graspers > 0)

@@ -23,9 +23,16 @@ bool has_grasper(const Scene& scene) {
                      [](const ToolDesc& t) { return t.grasp.grasps(); });
 }
 
-int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps) {
+int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps,
+                         double step_time) {
   if (scene.tools.empty()) return 0;
-  return std::max<int64_t>(1, options.tool_chunk_substeps / std::max<int64_t>(1, substeps));
+  int64_t chunk = options.tool_chunk_substeps / std::max<int64_t>(1, substeps);
+  if (scene.tearing_possible() && step_time > 0)
+    for (const ToolDesc& t : scene.tools)
+      if (t.suction.sucks())
+        chunk = std::min(
+            chunk, static_cast<int64_t>(std::floor(t.suction.interval / step_time * (1 + 1e-12))));
+  return std::max<int64_t>(1, chunk);
 }
 
 int64_t check_interval(const Scene& scene, const RunOptions& options, bool sleeping,

@@ -17,9 +17,12 @@ std::vector<int64_t> load_event_steps(const PhyxelSet& set, double step_time, in
 bool has_grasper(const Scene& scene);
 
 // Steps per advance while tools move (the tool chunks' grid from step 0, at whose lines the
-// aspirator acts): options.tool_chunk_substeps over `substeps` per step, at least 1; 0 without
-// tools.
-int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps);
+// aspirator acts): options.tool_chunk_substeps over `substeps` per step, and where an aspirator
+// can tear tissue at most its suction.interval (steps of `step_time` s), so that the aspiration
+// grid is the same whatever the substeps (docs/suction.md, "Resolution"); at least 1; 0
+// without tools.
+int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps,
+                         double step_time);
 
 // Steps between the run loop's checks (rest, sleep, runaway): options.check_every when set,
 // else 100, fewer when rest or sleep must be decided sooner. Where tools move (`tool_chunk` >

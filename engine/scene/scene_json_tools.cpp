@@ -27,8 +27,8 @@ constexpr std::string_view kKeyExpected =
 constexpr std::string_view kBladeExpected =
     "a blade {\"length\": m, \"edge\": [x, y, z], \"reach\": m, \"stiffness\": N/m^3}";
 constexpr std::string_view kSuctionExpected =
-    "a suction object {\"pressure\": Pa, \"reach\": m, \"flow_speed\": m/s, \"from\": s, "
-    "\"until\": s}";
+    "a suction object {\"pressure\": Pa, \"reach\": m, \"flow_speed\": m/s, \"interval\": s, "
+    "\"from\": s, \"until\": s}";
 constexpr std::string_view kGraspExpected =
     "a grasp object {\"reach\": m, \"from\": s, \"until\": s}";
 constexpr std::string_view kCouplingExpected =
@@ -42,6 +42,8 @@ constexpr double kMaxFriction = 10;
 constexpr double kMaxSuctionPressure = 1e6;
 // The air in an aspirator's tube moves at tens of m/s; above this a value is a typo.
 constexpr double kMaxFlowSpeed = 100;
+// An aspirator that looks less often than once a second aspirates nothing a surgeon would see.
+constexpr double kMaxAspirationInterval = 1;
 
 // Cutting forces of scalpels in soft tissue are a few newtons; above this a value is a typo.
 constexpr double kMaxCutForce = 1e3;
@@ -93,11 +95,14 @@ double read_until(const Node& node, double from, const char* open_ended) {
 
 // An aspirator's action: pressure and reach required, on during [from, until).
 Suction read_suction(const Node& node) {
-  node.expect_object(kSuctionExpected, {"pressure", "reach", "flow_speed", "from", "until"});
+  node.expect_object(kSuctionExpected,
+                     {"pressure", "reach", "flow_speed", "interval", "from", "until"});
   Suction s;
   s.pressure = node.number("pressure", {0, kMaxSuctionPressure, false, true}, "Pa");
   s.reach = node.number("reach", Limits::above(0), "m");
   s.flow_speed = node.number_or("flow_speed", s.flow_speed, {0, kMaxFlowSpeed, false, true}, "m/s");
+  s.interval =
+      node.number_or("interval", s.interval, {0, kMaxAspirationInterval, false, true}, "s");
   s.from = node.number_or("from", 0.0, Limits::at_least(0), "s");
   s.until = read_until(node, s.from, "on to the end");
   return s;

@@ -31,10 +31,13 @@ struct Blade {
 // while on, its mouth (the tip) pulls the phyxels within `reach` ahead of it toward itself,
 // `pressure` times the mouth's area (pi radius^2) in all when the reach is full of tissue.
 struct Suction {
-  double pressure = 0;    // Pa (> 0: the tool sucks)
-  double reach = 0;       // m, from the tip
+  double pressure = 0;      // Pa (> 0: the tool sucks)
+  double reach = 0;         // m, from the tip
   double flow_speed = 0.5;  // m/s: the speed toward the mouth at which the pull vanishes
-  double from = 0;        // s: on during [from, until)
+  // s: the longest time between two aspirations (docs/suction.md, "Resolution"): a fixed
+  // time, not a number of substeps, so that refining the tissue does not change it.
+  double interval = 0.003;
+  double from = 0;  // s: on during [from, until)
   double until = std::numeric_limits<double>::infinity();
   bool sucks() const { return pressure > 0; }
   bool on_at(double t) const { return sucks() && from <= t && t < until; }

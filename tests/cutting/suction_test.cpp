@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engine/run/checkpoint.h"
+#include "engine/run/run_schedule.h"
 #include "engine/run/simulation.h"
 #include "engine/solver/cpu_solver.h"
 #include "engine/solver/suction.h"
@@ -233,8 +234,8 @@ TEST(Suction, FramesAndOutputsChangeNothingThatIsAspirated) {
 TEST(Suction, AnAspiratingRunResumesBitIdentically) {
   const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
   const PhyxelSet set = sample_scene(scene);
-  const int64_t chunk =
-      std::max<int64_t>(1, RunOptions{}.tool_chunk_substeps / plan_time_step(scene, set).substeps);
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  const int64_t chunk = tool_chunk_steps(scene, RunOptions{}, plan.substeps, plan.dt_requested);
   const int64_t stop = chunk * (150 / chunk), total = 300;
   const fs::path dir = test::test_output_dir("suction_checkpoint");
   auto run = [&](const std::string& name, int64_t steps, const Checkpoint* from) {

@@ -70,7 +70,8 @@ TEST_F(GpuSolverTest, FramesInsideTheAdvancesDrawWhatSplitAdvancesDrawAndChangeN
   const FramedRun within = framed_run(ctx(), scene, set, every, true);
   // Without frames an advance is a tool chunk (the checks fall on their lines); frames inside
   // end none, where split ones add one per frame.
-  const int64_t chunk = tool_chunk_steps(scene, RunOptions{}, plan_time_step(scene, set).substeps);
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  const int64_t chunk = tool_chunk_steps(scene, RunOptions{}, plan.substeps, plan.dt_requested);
   EXPECT_EQ(bare.advances, (300 + chunk - 1) / chunk);
   EXPECT_EQ(within.advances, bare.advances);
   EXPECT_GT(split.advances, bare.advances + 20);  // 42 frames, some on a line already

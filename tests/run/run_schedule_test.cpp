@@ -12,16 +12,16 @@ TEST(RunSchedule, ChecksOfAToolSceneFallOnTheToolChunksGrid) {
   Scene scene =
       test::box_scene(Vec3(0, 0, 0), Vec3(0.01, 0.01, 0.01), 0.0025, test::tissue(1e5, 0.3, 50));
   RunOptions options;
-  EXPECT_EQ(tool_chunk_steps(scene, options, 1), 0);
+  EXPECT_EQ(tool_chunk_steps(scene, options, 1, 1e-4), 0);
   EXPECT_EQ(check_interval(scene, options, false, 0), 100);
   ToolDesc probe;
   probe.name = "probe";
   probe.shape.radius = 0.003;
   probe.path = {{0, Vec3(0.005, 0.005, 0.0135), Vec3::UnitZ()}};
   scene.tools = {probe};
-  EXPECT_EQ(tool_chunk_steps(scene, options, 1), 64);
-  EXPECT_EQ(tool_chunk_steps(scene, options, 2), 32);
-  EXPECT_EQ(tool_chunk_steps(scene, options, 100), 1);
+  EXPECT_EQ(tool_chunk_steps(scene, options, 1, 1e-4), 64);
+  EXPECT_EQ(tool_chunk_steps(scene, options, 2, 1e-4), 32);
+  EXPECT_EQ(tool_chunk_steps(scene, options, 100, 1e-4), 1);
   // The multiple of the chunk nearest 100 steps.
   EXPECT_EQ(check_interval(scene, options, false, 64), 128);
   EXPECT_EQ(check_interval(scene, options, false, 32), 96);
@@ -36,6 +36,41 @@ TEST(RunSchedule, ChecksOfAToolSceneFallOnTheToolChunksGrid) {
   EXPECT_EQ(check_interval(scene, options, false, 64), 50);
   options.check_every = 7;
   EXPECT_EQ(check_interval(scene, options, false, 64), 7);
+}
+
+// An aspirator acts on the tool chunks' lines. Until 2026-11-27 a chunk was 64 substeps, so
+// refining the tissue (more substeps per step) made it aspirate more often: every 10.2, 5.1 and
+// 3.4 ms in the brain scene at --refine 1, 2 and 3, and that, not the spacing, made its healthy
+// loss fall with K (docs/suction.md, "Resolution"). Now every suction.interval whatever the
+// substeps, where tissue can tear.
+TEST(RunSchedule, AnAspiratorActsEveryIntervalWhateverTheSubsteps) {
+  Material brain = test::tissue(3e3, 0.45, 30);
+  brain.tear_stress = 2500;
+  Scene scene = test::box_scene(Vec3(0, 0, 0), Vec3(0.01, 0.01, 0.01), 0.002, brain);
+  ToolDesc aspirator;
+  aspirator.name = "aspirator";
+  aspirator.type = ToolDesc::Type::Suction;
+  aspirator.shape.radius = 0.0015;
+  aspirator.suction.pressure = 25000;
+  aspirator.suction.reach = 0.004;
+  aspirator.path = {{0, Vec3(0.005, 0.005, 0.012), Vec3::UnitZ()}};
+  scene.tools = {aspirator};
+  const RunOptions options;
+  const double step = 1.6e-4;  // the brain scene's
+  const int64_t steps = int64_t(aspirator.suction.interval / step);
+  for (const int64_t substeps : {1, 2, 3}) {  // 64, 32 and 21 steps on the old rule
+    SCOPED_TRACE(substeps);
+    EXPECT_EQ(tool_chunk_steps(scene, options, substeps, step), steps);
+  }
+  // Finer than the interval where 64 substeps take less time.
+  EXPECT_EQ(tool_chunk_steps(scene, options, 4, step), 16);
+  EXPECT_EQ(tool_chunk_steps(scene, options, 8, step), 8);
+  // An interval of a whole number of steps is that number, not one fewer.
+  scene.tools[0].suction.interval = 5 * step;
+  EXPECT_EQ(tool_chunk_steps(scene, options, 1, step), 5);
+  // Where nothing can tear, nothing is aspirated: the chunk is 64 substeps.
+  scene.objects[0].material.tear_stress.reset();
+  EXPECT_EQ(tool_chunk_steps(scene, options, 1, step), 64);
 }
 
 }  // namespace

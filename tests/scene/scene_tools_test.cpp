@@ -261,6 +261,7 @@ TEST(SceneTools, SuctionKeysAreRead) {
   EXPECT_DOUBLE_EQ(t.suction.pressure, 20000);
   EXPECT_DOUBLE_EQ(t.suction.reach, 0.004);
   EXPECT_DOUBLE_EQ(t.suction.flow_speed, 0.5);  // the default
+  EXPECT_DOUBLE_EQ(t.suction.interval, 0.003);  // the default
   EXPECT_TRUE(t.suction.on_at(0.1));
   EXPECT_FALSE(t.suction.on_at(0.05));
   EXPECT_FALSE(t.suction.on_at(0.4));
@@ -272,6 +273,8 @@ TEST(SceneTools, SuctionKeysAreRead) {
   EXPECT_TRUE(always.on_at(0) && always.on_at(1e9));
   tool0(j)["suction"]["flow_speed"] = 0.25;
   EXPECT_DOUBLE_EQ(parse_scene(j.dump(), kFile).tools[0].suction.flow_speed, 0.25);
+  tool0(j)["suction"]["interval"] = 0.001;
+  EXPECT_DOUBLE_EQ(parse_scene(j.dump(), kFile).tools[0].suction.interval, 0.001);
 }
 
 TEST(SceneToolsErrors, SuctionValuesAreChecked) {
@@ -294,6 +297,9 @@ TEST(SceneToolsErrors, SuctionValuesAreChecked) {
       {[](json& j) { make_aspirator(j)["suction"]["flow_speed"] = 1e3; },
        "tools[0].suction.flow_speed",
        {"allowed 0 < flow_speed <= 100 (m/s)"}},
+      {[](json& j) { make_aspirator(j)["suction"]["interval"] = 0; },
+       "tools[0].suction.interval",
+       {"allowed 0 < interval <= 1 (s)"}},
       {[](json& j) { make_aspirator(j)["suction"]["until"] = 0.05; },
        "tools[0].suction.until",
        {"until = 0.05 is not after from = 0.1"}},
