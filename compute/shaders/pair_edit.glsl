@@ -1,4 +1,4 @@
-// What the passes that sever pairs share (tool_sever, solver_tear): the slot of a pair in the
+// What the passes that sever pairs share (tool_sever, solver_force_tear): the slot of a pair in the
 // CSR, a phyxel put in the dirty list once (kFlagCutDirty; dirty[0] the count, then the
 // phyxels), and the precompute of that list by the pass's last workgroup. Include after the
 // buffers offset, flags, dirty, cut_log, done and those of solver_precompute.glsl, the push
@@ -70,11 +70,9 @@ void precompute_short_list(uint dirtied, uint lanes) {
   if (in_list && q == 0u) finish_precompute(i, fl, cls, m, true);
 }
 
-// Call from every invocation after its pass's work: the workgroup that finishes last reruns
-// the precompute of the phyxels in the dirty list (none most substeps: no dependent dispatch),
-// a short list with several lanes per phyxel.
-void precompute_dirty_list() {
-  if (!finished_last()) return;
+// The precompute of the phyxels in the dirty list, by the calling workgroup (the last to
+// finish): a short list with several lanes per phyxel.
+void precompute_listed() {
   const uint dirtied = dirty[0];
   if (dirtied == 0u) return;
   uint lanes = 1u;
@@ -85,4 +83,10 @@ void precompute_dirty_list() {
   }
   for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
     precompute_phyxel(dirty[1u + e], true);
+}
+
+// Call from every invocation after its pass's work: the workgroup that finishes last reruns
+// the precompute of the phyxels in the dirty list (none most substeps: no dependent dispatch).
+void precompute_dirty_list() {
+  if (finished_last()) precompute_listed();
 }

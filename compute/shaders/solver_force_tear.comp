@@ -133,9 +133,7 @@ void mend_partners() {
   }
   memoryBarrierBuffer();
   barrier();
-  const uint dirtied = dirty[0];
-  for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
-    precompute_phyxel(dirty[1u + e], true);
+  precompute_listed();
 }
 
 void main() {

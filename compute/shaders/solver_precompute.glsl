@@ -1,6 +1,6 @@
 // The precompute of one phyxel (solver_precompute's; the last workgroup of tool_sever and of
-// solver_tear runs it over the dirty list, pair_edit.glsl): from the stored pair weights, the
-// moment matrix A_i = sum_j w_ij x_ij x_ij^T,
+// solver_force_tear runs it over the dirty list, pair_edit.glsl): from the stored pair
+// weights, the moment matrix A_i = sum_j w_ij x_ij x_ij^T,
 // its inverse through a symmetric eigen-decomposition (cyclic Jacobi), regularised when the
 // condition number exceeds kMaxCondition (small eigenvalues raised to lambda_max / 100), the
 // residual R_i = A^-1 A A^-1 - A^-1 of a regularised inverse, and the hourglass stiffness
