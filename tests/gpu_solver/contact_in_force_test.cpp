@@ -20,9 +20,11 @@ struct AspirationRun {
   bool rows_timed = false;   // a profile of the solver after the run has the rows' reduction
 };
 
-AspirationRun aspirate(Context& ctx, const Scene& scene, const PhyxelSet& set, bool in_force) {
+AspirationRun aspirate(Context& ctx, const Scene& scene, const PhyxelSet& set, bool in_force,
+                       uint32_t lanes) {
   GpuSolverOptions options;
   options.contact_in_force = in_force;
+  options.lanes = lanes;  // the contact follows the lanes' sum in lane 0
   GpuSolver gpu(ctx, set, Vec3::Zero(), options);
   RunOptions run;
   run.steps = 200;
@@ -37,12 +39,12 @@ AspirationRun aspirate(Context& ctx, const Scene& scene, const PhyxelSet& set, b
   return out;
 }
 
-TEST_F(GpuSolverTest, ContactInTheForcePassGivesToolContactsBits) {
+void expect_same_bits(Context& ctx, uint32_t lanes) {
   const Scene scene =
       parse_scene(phyxel::test::suction_block_json(1000, true, 10000), "block.json");
   const PhyxelSet set = sample_scene(scene);
-  const AspirationRun fused = aspirate(ctx(), scene, set, true);
-  const AspirationRun apart = aspirate(ctx(), scene, set, false);
+  const AspirationRun fused = aspirate(ctx, scene, set, true, lanes);
+  const AspirationRun apart = aspirate(ctx, scene, set, false, lanes);
   EXPECT_TRUE(fused.rows_timed);
   EXPECT_FALSE(apart.rows_timed);
   ASSERT_TRUE(fused.result.aspirating);
@@ -60,6 +62,14 @@ TEST_F(GpuSolverTest, ContactInTheForcePassGivesToolContactsBits) {
     largest = std::max(largest, fused.forces[k].norm());
   }
   EXPECT_GT(largest, 0) << "the aspirator felt nothing";
+}
+
+TEST_F(GpuSolverTest, ContactInTheForcePassGivesToolContactsBits) {
+  expect_same_bits(ctx(), 1);
+}
+
+TEST_F(GpuSolverTest, ContactInTheForcePassWithFourLanesGivesToolContactsBits) {
+  expect_same_bits(ctx(), 4);
 }
 
 }  // namespace
