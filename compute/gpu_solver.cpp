@@ -334,18 +334,23 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       // The dirty list's count (tool_contact emptied it unless a sever filled it after).
       if (tear_needs_reset())
         timed("tear: reset", [&] { rec.fill(cut_dirty_, 0, 0, sizeof(uint32_t)); });
-      timed("force+tear", [&] { record_force_tear(rec, mode, dt, disp_[cur], out); });
+      // With contact_in_force_, the next substep's contact after the drift in the same pass.
+      const int64_t contact_step = !last && contact_in_force_ ? step + 1 : -1;
+      timed("force+tear", [&] { record_force_tear(rec, mode, dt, disp_[cur], out, contact_step); });
     } else {
       timed("force", [&] { record_force(rec, mode, dt, disp_[cur], out); });
     }
     if (!last) {
       cur = 1 - cur;
-      if (contact_recorded()) {
+      if (contact_recorded() && !contact_in_force_) {
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
         if (cutting_) timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
       }
     }
   }
+  // The samples of substeps 1 .. total - 1, whose contact the force pass did, after the last.
+  if (to == total && contact_in_force_)
+    timed("contact: rows", [&] { record_contact_rows(rec, 1, total); });
 }
 
 namespace {

@@ -91,6 +91,10 @@ struct GpuSolverOptions {
   // poll the setup's stop (set_search_stop) before each: 0, sized from the measured rate to
   // about 20 ms of wall time each; tests fix it. Any size gives the same bits.
   uint32_t setup_chunk = 0;
+  // While tearing with tools that only touch and suck (no blade, no grasper): the tool contact
+  // after each drift inside the force pass (solver_force_tear) and the samples summed once
+  // after the advance, as tool_contact gives them bit for bit. Tests turn it off to compare.
+  bool contact_in_force = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -300,8 +304,9 @@ class GpuSolver final : public SolverWithAllFacets {
   }
   void record_stress(Recorder& rec, const Buffer& disp);
   // solver_force_tear in place of record_force (gpu_solver_tearing.cpp).
+  // contact_step >= 0: with the contact of that substep after the drift (contact_in_force_).
   void record_force_tear(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
-                         const Buffer& out);
+                         const Buffer& out, int64_t contact_step = -1);
   bool tear_needs_reset() const { return !contact_fused() || cutting_; }
   // The dirty list's header reset before tool_sever, which fills it.
   void record_dirty_reset(Recorder& rec);
@@ -319,6 +324,10 @@ class GpuSolver final : public SolverWithAllFacets {
   // finish_contact: the samples, once the advance's work is done (ran: the steps were run).
   void begin_contact(int64_t substeps, double dt);
   void record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp);
+  // The contact push fields of substep `step` (its motion row, whether the tools hold).
+  uint32_t contact_motion_row(int64_t step) const;
+  // With contact_in_force_: the samples of substeps [first, end) from the force pass's rows.
+  void record_contact_rows(Recorder& rec, int64_t first, int64_t end);
   void finish_contact(int64_t substeps, bool ran);
   void record_broad_phase(Recorder& rec);  // max norms, then the candidates and their count
   void record_max_norms(Recorder& rec);    // into max_norm_readback_
@@ -347,6 +356,8 @@ class GpuSolver final : public SolverWithAllFacets {
   // test that follow it in the substep (without a sever between for the tear) need no reset of
   // their own.
   bool contact_fused() const { return contact_active_ && !resisting_; }
+  // This advance's contact after substep 0 is in solver_force_tear (begin_contact decides).
+  bool contact_in_force_ = false;
 
   std::unique_ptr<Context> owned_ctx_;
   Context* ctx_;
@@ -442,6 +453,8 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer candidate_force_;    // vec4[2 tools][partial_capacity()]: per workgroup, force and range
   Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
   Buffer contact_done_;       // uint: tool_contact's finished workgroups (kContactFuseReduce)
+  Buffer candidate_slot_;     // uint per phyxel: its slot in candidate_list_, or ~0
+  Buffer contact_rows_;       // vec4 [substep][2][tool][stride]: solver_force_tear's contact
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use

@@ -11,6 +11,9 @@
 // (dispatched indirectly, at least one workgroup), whose last workgroup sums the samples (a
 // Readback buffer, read once after the advance with the candidate count) and empties the
 // dirty list; where a blade resists, tool_resist, then tool_contact_reduce does the sum instead.
+// With contact_in_force_ (tearing, no blade or grasper) the contact of substeps 1 on is
+// solver_force_tear's, per candidate into contact_rows_, which record_contact_rows sums after
+// the advance's last force pass (tool_contact_reduce over rows, the same bits).
 // Buffers grow when a chunk needs more and are never reallocated otherwise.
 #include <algorithm>
 #include <cstddef>
@@ -71,6 +74,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   candidates_ = 0;
   broad_pending_ = false;
   contact_active_ = false;
+  contact_in_force_ = false;
   if (!tools_.empty()) {
     Context& ctx = *ctx_;
     reserve(ctx, tool_shapes_, shapes.size() * sizeof(ContactToolShape), MemoryIntent::Device,
@@ -78,6 +82,8 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     upload(ctx, tool_shapes_, shapes);
     reserve(ctx, contact_flag_, uint64_t{count_} * sizeof(uint32_t), MemoryIntent::Device,
             "contact flags");
+    reserve(ctx, candidate_slot_, std::max<uint64_t>(count_, 1) * sizeof(uint32_t),
+            MemoryIntent::Device, "contact candidate slot per phyxel");
     if (!contact_count_)
       contact_count_ =
           Buffer(ctx, sizeof(ContactCount) + sizeof(SeverGroups), MemoryIntent::Readback,
@@ -90,6 +96,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   prepare_grasping();
   if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);
+    rec_[0]->fill(candidate_slot_, ~0u);  // no candidate until a broad phase
     // No candidate, and one workgroup of tool_contact, which writes the samples (as
     // tool_broad_scan gives at least).
     rec_[0]->fill(contact_count_, 0, 0, sizeof(uint32_t));
@@ -175,7 +182,8 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
               {"Flags", flags_},
               {"MaxNorm", max_norm_readback_},
               {"Group", broad_groups_},
-              {"Out", candidate_list_}},
+              {"Out", candidate_list_},
+              {"Slot", candidate_slot_}},
              groups * wg);
   };
   pass(0);
@@ -224,12 +232,43 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
   reserve(ctx, samples_buffer_, 2 * uint64_t(substeps) * nt * sizeof(vec4), MemoryIntent::Readback,
           "contact samples");
   contact_active_ = motion_steps_ > 0 && force_count_ > 0;
+  // The contact after substep 0 inside solver_force_tear, its rows summed after the advance
+  // (tool_contact's own sums of each substep otherwise), where nothing else acts between the
+  // contact and the next stress pass and the rows fit in 64 MiB.
+  const uint64_t row_bytes = 2 * nt * uint64_t{partial_capacity()} * PHYXEL_WORKGROUP_SIZE * 16;
+  contact_in_force_ = options_.contact_in_force && tearing_ && contact_fused() && !cutting_ &&
+                      !grasping_ && uint64_t(substeps) * row_bytes <= (uint64_t{64} << 20);
+  if (contact_in_force_)
+    reserve(ctx, contact_rows_, uint64_t(substeps) * row_bytes, MemoryIntent::Device,
+            "contact rows of the force pass");
   if (cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));  // the advance's log starts empty
+}
+
+uint32_t GpuSolver::contact_motion_row(int64_t step) const {
+  // This substep's row of the motion table; past the chunk the tools keep the last end pose.
+  return static_cast<uint32_t>(
+      std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_ - 1));
+}
+
+void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
+  if (end <= first) return;
+  const uint32_t nt = static_cast<uint32_t>(tools_.size());
+  const uint32_t rows = static_cast<uint32_t>(end - first);
+  part_begin(rec, "contact: rows");
+  dispatch(rec, kernels_->contact_reduce,
+           ContactReducePush{rows, nt, partial_capacity() * PHYXEL_WORKGROUP_SIZE,
+                             static_cast<uint32_t>(first)},
+           {{"Force", contact_rows_},
+            {"Samples", samples_buffer_},
+            {"Count", contact_count_},
+            {"List", candidate_list_},
+            {"Flags", flags_}},
+           rows * nt * kernels_->contact_reduce.workgroup_size()[0]);
+  part_end(rec);
 }
 
 void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
-  // This substep's row of the motion table; past the chunk the tools keep the last end pose.
   const uint64_t k = motion_step_ + uint64_t(step);
   const bool fused = contact_fused();
   const uint32_t fuse = !fused       ? 0u
@@ -239,7 +278,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          static_cast<uint32_t>(step),
                          dt,
                          nt,
-                         static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_ - 1)),
+                         contact_motion_row(step),
                          k >= motion_steps_ ? 1u : 0u,
                          partial_capacity(),
                          fuse,
@@ -271,7 +310,11 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
     part_begin(rec, "contact: reduce");
     dispatch(rec, kernels_->contact_reduce,
              ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
-             {{"Force", candidate_force_}, {"Samples", samples_buffer_}, {"Count", contact_count_}},
+             {{"Force", candidate_force_},
+              {"Samples", samples_buffer_},
+              {"Count", contact_count_},
+              {"List", candidate_list_},
+              {"Flags", flags_}},
              nt * kernels_->contact_reduce.workgroup_size()[0]);
     part_end(rec);
   }

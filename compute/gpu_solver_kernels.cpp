@@ -44,8 +44,8 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
       motion(ctx, PHYXEL_SHADER(solver_motion), 4, sizeof(MotionPush)),
       contact(ctx, PHYXEL_SHADER(tool_contact), 14, sizeof(ContactPush)),
-      contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 3, sizeof(ContactReducePush)),
-      broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 7, sizeof(BroadPhasePush)),
+      contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 5, sizeof(ContactReducePush)),
+      broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 8, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
       grasp(ctx, PHYXEL_SHADER(tool_grasp), 13, sizeof(GraspPush)),
       near(ctx, PHYXEL_SHADER(solver_near), 6, sizeof(NearPush)),
@@ -72,7 +72,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   force = make(PHYXEL_SHADER(solver_force), 15, sizeof(StepPush));
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
-  force_tear = make(PHYXEL_SHADER(solver_force_tear), 23, sizeof(ForceTearPush));
+  force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 19, sizeof(SeverPush));
   resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));

@@ -3,7 +3,9 @@
 // reset (unless tool_contact emptied it), then solver_force_tear in place of the force pass: the
 // forces of the intact pairs, then the tear test over the stress list (on the u the stress pass
 // read), whose last workgroup reruns the precompute of the phyxels it put in the dirty list. The
-// torn pairs join the cut log, read back once per advance (finish_cutting).
+// torn pairs join the cut log, read back once per advance (finish_cutting). With
+// contact_in_force_ the pass also does the next substep's tool contact after the drift
+// (force_contact.glsl) and empties the dirty list in its last workgroup, as tool_contact did.
 #include <algorithm>
 
 #include "compute/gpu_solver.h"
@@ -36,13 +38,42 @@ void GpuSolver::set_tearing(bool on) {
 }
 
 void GpuSolver::record_force_tear(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
-                                  const Buffer& out) {
+                                  const Buffer& out, int64_t contact_step) {
   const uint32_t n = static_cast<uint32_t>(force_count_);
   const uint32_t tear_only = static_cast<uint32_t>(tear_only_host_.size());
   // The force pass's lanes: the tear test shares its invocations.
   const StepPush step = push(n, dt, mode, lanes_for(Gather::Force, n));
-  const ForceTearPush pc{step.count, step.dt,   step.mode,     step.weights,
-                         step.lanes, tear_only, log_capacity_, weakest_tear_};
+  ForceTearPush pc{};  // no contact unless set below
+  pc.count = step.count;
+  pc.dt = step.dt;
+  pc.mode = step.mode;
+  pc.weights = step.weights;
+  pc.lanes = step.lanes;
+  pc.tear_only = tear_only;
+  pc.log_capacity = log_capacity_;
+  pc.weakest = weakest_tear_;
+  // Unbound without the contact (never read then): any buffer of the pass.
+  const Buffer* slot = &flags_;
+  const Buffer* count = &flags_;
+  const Buffer* tools = &flags_;
+  const Buffer* motion = &flags_;
+  const Buffer* rows = &force_;
+  const Buffer* contact = &flags_;
+  if (contact_step >= 0) {
+    pc.contact_origin = contact_origin_;
+    pc.contact_row = static_cast<uint32_t>(contact_step);
+    pc.contact_motion = contact_motion_row(contact_step);
+    pc.contact_hold = motion_step_ + uint64_t(contact_step) >= motion_steps_ ? 1u : 0u;
+    pc.contact_tools = static_cast<uint32_t>(tools_.size());
+    pc.contact_stride = partial_capacity() * PHYXEL_WORKGROUP_SIZE;
+    pc.contact_fuse = kForceContact | kForceContactDirtyReset;
+    slot = &candidate_slot_;
+    count = &contact_count_;
+    tools = &tool_shapes_;
+    motion = &motion_table_;
+    rows = &contact_rows_;
+    contact = &contact_flag_;
+  }
   dispatch(rec, kernels_->force_tear, pc,
            {{"Offset", nbr_offset_},
             {"IndexLo", nbr_index_.lo()},
@@ -66,7 +97,13 @@ void GpuSolver::record_force_tear(Recorder& rec, uint32_t mode, float dt, const 
             {"Log", cut_log_},
             {"Ainv", ainv_},
             {"Resid", resid_},
-            {"Done", cut_done_}},
+            {"Done", cut_done_},
+            {"Slot", *slot},
+            {"Count", *count},
+            {"Tools", *tools},
+            {"Motion", *motion},
+            {"Rows", *rows},
+            {"Contact", *contact}},
            (n + tear_only) * pc.lanes);
 }
 

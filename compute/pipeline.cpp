@@ -162,8 +162,8 @@ void Pipeline::reset() {
 namespace detail {
 namespace {
 
-// The most buffers one dispatch binds (solver_force_tear's 23; maxPushDescriptors is 32 or more).
-constexpr size_t kMaxDispatchBindings = 24;
+// The most buffers one dispatch binds (solver_force_tear's 29; maxPushDescriptors is 32 or more).
+constexpr size_t kMaxDispatchBindings = 29;
 
 // The descriptor of binding `index`, after checking the buffer's block name (when the list is
 // `named`), size, offset and range.

@@ -300,8 +300,23 @@ struct ForceTearPush {
   uint tear_only;  // stress pass phyxels after the force list: the tear test alone
   uint log_capacity;
   float weakest;  // the smallest tear strength of any class that tears
+  // With kForceContact in contact_fuse (mode kForceKickDrift): tool_contact's work for the
+  // next substep after the drift, per candidate of the force list (ContactPush's fields), its
+  // forces and ranges per candidate into row contact_row of the rows buffer (stride
+  // contact_stride), which tool_contact_reduce sums after the advance's last force pass.
+  vec4 contact_origin;
+  uint contact_row;     // the substep of the advance whose contact this is
+  uint contact_motion;  // row of the motion table
+  uint contact_hold;
+  uint contact_tools;
+  uint contact_stride;  // candidates per row and tool (a multiple of the workgroup)
+  uint contact_fuse;    // kForceContact, kForceContactDirtyReset
+  uint pad0;
+  uint pad1;
 };
-PHYXEL_ASSERT_SIZE(ForceTearPush, 32);
+PHYXEL_ASSERT_SIZE(ForceTearPush, 80);
+PHYXEL_CONST uint kForceContact = 1u;
+PHYXEL_CONST uint kForceContactDirtyReset = 2u;  // the last workgroup empties the dirty list
 PHYXEL_CONST uint kForceTearBindingRest = 15;
 PHYXEL_CONST uint kForceTearBindingPrincipal = 16;  // float per phyxel (solver_stress)
 PHYXEL_CONST uint kForceTearBindingCauchy = 17;     // vec4[2 N] (solver_stress)
@@ -309,7 +324,13 @@ PHYXEL_CONST uint kForceTearBindingDirty = 18;      // tool_sever's dirty list
 PHYXEL_CONST uint kForceTearBindingLog = 19;        // the cut log
 PHYXEL_CONST uint kForceTearBindingAinv = 20;       // the precompute's (kPrecomputeBinding*)
 PHYXEL_CONST uint kForceTearBindingResid = 21;
-PHYXEL_CONST uint kForceTearBindingDone = 22;  // workgroups finished; 0 between dispatches
+PHYXEL_CONST uint kForceTearBindingDone = 22;     // workgroups finished; 0 between dispatches
+PHYXEL_CONST uint kForceTearBindingSlot = 23;     // uint per phyxel: its candidate slot
+PHYXEL_CONST uint kForceTearBindingCount = 24;    // ContactCount (tool_broad_scan)
+PHYXEL_CONST uint kForceTearBindingTools = 25;    // ContactToolShape per tool
+PHYXEL_CONST uint kForceTearBindingMotion = 26;   // the motion table
+PHYXEL_CONST uint kForceTearBindingRows = 27;     // vec4 [row][2][tool][contact_stride]
+PHYXEL_CONST uint kForceTearBindingContact = 28;  // the contact flags
 
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;

@@ -82,8 +82,12 @@ PHYXEL_CONST uint kContactBindingDone = 13;     // workgroups finished; 0 betwee
 // tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
 // fixed tree) and writes samples[sample * tools + tool] = (minus the summed force: the force on the
 // tool, contacts).
+// With rows > 0, one workgroup per (row, tool) for rows substep .. substep + rows - 1 of
+// solver_force_tear's per-candidate rows (kForceContact; capacity: their stride): each
+// workgroup's partial by tool_contact's tree, then the same sum (candidates whose phyxel is
+// fixed or removed, which the force pass does not visit, add nothing, as in tool_contact).
 struct ContactReducePush {
-  uint unused;  // (ContactCount.total)
+  uint rows;  // 0: tool_contact's partials of one substep
   uint tools;
   uint capacity;
   uint substep;  // of the advance: the row of the samples
@@ -92,6 +96,8 @@ PHYXEL_ASSERT_SIZE(ContactReducePush, 16);
 PHYXEL_CONST uint kContactReduceBindingForce = 0;
 PHYXEL_CONST uint kContactReduceBindingSamples = 1;
 PHYXEL_CONST uint kContactReduceBindingCount = 2;
+PHYXEL_CONST uint kContactReduceBindingList = 3;   // candidate phyxels (rows > 0)
+PHYXEL_CONST uint kContactReduceBindingFlags = 4;  // (rows > 0)
 
 // The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
 // of the force list (moving phyxels of awake objects) that are not fixed or removed and whose
@@ -117,6 +123,7 @@ PHYXEL_CONST uint kBroadBindingFlags = 3;
 PHYXEL_CONST uint kBroadBindingMaxNorm = 4;  // vec4 (max |u|, max |v|, 0, 0)
 PHYXEL_CONST uint kBroadBindingGroup = 5;    // uint per workgroup: hits (mode 0), offset (1)
 PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
+PHYXEL_CONST uint kBroadBindingSlot = 7;     // uint per phyxel: its candidate slot, or ~0 (mode 1)
 // tool_broad_scan: {group, count}
 PHYXEL_CONST uint kBroadScanBindingGroup = 0;
 PHYXEL_CONST uint kBroadScanBindingCount = 1;

@@ -5,8 +5,9 @@
 // or that kick, the next step's opening half kick and its drift into disp_out
 // (kForceKickDrift; disp_in is read by neighbours in this pass, so u goes to the other buffer).
 // Included by solver_force.comp and, with PHYXEL_FORCE_TEARS defined, by solver_force_tear.comp
-// (the tear test fused after it): there the weights are uint bits the pass may clear, and the
-// flags and kappa (local_pos.w) are written by its last workgroup's precompute.
+// (the tear test fused after it): there the weights are uint bits the pass may clear, the
+// flags and kappa (local_pos.w) are written by its last workgroup's precompute, and with
+// kForceContact the tool contact follows the drift (force_contact.glsl).
 #ifndef PHYXEL_SOLVER_FORCE_GLSL
 #define PHYXEL_SOLVER_FORCE_GLSL
 
@@ -42,6 +43,9 @@ layout(std430, binding = kForceBindingExt) readonly buffer Ext { vec4 ext[]; };
 layout(std430, binding = kForceBindingFlags) PHYXEL_FORCE_FLAGS buffer Flags { uint flags[]; };
 layout(std430, binding = kForceBindingClasses) readonly buffer Classes { SolverClass classes[]; };
 layout(std430, binding = kForceBindingList) readonly buffer List { uint pass_list[]; };
+#ifdef PHYXEL_FORCE_TEARS
+#include "force_contact.glsl"
+#endif
 
 mat3 stress_of(uint i) {
   return mat3(stress[3u * i].xyz, stress[3u * i + 1u].xyz, stress[3u * i + 2u].xyz);
@@ -134,7 +138,11 @@ void force_pass(uint invocation) {
   vec3 v = half_kick(vel[k].xyz, f, e.w, damping, half_dt);
   if (p.mode == kForceKickDrift) {
     v = half_kick(v, f, e.w, damping, half_dt);
-    disp_out[k] = vec4(drift(uk, v, p.dt), 0.0);
+    vec3 u_next = drift(uk, v, p.dt);
+#ifdef PHYXEL_FORCE_TEARS
+    if ((p.contact_fuse & kForceContact) != 0u) force_contact(k, fl, e.w, u_next, v);
+#endif
+    disp_out[k] = vec4(u_next, 0.0);
   }
   vel[k] = vec4(v, 0.0);
 }

@@ -20,7 +20,6 @@
 #define PHYXEL_FORCE_TEARS 1
 #include "solver_force.glsl"
 
-layout(std430, binding = kForceTearBindingRest) readonly buffer Rest { vec4 rest[]; };
 layout(std430, binding = kForceTearBindingPrincipal) readonly buffer Principal {
   float principal[];
 };
@@ -134,6 +133,11 @@ void mend_partners() {
   memoryBarrierBuffer();
   barrier();
   precompute_listed();
+  // With the contact fused (kForceContactDirtyReset), the list's empty header that
+  // tool_contact would have written after this pass.
+  if ((p.contact_fuse & kForceContactDirtyReset) == 0u) return;
+  barrier();  // every invocation read the count
+  if (gl_LocalInvocationIndex == 0u) dirty[0] = 0u;
 }
 
 void main() {

@@ -1,7 +1,8 @@
 // The contact broad phase of a chunk over the force list (layout.h BroadPhasePush): mode 0
 // counts each workgroup's hits into group[g]; mode 1 (after tool_broad_scan turned the counts
-// into offsets) writes the hits at group[g] + their rank in the workgroup. Both modes decide a
-// hit from the same inputs, so they agree; the list comes out ascending.
+// into offsets) writes the hits at group[g] + their rank in the workgroup, and each entry's
+// slot (~0: none) into candidate_slot (solver_force_tear's contact). Both modes decide a hit
+// from the same inputs, so they agree; the list comes out ascending.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -16,6 +17,7 @@ layout(std430, binding = kBroadBindingFlags) readonly buffer Flags { uint flags[
 layout(std430, binding = kBroadBindingMaxNorm) readonly buffer MaxNorm { vec4 max_norm; };
 layout(std430, binding = kBroadBindingGroup) buffer Group { uint group[]; };
 layout(std430, binding = kBroadBindingOut) writeonly buffer Out { uint candidates[]; };
+layout(std430, binding = kBroadBindingSlot) writeonly buffer Slot { uint candidate_slot[]; };
 
 shared uint rank[PHYXEL_WORKGROUP_SIZE];
 
@@ -48,7 +50,10 @@ void main() {
   }
   if (p.mode == 0u) {
     if (t == PHYXEL_WORKGROUP_SIZE - 1u) group[g] = rank[t];
-  } else if (hit) {
-    candidates[group[g] + rank[t] - 1u] = i;
+  } else if (slot < p.count) {
+    // Every phyxel of the list gets its slot (or none), for solver_force_tear's contact.
+    const uint at = group[g] + rank[t] - 1u;
+    if (hit) candidates[at] = i;
+    candidate_slot[i] = hit ? at : 0xFFFFFFFFu;
   }
 }

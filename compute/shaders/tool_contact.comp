@@ -35,12 +35,10 @@ layout(std430, binding = kContactBindingDone) coherent buffer Done { uint done; 
 
 #include "tool_contact_sum.glsl"
 
-// Each workgroup adds its candidates' forces and axial ranges per tool (a fixed tree in shared
-// memory) and writes one partial per tool: tool_contact_reduce adds a workgroup's partials, so
-// its serial loop is 64 times shorter than over the candidates (all of a box at 1M phyxels
-// when torn pieces fly and the broad phase's margin grows with their speed).
-shared vec4 wg_felt[PHYXEL_WORKGROUP_SIZE];
-shared vec2 wg_along[PHYXEL_WORKGROUP_SIZE];
+// Each workgroup adds its candidates' forces and axial ranges per tool (sum_workgroup) and
+// writes one partial per tool: tool_contact_reduce adds a workgroup's partials, so its serial
+// loop is 64 times shorter than over the candidates (all of a box at 1M phyxels when torn
+// pieces fly and the broad phase's margin grows with their speed).
 #include "last_workgroup.glsl"
 
 // kContactFuseReduce: after every workgroup wrote its partials, the last one writes the samples.
@@ -65,55 +63,13 @@ void main() {
   const vec3 x0 = candidate ? rest[i].xyz - p.origin.xyz : vec3(0.0);
   uint touched = 0u;
   bool moved = false;
+  const float volume = candidate ? rest[i].w : 0.0;
   for (uint t = 0u; t < p.tools; ++t) {
-    vec4 felt = vec4(0.0);
-    vec4 along = vec4(kNoContactAxial, -kNoContactAxial, 0.0, 0.0);
-    vec3 dx;
-    vec3 dv;
-    const ContactMotion m = motion[p.motion * p.tools + t];
-    bool around = false;
-    if (takes && tool_contact_correction(tools[t], m, p.hold != 0u, p.dt, x0 + u, v, dx, dv)) {
-      u += dx;
-      v += dv;
-      felt = vec4(mass * dv / p.dt, 1.0);
-      touched = 1u;
-      moved = true;
-      around = true;
-    } else if (takes && tools[t].shape.w > 0.0) {
-      around = tool_distance(tools[t], m.to_position.xyz, m.to_axis.xyz, x0 + u).distance <
-               tools[t].shape.w;
-    }
-    if (around) along.xy = vec2(dot(x0 + u - m.to_position.xyz, m.to_axis.xyz));
-    // The aspirator's pull after the contact (engine/solver/suction.h suction_pull).
-    const vec4 suction = tools[t].suction;
-    if (takes && suction.x > 0.0 && m.to_position.w > 0.0) {
-      const vec3 r = x0 + u - m.to_position.xyz;
-      const float len = length(r);
-      if (dot(r, r) <= suction.y * suction.y && dot(r, m.to_axis.xyz) <= 0.0 && len > 0.0) {
-        // The flow's factor (suction_flow_factor): w, the speed toward the tip relative to the
-        // tool, and the whole pull's kick against the flow speed suction.z.
-        const vec3 tool_v = (m.to_position.xyz - m.from_position.xyz) / p.dt;
-        const float w = dot(v - tool_v, -r / len);
-        const float kick = p.dt / mass * suction.x * rest[i].w;
-        float factor = clamp(1.0 - w / suction.z, 0.0, 1.0);
-        if (kick > suction.z) factor *= suction.z / kick;
-        const vec3 pull = factor * suction.x * rest[i].w / len * -r;
-        v += p.dt / mass * pull;
-        felt.xyz += pull;
-        moved = true;
-      }
-    }
-    wg_felt[lane] = felt;
-    wg_along[lane] = along.xy;
-    barrier();
-    for (uint half_size = PHYXEL_WORKGROUP_SIZE / 2u; half_size > 0u; half_size >>= 1u) {
-      if (lane < half_size) {
-        wg_felt[lane] += wg_felt[lane + half_size];
-        wg_along[lane] = vec2(min(wg_along[lane].x, wg_along[lane + half_size].x),
-                              max(wg_along[lane].y, wg_along[lane + half_size].y));
-      }
-      barrier();
-    }
+    vec4 felt;
+    vec2 along;
+    contact_tool(tools[t], motion[p.motion * p.tools + t], p.hold != 0u, p.dt, takes, mass, volume,
+                 x0, u, v, touched, moved, felt, along);
+    sum_workgroup(felt, along);
     // p.capacity: the partials' stride; a workgroup past the candidates (a dispatch spread
     // over y) writes none.
     if (lane == 0u && group * PHYXEL_WORKGROUP_SIZE < count.total) {

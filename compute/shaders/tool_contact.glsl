@@ -116,4 +116,48 @@ bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool h
   return true;
 }
 
+// One tool's step of tool_contact on a phyxel (also solver_force_tear's with kForceContact, so
+// both give the same bits): the contact correction of u and v, then the aspirator's pull
+// (engine/solver/suction.h suction_pull). felt: the force on the phyxel and 1 where in contact;
+// along: the axial range of a contact or of a phyxel in a blade's band. `takes`: not fixed or
+// removed; x0: the rest position relative to the origin; volume: the rest volume.
+void contact_tool(ContactToolShape tool, ContactMotion m, bool hold, float dt, bool takes,
+                  float mass, float volume, vec3 x0, inout vec3 u, inout vec3 v, inout uint touched,
+                  inout bool moved, out vec4 felt, out vec2 along) {
+  felt = vec4(0.0);
+  along = vec2(kNoContactAxial, -kNoContactAxial);
+  vec3 dx;
+  vec3 dv;
+  bool around = false;
+  if (takes && tool_contact_correction(tool, m, hold, dt, x0 + u, v, dx, dv)) {
+    u += dx;
+    v += dv;
+    felt = vec4(mass * dv / dt, 1.0);
+    touched = 1u;
+    moved = true;
+    around = true;
+  } else if (takes && tool.shape.w > 0.0) {
+    around = tool_distance(tool, m.to_position.xyz, m.to_axis.xyz, x0 + u).distance < tool.shape.w;
+  }
+  if (around) along = vec2(dot(x0 + u - m.to_position.xyz, m.to_axis.xyz));
+  const vec4 suction = tool.suction;
+  if (takes && suction.x > 0.0 && m.to_position.w > 0.0) {
+    const vec3 r = x0 + u - m.to_position.xyz;
+    const float len = length(r);
+    if (dot(r, r) <= suction.y * suction.y && dot(r, m.to_axis.xyz) <= 0.0 && len > 0.0) {
+      // The flow's factor (suction_flow_factor): w, the speed toward the tip relative to the
+      // tool, and the whole pull's kick against the flow speed suction.z.
+      const vec3 tool_v = (m.to_position.xyz - m.from_position.xyz) / dt;
+      const float w = dot(v - tool_v, -r / len);
+      const float kick = dt / mass * suction.x * volume;
+      float factor = clamp(1.0 - w / suction.z, 0.0, 1.0);
+      if (kick > suction.z) factor *= suction.z / kick;
+      const vec3 pull = factor * suction.x * volume / len * -r;
+      v += dt / mass * pull;
+      felt.xyz += pull;
+      moved = true;
+    }
+  }
+}
+
 #endif  // PHYXEL_TOOL_CONTACT_GLSL
