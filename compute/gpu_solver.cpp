@@ -106,6 +106,11 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0)
     throw std::invalid_argument("GPU solver lanes must be 0 (auto), 1, 2, 4, 8 or 16, not " +
                                 std::to_string(lanes));
+  for (const ObjectRange& o : set.objects)
+    if (o.cut_band > 0)
+      throw std::invalid_argument("object \"" + o.name +
+                                  "\": cut_band (the SCNI band round a cut) runs on the CPU "
+                                  "solver only; run with --device cpu or set cut_band to 0");
   // Everything this set needs, before the first allocation: one clear error with the bytes.
   check_capacity(*ctx_, count_, lattice_pair_bound(set));
 

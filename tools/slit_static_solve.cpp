@@ -5,7 +5,8 @@
 // relaxing takes minutes. The blade's pairs are the ones crossing x = 0.03 above z = 0 (ties
 // through the front kept, as `blade_severs`). It measures how weights for the cut pairs near the
 // front would change the tip deflection, and, with --scni, a stabilised conforming nodal
-// integration instead of the solver's (docs/cutting.md, "Stiffness of a cut body"):
+// integration instead of the solver's (engine/solver/scni_band.h, the math of the solver's
+// `cut_band`; docs/cutting.md, "Stiffness of a cut body"):
 //   slit_static_solve M [none|transparency S0 POWER|diffraction LAMBDA] [--whole] [--no-damage]
 //                     [--support H_OVER_SPACING] [--scni FACE_POINTS] [--subcells N]
 //                     [--clamp-wall] [--near SPACINGS] [--patch]
@@ -18,13 +19,13 @@
 #include <cstring>
 #include <map>
 #include <string>
-#include <unordered_map>
 
 #include "engine/sampling/phyxel_set.h"
 #include "engine/scene/scene.h"
 #include "engine/solver/kernel.h"
 #include "engine/solver/mls_model.h"
 #include "engine/solver/neighbours.h"
+#include "engine/solver/scni_band.h"
 
 using namespace phyxel;
 
@@ -150,46 +151,6 @@ LocalStiffness nodal_stiffness(const Model& md, const Options& o, size_t i) {
   return out;
 }
 
-// The phyxels by lattice point (the beam is one box lattice), for the MLS shape functions at
-// any point.
-struct Lattice {
-  Vec3 origin;
-  double spacing = 0;
-  std::unordered_map<int64_t, uint32_t> at;
-  static int64_t key(int64_t a, int64_t b, int64_t c) { return (a * 4096 + b) * 4096 + c; }
-  Eigen::Vector3i cell(const Vec3& x) const {
-    return ((x - origin) / spacing).array().round().cast<int>();
-  }
-};
-
-// The linear-basis MLS shape functions at x over the phyxels within h, each pair weighted as
-// the cut pairs are (cut_pair_weight): the visibility criterion or diffraction at the slit.
-std::vector<std::pair<uint32_t, double>> mls_shape(const Model& md, const Lattice& lat,
-                                                   const Options& o, const Vec3& x) {
-  const Eigen::Vector3i c = lat.cell(x);
-  const int reach = int(std::ceil(md.h / md.spacing));
-  Eigen::Matrix4d moment = Eigen::Matrix4d::Zero();
-  std::vector<std::pair<uint32_t, double>> out;
-  std::vector<Eigen::Vector4d> basis;
-  for (int a = c.x() - reach; a <= c.x() + reach; ++a)
-    for (int b = c.y() - reach; b <= c.y() + reach; ++b)
-      for (int d = c.z() - reach; d <= c.z() + reach; ++d) {
-        const auto it = lat.at.find(Lattice::key(a, b, d));
-        if (it == lat.at.end()) continue;
-        const Vec3 xj = md.set.rest[it->second];
-        const double w0 = poly6((xj - x).squaredNorm(), md.h);
-        const double w = w0 > 0 ? cut_pair_weight(o, x, xj, w0, md.h, md.spacing) : 0.0;
-        if (w == 0) continue;
-        const Eigen::Vector4d p(1, xj.x() - x.x(), xj.y() - x.y(), xj.z() - x.z());
-        moment += w * p * p.transpose();
-        out.emplace_back(it->second, w);
-        basis.push_back(p);
-      }
-  const Eigen::Vector4d r = moment.ldlt().solve(Eigen::Vector4d::UnitX());
-  for (size_t k = 0; k < out.size(); ++k) out[k].second *= r.dot(basis[k]);
-  return out;
-}
-
 // A smoothed gradient over a box: its nodes and B (G_rc at row 3 r + c, 3 columns a node).
 struct SmoothedGradient {
   std::vector<uint32_t> nodes;
@@ -197,68 +158,36 @@ struct SmoothedGradient {
   double volume = 0;
 };
 
-// Stabilised conforming nodal integration (Chen et al. 2001): phyxel i's cell (its lattice cell
-// clipped to the box) is split into `subcells`^3 boxes; each box's gradient is the MLS
-// displacement times the outward normal integrated over its faces (`face_points`^2 Gauss
-// points each) over its volume (subcells 1: the cell's mean gradient, Chen's SCNI; more: the
-// sub-domain integration of Wang & Chen 2014, each box with its own strain). Faces on the
-// clamped wall x = 0 take the wall's displacement 0 (--clamp-wall) or the MLS field. A face
-// point on the slit's plane belongs to the cell's side.
-std::vector<SmoothedGradient> scni_gradients(const Model& md, const Lattice& lat, const Options& o,
-                                             size_t i, const Vec3& box_min, const Vec3& box_max) {
-  const Vec3 xi = md.set.rest[i];
-  const Vec3 lo = (xi.array() - md.spacing / 2).max(box_min.array());
-  const Vec3 hi = (xi.array() + md.spacing / 2).min(box_max.array());
-  const int np = o.face_points, ns = o.subcells;
-  const double g = np == 1 ? 0.0 : 0.5 / std::sqrt(3.0);  // Gauss points at 1/2 -+ g
-  const Vec3 step = (hi - lo) / ns;
-  std::vector<std::map<uint32_t, Eigen::Matrix<double, 9, 3>>> blocks(size_t(ns * ns * ns));
-  const auto sub = [ns](int a, int b, int c) { return size_t((a * ns + b) * ns + c); };
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u1 = (axis + 1) % 3, u2 = (axis + 2) % 3;
-    const double area = step[u1] * step[u2] / (np * np);
-    for (int plane = 0; plane <= ns; ++plane)
-      for (int c1 = 0; c1 < ns; ++c1)
-        for (int c2 = 0; c2 < ns; ++c2)
-          for (int p = 0; p < np * np; ++p) {
-            Vec3 x;
-            x[axis] = lo[axis] + plane * step[axis];
-            x[u1] = lo[u1] + (c1 + 0.5 + (p % np ? g : -g)) * step[u1];
-            x[u2] = lo[u2] + (c2 + 0.5 + (p / np ? g : -g)) * step[u2];
-            if (o.slit && std::abs(x.x() - kSlitX) < 1e-12)
-              x.x() += xi.x() < kSlitX ? -1e-10 : 1e-10;
-            if (o.clamp_wall && axis == 0 && std::abs(x.x() - box_min.x()) < 1e-12) continue;
-            const auto shape = mls_shape(md, lat, o, x);
-            for (int side = 0; side < 2; ++side) {  // the box below the plane (+n), above (-n)
-              const int k = plane - 1 + side;
-              if (k < 0 || k >= ns) continue;
-              int idx[3];
-              idx[axis] = k, idx[u1] = c1, idx[u2] = c2;
-              auto& box = blocks[sub(idx[0], idx[1], idx[2])];
-              for (const auto& [j, phi] : shape) {
-                auto& blk = box.try_emplace(j, Eigen::Matrix<double, 9, 3>::Zero()).first->second;
-                for (int r = 0; r < 3; ++r) blk(3 * r + axis, r) += (side ? -area : area) * phi;
-              }
-            }
-          }
-  }
+// Stabilised conforming nodal integration (engine/solver/scni_band.h, shared with the solver's
+// band): phyxel i's cell (its lattice cell clipped to the box) in `subcells`^3 boxes,
+// `face_points`^2 Gauss points a face; the shape functions weight each phyxel as the cut pairs
+// are (cut_pair_weight: the visibility criterion or diffraction at the slit). Faces on the
+// clamped wall x = 0 take the wall's displacement 0 (--clamp-wall) or the MLS field.
+std::vector<SmoothedGradient> scni_gradients(const Model& md, const PointGrid& grid,
+                                             const Options& o, size_t i, const Vec3& box_min,
+                                             const Vec3& box_max) {
+  ScniCell cell = lattice_cell(md.set.rest[i], md.spacing, box_min, box_max);
+  cell.subcells = o.subcells;
+  cell.face_points = o.face_points;
+  cell.clamped[0] = o.clamp_wall && std::abs(cell.lo.x() - box_min.x()) < 1e-12;
+  const PairWeight weight = [&](const Vec3& from, uint32_t j, double w0) {
+    return cut_pair_weight(o, from, md.set.rest[j], w0, md.h, md.spacing);
+  };
   std::vector<SmoothedGradient> out;
-  const double volume = step.prod();
-  for (const auto& box : blocks) {
-    SmoothedGradient sg{{}, Eigen::MatrixXd(9, 3 * long(box.size())), volume};
-    for (const auto& [j, blk] : box) {
-      sg.b.block(0, 3 * long(sg.nodes.size()), 9, 3) = blk / volume;
-      sg.nodes.push_back(j);
-    }
+  for (const ScniBox& box : scni_boxes(md.set.rest, grid, md.h, cell, weight)) {
+    SmoothedGradient sg{box.node, Eigen::MatrixXd::Zero(9, 3 * long(box.node.size())), box.volume};
+    for (size_t q = 0; q < box.node.size(); ++q)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) sg.b(3 * r + c, 3 * long(q) + r) = box.coeff[q][c];
     out.push_back(std::move(sg));
   }
   return out;
 }
 
 // The energy of phyxel i's cell: the sum over its boxes; no hourglass penalty.
-LocalStiffness scni_stiffness(const Model& md, const Lattice& lat, const Options& o, size_t i,
+LocalStiffness scni_stiffness(const Model& md, const PointGrid& grid, const Options& o, size_t i,
                               const Vec3& box_min, const Vec3& box_max) {
-  const auto boxes = scni_gradients(md, lat, o, i, box_min, box_max);
+  const auto boxes = scni_gradients(md, grid, o, i, box_min, box_max);
   std::map<uint32_t, long> column;
   for (const auto& sg : boxes)
     for (const uint32_t j : sg.nodes) column.try_emplace(j, 0);
@@ -276,7 +205,7 @@ LocalStiffness scni_stiffness(const Model& md, const Lattice& lat, const Options
 
 // The linear patch test of the smoothed gradients: nodal values of u = A x, A fixed; the largest
 // |G - A| / |A| over the boxes of interior cells and over those of cells on the body's surface.
-void patch_test(const Model& md, const Lattice& lat, const Options& o, const Vec3& box_min,
+void patch_test(const Model& md, const PointGrid& grid, const Options& o, const Vec3& box_min,
                 const Vec3& box_max) {
   Eigen::Matrix3d a;
   a << 0.3, -0.1, 0.7, 0.2, -0.5, 0.1, 0.4, 0.6, -0.2;
@@ -285,7 +214,7 @@ void patch_test(const Model& md, const Lattice& lat, const Options& o, const Vec
     const Vec3 xi = md.set.rest[i];
     const bool surface =
         ((xi - box_min).array().abs() < 1e-9).any() || ((xi - box_max).array().abs() < 1e-9).any();
-    for (const auto& sg : scni_gradients(md, lat, o, i, box_min, box_max)) {
+    for (const auto& sg : scni_gradients(md, grid, o, i, box_min, box_max)) {
       Eigen::VectorXd u(3 * long(sg.nodes.size()));
       for (size_t q = 0; q < sg.nodes.size(); ++q)
         u.segment<3>(3 * long(q)) = a * md.set.rest[sg.nodes[q]];
@@ -310,20 +239,16 @@ double solve_tip(const Options& o) {
   md.lambda = lame_lambda(mat), md.mu = lame_mu(mat), md.hourglass = mat.hourglass;
   const size_t n = md.set.size();
   const PhyxelSet& set = md.set;
-  Lattice lat{obj.shape.min, obj.spacing, {}};
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3i c = lat.cell(set.rest[i]);
-    lat.at[Lattice::key(c.x(), c.y(), c.z())] = uint32_t(i);
-  }
+  const PointGrid grid(set.rest, md.h);
   if (o.patch) {
-    patch_test(md, lat, o, obj.shape.min, obj.shape.max);
+    patch_test(md, grid, o, obj.shape.min, obj.shape.max);
     return 0;
   }
   std::vector<Eigen::Triplet<double>> entries;
   for (size_t i = 0; i < n; ++i) {
     const bool scni =
         o.scni && (o.near <= 0 || distance_to_slit(set.rest[i]) < o.near * obj.spacing);
-    const LocalStiffness l = scni ? scni_stiffness(md, lat, o, i, obj.shape.min, obj.shape.max)
+    const LocalStiffness l = scni ? scni_stiffness(md, grid, o, i, obj.shape.min, obj.shape.max)
                                   : nodal_stiffness(md, o, i);
     for (size_t q = 0; q < l.nodes.size(); ++q)
       for (size_t r = 0; r < l.nodes.size(); ++r) {

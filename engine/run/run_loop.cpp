@@ -168,6 +168,12 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   awake_.assign(set.objects.size(), 1);
   if (options.checkpoint_every > 0 && options.out_dir.empty())
     throw std::runtime_error("checkpoints need an output folder");
+  if (options.checkpoint_every > 0 || options.resume)
+    for (const ObjectDesc& o : scene.objects)
+      if (o.cut_band > 0)
+        throw std::runtime_error(scene.file.string() + ": object \"" + o.name +
+                                 "\": cut_band: checkpoints do not store the SCNI band's cut "
+                                 "quads; set cut_band to 0 or run without checkpoints");
   if (options.scene_hash)
     scene_hash_ = *options.scene_hash;
   else if (options.checkpoint_every > 0 || options.resume)

@@ -23,6 +23,7 @@ struct ObjectRange {
   uint32_t count = 0;
   double spacing = 0;
   double support_radius = 0;
+  double cut_band = 0;  // spacings (ObjectDesc::cut_band); 0: no band
 };
 
 // One scene load spread over its phyxels (volume-weighted), with its time window.

@@ -572,6 +572,7 @@ void sample_object(const Scene& scene, size_t oi, uint32_t inclusion_base,
   range.count = static_cast<uint32_t>(count);
   range.spacing = s;
   range.support_radius = h;
+  range.cut_band = object.cut_band;
   out.objects.push_back(range);
 }
 

@@ -74,6 +74,8 @@ struct ObjectDesc {
   std::vector<Load> loads;
   Vec3 initial_velocity = Vec3::Zero();
   double mirror = 0;  // as Inclusion::mirror, for the object's own phyxels
+  // > 0: the SCNI band within this many spacings of a blade's cut (docs/cutting.md); 0: off.
+  double cut_band = 0;
 };
 
 struct UntilRest {

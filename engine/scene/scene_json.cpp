@@ -181,11 +181,13 @@ std::vector<T> read_list(const Node& object, std::string_view key, std::string_v
 
 // `mirror`: the fraction of a surface's colour that reflects render.environment.
 const Limits kMirrorLimits{0, 1, true, true};
+// `cut_band`: spacings round a blade's cut integrated by the SCNI band (0: off).
+const Limits kCutBandLimits{0, 6, true, true};
 
 ObjectDesc read_object(const Node& node, const fs::path& folder, ImageReads* images) {
   node.expect_object("an object description",
                      {"name", "shape", "spacing", "support_radius", "material", "inclusions",
-                      "fixed", "loads", "initial_velocity", "mirror"});
+                      "fixed", "loads", "initial_velocity", "mirror", "cut_band"});
   ObjectDesc o;
   o.name = node.at("name", "a non-empty string").text();
   o.shape = read_shape(node.at("shape", kShapeExpected), folder, images);
@@ -195,6 +197,7 @@ ObjectDesc read_object(const Node& node, const fs::path& folder, ImageReads* ima
   check_support_radius(node, o);
   o.material = read_material(node.at("material", kMaterialExpected), Material{});
   o.mirror = node.number_or("mirror", 0.0, kMirrorLimits, "");
+  o.cut_band = node.number_or("cut_band", 0.0, kCutBandLimits, "spacings");
 
   std::map<std::string, std::string> inclusion_paths;  // name -> path, for duplicates
   o.inclusions =

@@ -47,9 +47,14 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     tear_[i] = Real(set.materials[set.material[i]].tear_stress.value_or(0.0));
   // Moment matrices, their regularised inverses and the pair weights (in double).
   support_.resize(set.objects.size());
+  band_width_.resize(set.objects.size());
+  spacing_.resize(set.objects.size());
   for (size_t o = 0; o < set.objects.size(); ++o) {
     support_[o] = set.objects[o].support_radius;
     max_support_ = std::max(max_support_, support_[o]);
+    spacing_[o] = set.objects[o].spacing;
+    band_width_[o] = set.objects[o].cut_band * set.objects[o].spacing;
+    band_on_ = band_on_ || band_width_[o] > 0;
   }
   kappa_scale_.resize(n);
   elastic_volume_.resize(n);
@@ -127,7 +132,7 @@ void CpuSolver<Real>::precompute(size_t i) {
       damaged ? damage_factor(min_moment_eigenvalue(a), min_moment_eigenvalue(reference)) : 1.0;
   elastic_volume_[i] = Real(damage * double(volume_[i]));
   const double tr = a.trace() / 3;
-  kappa_[i] = tr > 0 ? Real(damage * kappa_scale_[i] / tr) : Real(0);
+  kappa_[i] = tr > 0 && !in_band(i) ? Real(damage * kappa_scale_[i] / tr) : Real(0);
 }
 
 template <class Real>
@@ -171,7 +176,8 @@ void CpuSolver<Real>::compute_forces() {
       const M3 p = first_piola<Real>(f, params_[i], nullptr);
       M3 d = elastic_volume_[i] * p * a_inv_[i] - kappa_[i] * g;
       if (regularised_[i]) d += kappa_[i] * m * a_residual_[i];
-      d_[i] = d;
+      d_[i] = in_band(i) ? M3::Zero() : d;  // a band cell's energy is its boxes'
+
       if (tearing_) {
         const M3 sigma = phyxel::cauchy_stress<Real>(f, p);
         cauchy_[i] = Real(0.5) * (sigma + sigma.transpose());
@@ -180,10 +186,16 @@ void CpuSolver<Real>::compute_forces() {
         max_principal_[i] = phyxel::max_principal_stress<Real>(f, p);
       }
     }
+    const long nb = static_cast<long>(band_.size());
+    if (nb > 0) {  // the same on every thread: no barrier without a band
+#pragma omp for schedule(static)
+      for (long c = 0; c < nb; ++c) band_stress(c);
+    }
 #pragma omp for schedule(static)
     for (long s = 0; s < nf; ++s) {
       const uint32_t k = force_list_[s];
       V3 force = external_[k];
+      if (!gather_.empty()) force += band_force(k);
       for (uint32_t p = nbr_.offset[k]; p < nbr_.offset[k + 1]; ++p) {
         const uint32_t j = nbr_.index[p];
         const V3 x = rest_[j] - rest_[k];
@@ -297,6 +309,7 @@ void CpuSolver<Real>::step(Real dt) {
 
 template <class Real>
 void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
+  if (band_on_) refresh_band(cut_quads_.size());  // no blade left in the cut: all of it
   tools_ = tools;
   cutting_ = false;
   for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
@@ -315,6 +328,10 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
 template <class Real>
 void CpuSolver<Real>::set_tool_motion(const std::vector<ToolMotion>& motion, Real dt) {
   if (tools_.empty()) return;
+  if (band_on_) {  // the chunks before the last one: the cut has passed their cells
+    refresh_band(quads_before_chunk_);
+    quads_before_chunk_ = cut_quads_.size();
+  }
   motion_ = motion;
   motion_step_ = 0;
   samples_.clear();
@@ -414,8 +431,10 @@ double CpuSolver<Real>::internal_energy() const {
       const V3 e = g * (rest_[j] - rest_[i]) - (u_[j] - u_[i]);
       hourglass += w_[k] * e.squaredNorm();
     }
-    total += double(elastic_volume_[i] * w_density) + 0.5 * double(kappa_[i] * hourglass);
+    const double elastic = in_band(i) ? 0.0 : double(elastic_volume_[i] * w_density);
+    total += elastic + 0.5 * double(kappa_[i] * hourglass);
   }
+  for (long c = 0; c < static_cast<long>(band_.size()); ++c) total += band_energy(c);
   return total;
 }
 

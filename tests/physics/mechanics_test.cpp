@@ -56,28 +56,7 @@ double max_angular_frequency(const PhyxelSet& set,
           pairs.push_back({i, nbr.index[k], 0.5f});
     solver.sever_pairs(pairs);
   }
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> d(-1, 1);
-  std::vector<Vec3> x(set.size());
-  for (auto& v : x) v = Vec3(d(rng), d(rng), d(rng));
-  double lambda = 0;
-  const double eps = 1e-9;
-  for (int it = 0; it < 300; ++it) {
-    double norm = 0;
-    for (const auto& v : x) norm += v.squaredNorm();
-    norm = std::sqrt(norm);
-    for (size_t i = 0; i < set.size(); ++i) solver.displacement()[i] = eps * x[i] / norm;
-    solver.compute_forces();
-    double dot = 0, next_norm = 0;
-    for (size_t i = 0; i < set.size(); ++i) {
-      const Vec3 kx = -solver.force()[i] / eps / set.mass[i];  // M^-1 K x / |x|
-      dot += kx.dot(x[i]) / norm;
-      x[i] = kx;
-      next_norm += kx.squaredNorm();
-    }
-    lambda = dot;
-  }
-  return std::sqrt(std::max(lambda, 0.0));
+  return test::max_angular_frequency(solver, set);
 }
 
 TEST(StableStep, CourantRuleStaysBelowTheMeasuredLimit) {

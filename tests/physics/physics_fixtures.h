@@ -8,6 +8,7 @@
 
 #include "engine/sampling/phyxel_set.h"
 #include "engine/scene/scene.h"
+#include "engine/solver/cpu_solver.h"
 
 namespace phyxel::test {
 
@@ -58,6 +59,34 @@ inline Eigen::Matrix3d random_matrix(std::mt19937& rng, double scale) {
   Eigen::Matrix3d m;
   for (int i = 0; i < 9; ++i) m.data()[i] = d(rng);
   return m;
+}
+
+// Largest eigenvalue of M^-1 K at rest by power iteration on the linearised forces, over the
+// free phyxels (fixed ones stay at 0); its square root, rad/s.
+inline double max_angular_frequency(CpuSolver<double>& solver, const PhyxelSet& set) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> d(-1, 1);
+  std::vector<Vec3> x(set.size(), Vec3::Zero());
+  for (size_t i = 0; i < set.size(); ++i)
+    if (!(set.flags[i] & kFixed)) x[i] = Vec3(d(rng), d(rng), d(rng));
+  double lambda = 0;
+  const double eps = 1e-9;
+  for (int it = 0; it < 300; ++it) {
+    double norm = 0;
+    for (const Vec3& v : x) norm += v.squaredNorm();
+    norm = std::sqrt(norm);
+    for (size_t i = 0; i < set.size(); ++i) solver.displacement()[i] = eps * x[i] / norm;
+    solver.compute_forces();
+    double dot = 0;
+    for (size_t i = 0; i < set.size(); ++i) {
+      if (set.flags[i] & kFixed) continue;
+      const Vec3 kx = -solver.force()[i] / eps / set.mass[i];  // M^-1 K x / |x|
+      dot += kx.dot(x[i]) / norm;
+      x[i] = kx;
+    }
+    lambda = dot;
+  }
+  return std::sqrt(std::max(lambda, 0.0));
 }
 
 }  // namespace phyxel::test
