@@ -1,4 +1,5 @@
-// CpuSolver: tearing (engine/solver/tearing.h; the GPU twin is compute/shaders/solver_force_tear.comp).
+// CpuSolver: tearing (engine/solver/tearing.h; the GPU twin is
+// compute/shaders/solver_force_tear.comp).
 // At the end of a step, after the stress pass of its positions, every phyxel of the stress pass
 // tests its live pairs to higher indices: a pair whose mean normal stress reaches the mean of
 // the two strengths is severed as a cut severs one (logged with t = 0.5 and `torn`), and the
