@@ -9,6 +9,45 @@
 
 namespace phyxel {
 
+namespace {
+
+// The tool passes of a scene with tools (explain_passes).
+template <class Add>
+void explain_tools(const Scene& scene, const RunOptions& options, const TimeStepPlan& plan,
+                   size_t scalpels, Add& add) {
+  add("    contact        %zu tool(s): after every drift, on the phyxels whose current "
+      "position is near the tools' swept bounds (broad phase once per advance of at most %lld "
+      "substeps); the tools' forces are summed per substep",
+      scene.tools.size(), static_cast<long long>(options.tool_chunk_substeps));
+  if (scalpels > 0)
+    add("    cut            %zu scalpel(s): after the contact, on the same candidates (their "
+        "margin grown by the support radius), the pairs crossing the blade's swept quad "
+        "severed in substeps whose cutting force reaches the threshold; then the precompute of "
+        "the phyxels they touched only",
+        scalpels);
+  const auto aspirators = std::count_if(scene.tools.begin(), scene.tools.end(),
+                                        [](const ToolDesc& t) { return t.suction.sucks(); });
+  if (aspirators > 0 && scene.tearing_possible())
+    add("    suction        %zu aspirator(s): their pull in the contact pass; the fracture "
+        "sphere at each mouth every %lld steps (state read back while on)",
+        static_cast<size_t>(aspirators),
+        static_cast<long long>(tool_chunk_steps(scene, options, plan.substeps, plan.dt_requested)));
+  else if (aspirators > 0)
+    add("    suction        %zu aspirator(s): their pull in the contact pass; nothing "
+        "aspirated (no material has tear_stress)",
+        static_cast<size_t>(aspirators));
+  const auto graspers = std::count_if(scene.tools.begin(), scene.tools.end(),
+                                      [](const ToolDesc& t) { return t.grasp.grasps(); });
+  if (graspers > 0)
+    add("    grasp          %zu grasper(s): after the contact, while the jaws are closed, the "
+        "phyxels they hold carried with the tool (captured from the candidates within reach "
+        "when they close) and the grip's force summed per substep",
+        static_cast<size_t>(graspers));
+  add("  tools: tools.csv (a row per step and tool) and summary.json tools");
+}
+
+}  // namespace
+
 std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& solver,
                            const RunOptions& options) {
   const TimeStepPlan plan = plan_time_step(scene, set);
@@ -85,38 +124,7 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
         static_cast<long long>(scene.render.every));
   const auto scalpels = std::count_if(scene.tools.begin(), scene.tools.end(),
                                       [](const ToolDesc& t) { return t.blade.cuts(); });
-  if (!scene.tools.empty()) {
-    add("    contact        %zu tool(s): after every drift, on the phyxels whose current "
-        "position is near the tools' swept bounds (broad phase once per advance of at most %lld "
-        "substeps); the tools' forces are summed per substep",
-        scene.tools.size(), static_cast<long long>(options.tool_chunk_substeps));
-    if (scalpels > 0)
-      add("    cut            %zu scalpel(s): after the contact, on the same candidates (their "
-          "margin grown by the support radius), the pairs crossing the blade's swept quad "
-          "severed in substeps whose cutting force reaches the threshold; then the precompute of "
-          "the phyxels they touched only",
-          static_cast<size_t>(scalpels));
-    const auto aspirators = std::count_if(scene.tools.begin(), scene.tools.end(),
-                                          [](const ToolDesc& t) { return t.suction.sucks(); });
-    if (aspirators > 0 && scene.tearing_possible())
-      add("    suction        %zu aspirator(s): their pull in the contact pass; the fracture "
-          "sphere at each mouth every %lld steps (state read back while on)",
-          static_cast<size_t>(aspirators),
-          static_cast<long long>(
-              tool_chunk_steps(scene, options, plan.substeps, plan.dt_requested)));
-    else if (aspirators > 0)
-      add("    suction        %zu aspirator(s): their pull in the contact pass; nothing "
-          "aspirated (no material has tear_stress)",
-          static_cast<size_t>(aspirators));
-    const auto graspers = std::count_if(scene.tools.begin(), scene.tools.end(),
-                                        [](const ToolDesc& t) { return t.grasp.grasps(); });
-    if (graspers > 0)
-      add("    grasp          %zu grasper(s): after the contact, while the jaws are closed, the "
-          "phyxels they hold carried with the tool (captured from the candidates within reach "
-          "when they close) and the grip's force summed per substep",
-          static_cast<size_t>(graspers));
-    add("  tools: tools.csv (a row per step and tool) and summary.json tools");
-  }
+  if (!scene.tools.empty()) explain_tools(scene, options, plan, static_cast<size_t>(scalpels), add);
   // What the scene does not need, with the reason; nothing when it needs everything.
   std::string skipped;
   for (const char* part : {rendering ? "" : "render passes (render.mode none)",
