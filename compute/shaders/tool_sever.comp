@@ -6,9 +6,11 @@
 // an edge crosses, except through the front), and the pairs its edge holds (blade_edge.glsl).
 // A pair goes to the first tool that crosses it (the CPU's tool by tool: a later tool finds it
 // severed); no pair's test reads another's outcome, so the same pairs are severed with the same
-// t in any order. Then the workgroup that finishes last reruns the precompute of the phyxels
-// put in the dirty list (none most substeps: no dependent dispatch; kSeverWorkgroupSize lanes,
-// several per phyxel for a short list). Positions relative to the motion table's origin.
+// t in any order. A pair is tested against a blade only where its segment meets the ball around
+// all that blade can sever this substep (blade_ball). Then the workgroup that finishes last
+// reruns the precompute of the phyxels put in the dirty list (none most substeps: no dependent
+// dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). Positions relative
+// to the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -110,9 +112,85 @@ bool tool_cuts(CutQuad quad, uint tool) {
   return max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) >= threshold;
 }
 
+// Per tool of the first kSeverBallTools, a ball holding everything its blade can sever this
+// substep (the swept quad, the body's strip, the region the edge holds: each the convex hull of
+// corners in it), widened for float round-off: centre, radius squared; w < 0 where the blade does
+// not cut. A pair whose segment misses the ball is left untested (it cannot cross), so the same
+// pairs are severed as when testing all of them.
+const uint kSeverBallTools = 8u;
+shared vec4 blade_ball[kSeverBallTools];
+
+void hold_in_ball(inout float r2, vec3 centre, vec3 x) {
+  r2 = max(r2, dot(x - centre, x - centre));
+}
+
+// The corners of the region the edge holds: tip + along axis + across edge, along in [0, span],
+// |across . edge| <= front + depth (edge_holds' bounds), in the axis-edge plane.
+void hold_edge_region(inout float r2, vec3 centre, CutQuad c) {
+  const EdgeFrame f = edge_frame(c);
+  const float g = dot(f.axis, f.edge), det = 1.0 - g * g;
+  if (!(det > 1e-6)) {
+    r2 = 1e30;  // axis along the edge: no ball
+    return;
+  }
+  const float across = abs(f.front) + abs(f.depth);
+  for (uint corner = 0u; corner < 4u; ++corner) {
+    const float along = (corner & 1u) != 0u ? f.span : 0.0;
+    const float side = (corner & 2u) != 0u ? across : -across;
+    // c . axis = along, c . edge = side, c in the plane of axis and edge.
+    const float a = (along - g * side) / det, e = (side - g * along) / det;
+    hold_in_ball(r2, centre, f.tip + a * f.axis + e * f.edge);
+  }
+}
+
+vec4 blade_ball_of(uint tool) {
+  const CutQuad c = quads[p.row * p.tools + tool];
+  if (!tool_cuts(c, tool)) return vec4(0.0, 0.0, 0.0, -1.0);
+  const vec3 centre = 0.25 * (c.p0.xyz + c.p1.xyz + c.p2.xyz + c.p3.xyz);
+  float r2 = 0.0;
+  hold_in_ball(r2, centre, c.p0.xyz);
+  hold_in_ball(r2, centre, c.p1.xyz);
+  hold_in_ball(r2, centre, c.p2.xyz);
+  hold_in_ball(r2, centre, c.p3.xyz);
+  const float radius = c.p0.w;
+  const vec3 e = c.edge.xyz;
+  const vec3 tip = c.p3.xyz + c.p3.w * e, end = c.p2.xyz + c.p2.w * e;
+  if (radius > 0.0)
+    for (uint corner = 0u; corner < 4u; ++corner)
+      hold_in_ball(
+          r2, centre,
+          ((corner & 1u) != 0u ? end : tip) + ((corner & 2u) != 0u ? radius : -radius) * e);
+  if (c.resist.x > 0.0) hold_edge_region(r2, centre, c);
+  const float r = sqrt(r2) * 1.01 + 1e-5;  // m: far above float round-off at these sizes
+  return vec4(centre, r * r);
+}
+
+// Whether the segment a -> b comes within the ball s (centre, radius squared).
+bool segment_meets_ball(vec3 a, vec3 b, vec4 s) {
+  const vec3 d = b - a, w = s.xyz - a;
+  const float dd = dot(d, d);
+  const float u = dd > 0.0 ? clamp(dot(w, d) / dd, 0.0, 1.0) : 0.0;
+  const vec3 x = w - u * d;
+  return dot(x, x) <= s.w;
+}
+
+// Whether the tool's blade may sever the pair xi -> xj this substep (tools past
+// kSeverBallTools: whether it cuts at all).
+bool blade_may_sever(uint tool, CutQuad quad, vec3 xi, vec3 xj) {
+  if (tool >= kSeverBallTools) return tool_cuts(quad, tool);
+  const vec4 ball = blade_ball[tool];
+  return ball.w >= 0.0 && segment_meets_ball(xi, xj, ball);
+}
+
+// Fills blade_ball (every invocation calls it); whether any blade cuts this substep.
 bool any_tool_cuts() {
+  const uint t = gl_LocalInvocationIndex;
+  if (t < min(p.tools, kSeverBallTools)) blade_ball[t] = blade_ball_of(t);
+  barrier();
   for (uint tool = 0u; tool < p.tools; ++tool)
-    if (tool_cuts(quads[p.row * p.tools + tool], tool)) return true;
+    if (tool < kSeverBallTools ? blade_ball[tool].w >= 0.0
+                               : tool_cuts(quads[p.row * p.tools + tool], tool))
+      return true;
   return false;
 }
 
@@ -125,7 +203,7 @@ void sever_pair(uint i, vec3 xi, uint k) {
   const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
   for (uint tool = 0u; tool < p.tools; ++tool) {
     const CutQuad quad = quads[p.row * p.tools + tool];
-    if (!tool_cuts(quad, tool)) continue;
+    if (!blade_may_sever(tool, quad, xi, xj)) continue;
     float t;
     const bool crosses = i < j ? crosses_blade(xi, xj, quad, t) : crosses_blade(xj, xi, quad, t);
     if (!crosses) continue;
@@ -144,7 +222,7 @@ void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const uint lanes = sever.lanes;
   const uint slot = invocation / lanes;
-  if (slot < count.total && any_tool_cuts()) {
+  if (any_tool_cuts() && slot < count.total) {
     const uint i = list[slot];
     const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
     const uint end = offset[i + 1u];

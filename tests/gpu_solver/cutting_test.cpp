@@ -2,11 +2,13 @@
 // same severed pairs and positions after a scalpel crosses a beam, with the tools' motions
 // given chunk by chunk as the run loop does; two blades severing the same pairs in the same
 // substeps give each pair once, to the CPU's tool; two GPU runs give the same bits; a cut along
-// a lattice plane and a second crossing cut leave every value finite.
+// a lattice plane and a second crossing cut leave every value finite; blades past the first 8
+// (no ball around them) sever as the CPU.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <string>
 #include <utility>
 
 #include "engine/surgery/tool_track.h"
@@ -121,6 +123,34 @@ TEST_F(GpuSolverTest, TwoBladesOnTheSamePairsSeverEachOnceAsTheCpu) {
     EXPECT_NEAR(g.severed[k].t, c.severed[k].t, 1e-4) << k;
   }
   EXPECT_LT(max_difference(c.u, g.u), 1e-4 * std::max(max_norm(c.u), 1e-6));  // and finite
+}
+
+// tool_sever tests a pair against a blade only where it meets the ball around all that blade
+// can sever in the substep, for the first 8 tools (kSeverBallTools); a later tool's blade tests
+// every pair. Nine scalpels: the first and the ninth cross the beam at x = 9 and 25 mm, the
+// seven between pass 0.5 m away. Both cuts sever the CPU's pairs.
+TEST_F(GpuSolverTest, BladesWithAndWithoutTheirBallSeverTheCpusPairs) {
+  Scene scene = clamped_beam();
+  scene.simulation.gravity = Vec3::Zero();
+  for (int k = 0; k < 9; ++k) {
+    ToolDesc blade = crossing_scalpel(k == 8 ? 0.025 : 0.009, -0.003, 0.016, 0.0, 0.008);
+    blade.name = "scalpel " + std::to_string(k);
+    if (k > 0 && k < 8)
+      for (ToolKey& key : blade.path) key.position.z() += 0.5;
+    scene.tools.push_back(blade);
+  }
+  const PhyxelSet set = sample_scene(scene);
+  const auto [c, g] = cpu_and_gpu(ctx(), scene, 120);
+  size_t near_first = 0, near_ninth = 0;
+  for (const SeveredPair& p : c.severed) {
+    const double x = 0.5 * (set.rest[p.i].x() + set.rest[p.j].x());
+    near_first += std::abs(x - 0.009) < 0.004;
+    near_ninth += std::abs(x - 0.025) < 0.004;
+  }
+  EXPECT_GT(near_first, 100u);
+  EXPECT_GT(near_ninth, 100u);
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+  EXPECT_EQ(g.alive, c.alive);
 }
 
 TEST_F(GpuSolverTest, CuttingBelowAndAboveTheThresholdMatchesTheCpu) {
