@@ -324,8 +324,10 @@ class GpuSolver final : public SolverWithAllFacets {
   // finish_contact: the samples, once the advance's work is done (ran: the steps were run).
   void begin_contact(int64_t substeps, double dt);
   void record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp);
-  // The contact push fields of substep `step` (its motion row, whether the tools hold).
+  // The contact push fields of substep `step`: its motion row, and 1 where it is past the
+  // chunk's motions (the tools hold their last pose), else 0.
   uint32_t contact_motion_row(int64_t step) const;
+  uint32_t contact_hold(int64_t step) const;
   // With contact_in_force_: the samples of substeps [first, end) from the force pass's rows.
   void record_contact_rows(Recorder& rec, int64_t first, int64_t end);
   void finish_contact(int64_t substeps, bool ran);
@@ -455,6 +457,7 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer contact_done_;       // uint: tool_contact's finished workgroups (kContactFuseReduce)
   Buffer candidate_slot_;     // uint per phyxel: its slot in candidate_list_, or ~0
   Buffer contact_rows_;       // vec4 [substep][2][tool][stride]: solver_force_tear's contact
+  Buffer row_partials_;       // vec4 [substep][2][tool][partial_capacity()]: 64 rows' sums
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use

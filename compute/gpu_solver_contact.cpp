@@ -13,7 +13,8 @@
 // dirty list; where a blade resists, tool_resist, then tool_contact_reduce does the sum instead.
 // With contact_in_force_ (tearing, no blade or grasper) the contact of substeps 1 on is
 // solver_force_tear's, per candidate into contact_rows_, which record_contact_rows sums after
-// the advance's last force pass (tool_contact_reduce over rows, the same bits).
+// the advance's last force pass (tool_contact_reduce over rows: every 64 candidates' partial of
+// every row at once, then the samples; the same bits).
 // Buffers grow when a chunk needs more and are never reallocated otherwise.
 #include <algorithm>
 #include <cstddef>
@@ -238,9 +239,12 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
   const uint64_t row_bytes = 2 * nt * uint64_t{partial_capacity()} * PHYXEL_WORKGROUP_SIZE * 16;
   contact_in_force_ = options_.contact_in_force && tearing_ && contact_fused() && !cutting_ &&
                       !grasping_ && uint64_t(substeps) * row_bytes <= (uint64_t{64} << 20);
-  if (contact_in_force_)
+  if (contact_in_force_) {
     reserve(ctx, contact_rows_, uint64_t(substeps) * row_bytes, MemoryIntent::Device,
             "contact rows of the force pass");
+    reserve(ctx, row_partials_, uint64_t(substeps) * row_bytes / PHYXEL_WORKGROUP_SIZE,
+            MemoryIntent::Device, "contact rows' partials per 64 candidates");
+  }
   if (cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));  // the advance's log starts empty
 }
 
@@ -250,26 +254,42 @@ uint32_t GpuSolver::contact_motion_row(int64_t step) const {
       std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_ - 1));
 }
 
+uint32_t GpuSolver::contact_hold(int64_t step) const {
+  return motion_step_ + uint64_t(step) >= motion_steps_ ? 1u : 0u;
+}
+
 void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
   if (end <= first) return;
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
   const uint32_t rows = static_cast<uint32_t>(end - first);
+  const uint32_t cap = partial_capacity();
+  const uint32_t wg = kernels_->contact_reduce.workgroup_size()[0];
+  ContactReducePush push{rows, nt, cap, static_cast<uint32_t>(first), 0u};
   part_begin(rec, "contact: rows");
-  dispatch(rec, kernels_->contact_reduce,
-           ContactReducePush{rows, nt, partial_capacity() * PHYXEL_WORKGROUP_SIZE,
-                             static_cast<uint32_t>(first)},
+  // Every (row, tool, 64 candidates) partial at once, then the samples from them.
+  dispatch(rec, kernels_->contact_reduce, push,
            {{"Force", contact_rows_},
             {"Samples", samples_buffer_},
             {"Count", contact_count_},
             {"List", candidate_list_},
-            {"Flags", flags_}},
-           rows * nt * kernels_->contact_reduce.workgroup_size()[0]);
+            {"Flags", flags_},
+            {"Partials", row_partials_}},
+           rows * nt * cap * wg);
+  rec.barrier();
+  push.sums = 1u;
+  dispatch(rec, kernels_->contact_reduce, push,
+           {{"Force", row_partials_},
+            {"Samples", samples_buffer_},
+            {"Count", contact_count_},
+            {"List", candidate_list_},
+            {"Flags", flags_},
+            {"Partials", contact_rows_}},  // unwritten with sums 1
+           rows * nt * wg);
   part_end(rec);
 }
 
 void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
-  const uint64_t k = motion_step_ + uint64_t(step);
   const bool fused = contact_fused();
   const uint32_t fuse = !fused       ? 0u
                         : cut_dirty_ ? kContactFuseReduce | kContactFuseDirtyReset
@@ -279,7 +299,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          dt,
                          nt,
                          contact_motion_row(step),
-                         k >= motion_steps_ ? 1u : 0u,
+                         contact_hold(step),  // past the chunk: the last pose
                          partial_capacity(),
                          fuse,
                          0u};
@@ -309,12 +329,13 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
     rec.barrier();
     part_begin(rec, "contact: reduce");
     dispatch(rec, kernels_->contact_reduce,
-             ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step)},
+             ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step), 0u},
              {{"Force", candidate_force_},
               {"Samples", samples_buffer_},
               {"Count", contact_count_},
               {"List", candidate_list_},
-              {"Flags", flags_}},
+              {"Flags", flags_},
+              {"Partials", candidate_force_}},  // unwritten with rows 0
              nt * kernels_->contact_reduce.workgroup_size()[0]);
     part_end(rec);
   }

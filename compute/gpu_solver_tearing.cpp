@@ -63,7 +63,7 @@ void GpuSolver::record_force_tear(Recorder& rec, uint32_t mode, float dt, const 
     pc.contact_origin = contact_origin_;
     pc.contact_row = static_cast<uint32_t>(contact_step);
     pc.contact_motion = contact_motion_row(contact_step);
-    pc.contact_hold = motion_step_ + uint64_t(contact_step) >= motion_steps_ ? 1u : 0u;
+    pc.contact_hold = contact_hold(contact_step);
     pc.contact_tools = static_cast<uint32_t>(tools_.size());
     pc.contact_stride = partial_capacity() * PHYXEL_WORKGROUP_SIZE;
     pc.contact_fuse = kForceContact | kForceContactDirtyReset;

@@ -82,22 +82,26 @@ PHYXEL_CONST uint kContactBindingDone = 13;     // workgroups finished; 0 betwee
 // tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
 // fixed tree) and writes samples[sample * tools + tool] = (minus the summed force: the force on the
 // tool, contacts).
-// With rows > 0, one workgroup per (row, tool) for rows substep .. substep + rows - 1 of
-// solver_force_tear's per-candidate rows (kForceContact; capacity: their stride): each
-// workgroup's partial by tool_contact's tree, then the same sum (candidates whose phyxel is
-// fixed or removed, which the force pass does not visit, add nothing, as in tool_contact).
+// With rows > 0, rows substep .. substep + rows - 1 of solver_force_tear's per-candidate rows
+// (kForceContact; stride capacity x workgroup) in two dispatches: sums 0, one workgroup per
+// (row, tool, 64 candidates) writes that partial by tool_contact's tree into Partials as
+// tool_contact writes its own (row r at 2 r tools capacity; candidates whose phyxel is fixed or
+// removed, which the force pass does not visit, add nothing, as in tool_contact); sums 1 (Force:
+// those partials), one workgroup per (row, tool) adds them as above.
 struct ContactReducePush {
   uint rows;  // 0: tool_contact's partials of one substep
   uint tools;
-  uint capacity;
-  uint substep;  // of the advance: the row of the samples
+  uint capacity;  // tool_contact's workgroups: partials per tool (and row)
+  uint substep;   // of the advance: the row of the samples (the first, rows > 0)
+  uint sums;      // rows > 0: 0 the rows' partials, 1 the samples from them
 };
-PHYXEL_ASSERT_SIZE(ContactReducePush, 16);
+PHYXEL_ASSERT_SIZE(ContactReducePush, 20);
 PHYXEL_CONST uint kContactReduceBindingForce = 0;
 PHYXEL_CONST uint kContactReduceBindingSamples = 1;
 PHYXEL_CONST uint kContactReduceBindingCount = 2;
-PHYXEL_CONST uint kContactReduceBindingList = 3;   // candidate phyxels (rows > 0)
-PHYXEL_CONST uint kContactReduceBindingFlags = 4;  // (rows > 0)
+PHYXEL_CONST uint kContactReduceBindingList = 3;      // candidate phyxels (rows > 0)
+PHYXEL_CONST uint kContactReduceBindingFlags = 4;     // (rows > 0)
+PHYXEL_CONST uint kContactReduceBindingPartials = 5;  // written with rows > 0, sums 0
 
 // The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
 // of the force list (moving phyxels of awake objects) that are not fixed or removed and whose

@@ -42,17 +42,24 @@ void write_sample(vec4 sum, vec2 along, uint tool, uint tools, uint substep) {
   barrier();  // a next tool reuses the arrays
 }
 
-void write_tool_sample(uint tool, uint tools, uint capacity, uint substep, uint candidates) {
+// The partials of tool_contact's workgroups from contact_force[base], as tool_contact lays
+// them out (force per tool, then range per tool; `capacity` apart).
+void write_partials_sample(uint base, uint tool, uint tools, uint capacity, uint substep,
+                           uint candidates) {
   const uint t = gl_LocalInvocationIndex;
   vec4 sum = vec4(0.0);
   vec2 along = vec2(kNoContactAxial, -kNoContactAxial);
   const uint partials = (candidates + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
   for (uint k = t; k < partials; k += PHYXEL_WORKGROUP_SIZE) {
-    sum += contact_force[tool * capacity + k];
-    const vec2 s = contact_force[(tools + tool) * capacity + k].xy;
+    sum += contact_force[base + tool * capacity + k];
+    const vec2 s = contact_force[base + (tools + tool) * capacity + k].xy;
     along = vec2(min(along.x, s.x), max(along.y, s.y));
   }
   write_sample(sum, along, tool, tools, substep);
+}
+
+void write_tool_sample(uint tool, uint tools, uint capacity, uint substep, uint candidates) {
+  write_partials_sample(0u, tool, tools, capacity, substep, candidates);
 }
 
 #endif  // PHYXEL_TOOL_CONTACT_SUM_GLSL
