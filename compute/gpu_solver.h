@@ -95,6 +95,10 @@ struct GpuSolverOptions {
   // after each drift inside the force pass (solver_force_tear) and the samples summed once
   // after the advance, as tool_contact gives them bit for bit. Tests turn it off to compare.
   bool contact_in_force = true;
+  // With one grasper and tool_contact summing its own samples (no blade resisting): the hold of
+  // its closed jaws inside tool_contact's dispatch, the same bits as its own pass after it.
+  // Tests turn it off to compare.
+  bool grasp_in_contact = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -346,7 +350,13 @@ class GpuSolver final : public SolverWithAllFacets {
   // Graspers (gpu_solver_grasp.cpp): the grip buffers for set_tools, and the capture, hold and
   // reduction passes of a substep, after the contact reduction.
   void prepare_grasping();
-  void record_grasp(Recorder& rec, int64_t step, float dt, const Buffer& disp);
+  // The grasper whose hold tool_contact does in this substep (layout ContactPush.grasp), or
+  // kContactNoGrasp.
+  uint32_t grasp_in_contact(int64_t step) const;
+  // Forgets the grips of jaws that open in this substep; whether a grasper other than
+  // `in_contact` has a pass to record.
+  bool grasp_passes_left(int64_t step, uint32_t in_contact);
+  void record_grasp(Recorder& rec, int64_t step, float dt, const Buffer& disp, uint32_t in_contact);
   // A host edit (remove_phyxels, sever_pairs): uploads the flags and weights and reruns the
   // precompute for the touched phyxels (ascending).
   void apply_edit(const std::vector<uint32_t>& flags, const std::vector<float>& weights,
@@ -480,6 +490,7 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer grip_;                       // GraspEntry [tool][count_]
   Buffer grip_count_;                 // ContactCount per tool (indirect)
   Buffer grip_force_;                 // vec4 [tool][count_]
+  Buffer grip_of_;                    // uint [tool][count_]: a held phyxel's grip entry
 
   // Cutting (gpu_solver_cutting.cpp).
   bool cutting_ = false;                // a tool has a blade

@@ -294,6 +294,7 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
   const uint32_t fuse = !fused       ? 0u
                         : cut_dirty_ ? kContactFuseReduce | kContactFuseDirtyReset
                                      : kContactFuseReduce;
+  const uint32_t grasp = grasp_in_contact(step);
   const ContactPush push{contact_origin_,
                          static_cast<uint32_t>(step),
                          dt,
@@ -302,7 +303,12 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          contact_hold(step),  // past the chunk: the last pose
                          partial_capacity(),
                          fuse,
+                         grasp,
+                         count_,
+                         0u,
                          0u};
+  // Stand-ins of the grip's buffers where no grasper's hold is in this pass.
+  const bool grip = grasp != kContactNoGrasp;
   part_begin(rec, "contact: tool");
   dispatch_indirect(rec, kernels_->contact, push,
                     {{"List", candidate_list_},
@@ -318,7 +324,12 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                      {"Count", contact_count_},
                      {"Samples", samples_buffer_},
                      {"Dirty", cut_dirty_ ? cut_dirty_ : contact_done_},  // unwritten without
-                     {"Done", contact_done_}},
+                     {"Done", contact_done_},
+                     {"Grip", grip ? grip_ : contact_count_},  // unread without (32 bytes)
+                     {"Held", grip ? grip_count_ : contact_count_},
+                     {"GripForce", grip ? grip_force_ : candidate_force_},
+                     {"GripOf", grip ? grip_of_ : contact_done_},
+                     {"Slot", candidate_slot_}},
                     contact_count_, offsetof(ContactCount, groups_x));
   part_end(rec);
   if (!fused) {  // tool_resist adds to the partials: tool_contact_reduce sums them after it
@@ -339,10 +350,10 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
              nt * kernels_->contact_reduce.workgroup_size()[0]);
     part_end(rec);
   }
-  if (grasping_) {
+  if (grasping_ && grasp_passes_left(step, grasp)) {
     rec.barrier();
     part_begin(rec, "contact: grasp");
-    record_grasp(rec, step, dt, disp);
+    record_grasp(rec, step, dt, disp, grasp);
     part_end(rec);
   }
 }

@@ -6,7 +6,9 @@
 // every substep they are closed the hold (indirect, over the grip) and the reduction of the
 // grip's force into the tool's sample. Jaws that open record nothing more: the grip is
 // forgotten. Nothing is read back during the advance; the held count comes back in the samples
-// (second row, z). Scenes without a grasper allocate and record none of it.
+// (second row, z). Scenes without a grasper allocate and record none of it. With one grasper
+// and tool_contact summing its own samples, the hold of jaws closed before the substep is
+// tool_contact's (grasp_in_contact), which saves the hold's dispatch and barrier.
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
@@ -32,18 +34,51 @@ void GpuSolver::prepare_grasping() {
     grip_force_ = Buffer(ctx, entries * sizeof(vec4), MemoryIntent::Device, "grasper grip forces");
     grip_count_ = Buffer(ctx, tools_.size() * sizeof(ContactCount), MemoryIntent::Device,
                          "grasper grip counts", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
+    grip_of_ = Buffer(ctx, entries * sizeof(uint32_t), MemoryIntent::Device,
+                      "grasper grip entry per phyxel");
   }
   rec_[0]->fill(grip_count_, 0);  // submitted by set_tools with the contact flags' reset
+  rec_[0]->fill(grip_of_, ~0u);
 }
 
-void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
+uint32_t GpuSolver::grasp_in_contact(int64_t step) const {
+  if (!grasping_ || !options_.grasp_in_contact || !contact_fused()) return kContactNoGrasp;
+  uint32_t only = kContactNoGrasp;
+  for (uint32_t t = 0; t < tools_.size(); ++t) {
+    if (!tools_[t].grasp.grasps()) continue;
+    if (only != kContactNoGrasp) return kContactNoGrasp;  // two graspers: their own passes
+    only = t;
+  }
+  // Jaws that close in this substep capture after the contact: their own passes.
+  const size_t row = contact_motion_row(step);
+  if (!grip_closed_[only] || !motion_[row * tools_.size() + only].grip_closed)
+    return kContactNoGrasp;
+  return only;
+}
+
+bool GpuSolver::grasp_passes_left(int64_t step, uint32_t in_contact) {
+  const size_t nt = tools_.size();
+  const size_t row = contact_motion_row(step);
+  bool left = false;
+  for (uint32_t t = 0; t < nt; ++t) {
+    if (!tools_[t].grasp.grasps()) continue;
+    if (!motion_[row * nt + t].grip_closed)
+      grip_closed_[t] = 0;  // open: the grip is forgotten
+    else if (t != in_contact)
+      left = true;
+  }
+  return left;
+}
+
+void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer& disp,
+                             uint32_t in_contact) {
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
   const uint64_t k = motion_step_ + uint64_t(step);  // as record_contact
   const uint32_t row = static_cast<uint32_t>(std::min<uint64_t>(k, motion_steps_ - 1));
   const uint32_t wg = kernels_->grasp.workgroup_size()[0];
   for (uint32_t t = 0; t < nt; ++t) {
     const Grasp& grasp = tools_[t].grasp;
-    if (!grasp.grasps()) continue;
+    if (!grasp.grasps() || t == in_contact) continue;
     if (!motion_[size_t(row) * nt + t].grip_closed) {  // open: the grip is forgotten
       grip_closed_[t] = 0;
       continue;
@@ -71,7 +106,8 @@ void GpuSolver::record_grasp(Recorder& rec, int64_t step, float dt, const Buffer
                                                          {"Count", grip_count_},
                                                          {"Force", grip_force_},
                                                          {"Samples", samples_buffer_},
-                                                         {"Done", contact_done_}};
+                                                         {"Done", contact_done_},
+                                                         {"GripOf", grip_of_}};
       if (elements > 0)
         dispatch(rec, kernels_->grasp, push, bindings, elements);
       else
@@ -146,8 +182,11 @@ void GpuSolver::restore_grips(const std::vector<Grip>& grips) {
     const uint32_t groups = (total + wg - 1) / wg;
     const std::vector<ContactCount> count = {
         {total, std::min(groups, 65535u), (groups + 65534u) / 65535u, 1u}};
+    std::vector<uint32_t> grip_of(count_, ~0u);  // as the capture writes it
+    for (uint32_t e = 0; e < total; ++e) grip_of[entries[e].phyxel.x] = e;
     if (!entries.empty()) upload(*ctx_, grip_, entries, t * uint64_t{count_} * sizeof(GraspEntry));
     upload(*ctx_, grip_count_, count, t * sizeof(ContactCount));
+    if (count_ > 0) upload(*ctx_, grip_of_, grip_of, t * uint64_t{count_} * sizeof(uint32_t));
     grip_closed_[t] = 1;
   }
 }

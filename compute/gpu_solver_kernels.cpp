@@ -43,11 +43,11 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
       check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
       motion(ctx, PHYXEL_SHADER(solver_motion), 4, sizeof(MotionPush)),
-      contact(ctx, PHYXEL_SHADER(tool_contact), 14, sizeof(ContactPush)),
+      contact(ctx, PHYXEL_SHADER(tool_contact), 19, sizeof(ContactPush)),
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 6, sizeof(ContactReducePush)),
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 8, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
-      grasp(ctx, PHYXEL_SHADER(tool_grasp), 13, sizeof(GraspPush)),
+      grasp(ctx, PHYXEL_SHADER(tool_grasp), 14, sizeof(GraspPush)),
       near(ctx, PHYXEL_SHADER(solver_near), 6, sizeof(NearPush)),
       pairs_split_(pairs_split),
       pairs_lo_(pairs_lo) {

@@ -46,23 +46,32 @@ PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 // (xyz; w: the contacts) and their axial range into force[(tools + tool) * capacity + group],
 // and the per-phyxel contact flag (1 touched, 0 not). With kContactFuseReduce the workgroup
 // that finishes last (Done counts them) also writes the substep's samples as
-// tool_contact_reduce does, and with kContactFuseDirtyReset empties the dirty list.
+// tool_contact_reduce does, and with kContactFuseDirtyReset empties the dirty list. With
+// grasp < tools (kContactFuseReduce, one grasper, its jaws closed before this substep) it also
+// does that grasper's hold (tool_grasp's kGraspHoldReduce, in the same order per phyxel): each
+// candidate's invocation holds its own phyxel after its contact, the others (grid-stride) the
+// held phyxels that no candidate is, and the last workgroup subtracts the grip's force from the
+// sample after writing it: the same bits, one dispatch and barrier less per substep.
 struct ContactPush {
-  vec4 origin;    // xyz: the frame of the motion table (world, m), w unused
-  uint substep;   // of the advance: the row of the samples (kContactFuseReduce)
-  float dt;       // s
-  uint tools;     // tools
-  uint motion;    // row of the motion table (substep of the chunk, clamped to its last)
-  uint hold;      // 1 past the chunk's motions: the tools stay at the row's end pose
-  uint capacity;  // stride of the per-workgroup force buffer (>= its workgroups)
-  uint fuse;      // kContactFuse* bits
+  vec4 origin;         // xyz: the frame of the motion table (world, m), w unused
+  uint substep;        // of the advance: the row of the samples (kContactFuseReduce)
+  float dt;            // s
+  uint tools;          // tools
+  uint motion;         // row of the motion table (substep of the chunk, clamped to its last)
+  uint hold;           // 1 past the chunk's motions: the tools stay at the row's end pose
+  uint capacity;       // stride of the per-workgroup force buffer (>= its workgroups)
+  uint fuse;           // kContactFuse* bits
+  uint grasp;          // the grasper whose hold this pass does, or kContactNoGrasp
+  uint grip_capacity;  // entries per tool of the grip buffers (GraspPush.capacity)
   uint pad1;
+  uint pad2;
 };
-PHYXEL_ASSERT_SIZE(ContactPush, 48);
+PHYXEL_ASSERT_SIZE(ContactPush, 64);
+PHYXEL_CONST uint kContactNoGrasp = 0xFFFFFFFFu;
 PHYXEL_CONST uint kContactFuseReduce = 1;      // the samples, by the last workgroup
 PHYXEL_CONST uint kContactFuseDirtyReset = 2;  // and the dirty list's count 0
 // tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact, count,
-// samples, dirty, done}
+// samples, dirty, done, grip, held, grip force, grip of, slot}
 PHYXEL_CONST uint kContactBindingList = 0;  // candidate phyxels, ascending
 PHYXEL_CONST uint kContactBindingRest = 1;
 PHYXEL_CONST uint kContactBindingDisp = 2;
@@ -73,10 +82,15 @@ PHYXEL_CONST uint kContactBindingTools = 6;
 PHYXEL_CONST uint kContactBindingMotion = 7;
 PHYXEL_CONST uint kContactBindingForce = 8;
 PHYXEL_CONST uint kContactBindingContact = 9;
-PHYXEL_CONST uint kContactBindingCount = 10;    // ContactCount (tool_broad_scan)
-PHYXEL_CONST uint kContactBindingSamples = 11;  // as tool_contact_reduce's
-PHYXEL_CONST uint kContactBindingDirty = 12;    // the dirty list (tool_sever, solver_force_tear)
-PHYXEL_CONST uint kContactBindingDone = 13;     // workgroups finished; 0 between dispatches
+PHYXEL_CONST uint kContactBindingCount = 10;      // ContactCount (tool_broad_scan)
+PHYXEL_CONST uint kContactBindingSamples = 11;    // as tool_contact_reduce's
+PHYXEL_CONST uint kContactBindingDirty = 12;      // the dirty list (tool_sever, solver_force_tear)
+PHYXEL_CONST uint kContactBindingDone = 13;       // workgroups finished; 0 between dispatches
+PHYXEL_CONST uint kContactBindingGrip = 14;       // as kGraspBindingGrip (grasp < tools)
+PHYXEL_CONST uint kContactBindingHeld = 15;       // as kGraspBindingCount
+PHYXEL_CONST uint kContactBindingGripForce = 16;  // as kGraspBindingForce
+PHYXEL_CONST uint kContactBindingGripOf = 17;     // as kGraspBindingGripOf
+PHYXEL_CONST uint kContactBindingSlot = 18;  // uint per phyxel: its candidate slot (broad phase)
 
 // tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
 // tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
@@ -248,6 +262,9 @@ PHYXEL_CONST uint kGraspBindingCount = 9;   // ContactCount per tool: the grip's
 PHYXEL_CONST uint kGraspBindingForce = 10;  // vec4 [tool][capacity]
 PHYXEL_CONST uint kGraspBindingSamples = 11;
 PHYXEL_CONST uint kGraspBindingDone = 12;  // workgroups finished (tool_contact's); 0 between
+// uint [tool][capacity] per phyxel: its entry in the tool's grip, written by the capture (and
+// restore_grips); stale where not held, so a reader checks grip[entry].phyxel and the count.
+PHYXEL_CONST uint kGraspBindingGripOf = 13;
 
 // ---------------------------------------------------------------------------------------
 // Cutting (compute/gpu_solver_cutting.cpp; shaders/tool_sever.comp mirrors

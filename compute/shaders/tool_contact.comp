@@ -9,7 +9,10 @@
 // and writes only its own phyxel. With kContactFuseReduce (no tool_resist between the two), the
 // workgroup that finishes last (an atomic count of the finished ones) sums the partials into the
 // samples as tool_contact_reduce does, in the same order: the same bits, one dispatch and one
-// barrier less per substep.
+// barrier less per substep. With p.grasp a tool, that grasper's hold too (layout_surgery.h
+// ContactPush; tool_grasp.glsl): a candidate's hold follows its contact in its invocation, the
+// held phyxels that are no candidate are held by every invocation in turn (no two invocations
+// touch one phyxel), and the last workgroup subtracts the grip's force from the sample.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -29,9 +32,14 @@ layout(std430, binding = kContactBindingMotion) readonly buffer Motion { Contact
 layout(std430, binding = kContactBindingForce) coherent buffer Force { vec4 contact_force[]; };
 layout(std430, binding = kContactBindingContact) writeonly buffer Contact { uint contact[]; };
 layout(std430, binding = kContactBindingCount) readonly buffer Count { ContactCount count; };
-layout(std430, binding = kContactBindingSamples) writeonly buffer Samples { vec4 samples[]; };
+layout(std430, binding = kContactBindingSamples) buffer Samples { vec4 samples[]; };
 layout(std430, binding = kContactBindingDirty) writeonly buffer Dirty { uint dirty[]; };
 layout(std430, binding = kContactBindingDone) coherent buffer Done { uint done; };
+layout(std430, binding = kContactBindingGrip) readonly buffer Grip { GraspEntry grip[]; };
+layout(std430, binding = kContactBindingHeld) readonly buffer Held { ContactCount held[]; };
+layout(std430, binding = kContactBindingGripForce) coherent buffer GripForce { vec4 grip_force[]; };
+layout(std430, binding = kContactBindingGripOf) readonly buffer GripOf { uint grip_of[]; };
+layout(std430, binding = kContactBindingSlot) readonly buffer Slot { uint candidate_slot[]; };
 
 #include "tool_contact_sum.glsl"
 
@@ -40,14 +48,56 @@ layout(std430, binding = kContactBindingDone) coherent buffer Done { uint done; 
 // loop is 64 times shorter than over the candidates (all of a box at 1M phyxels when torn
 // pieces fly and the broad phase's margin grows with their speed).
 #include "last_workgroup.glsl"
+#include "tool_grasp.glsl"
 
 // kContactFuseReduce: after every workgroup wrote its partials, the last one writes the samples.
 void fused_reduce() {
   if (!finished_last()) return;
   for (uint t = 0u; t < p.tools; ++t)
     write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
+  // Lane 0 wrote the samples and subtracts the grip's force from them.
+  if (p.grasp < p.tools) grip_reduce(p.grasp, p.tools, p.grip_capacity, p.substep);
   if (gl_LocalInvocationIndex != 0u || (p.fuse & kContactFuseDirtyReset) == 0u) return;
   dirty[0] = 0u;  // the count: nothing severed yet
+}
+
+// The grasper's hold of candidate i after its contact (u, v: after it), where i is held.
+// Returns whether it moved i.
+bool hold_candidate(uint i, vec3 x0, float mass, inout vec3 u, inout vec3 v) {
+  const uint region = p.grasp * p.grip_capacity;
+  const uint e = grip_of[region + i];
+  if (e >= held[p.grasp].total || grip[region + e].phyxel.x != i) return false;  // not held
+  if ((flags[i] & kFlagRemoved) != 0u) {  // aspirated: no longer held
+    grip_force[region + e] = vec4(0.0);
+    return false;
+  }
+  const ContactMotion m = motion[p.motion * p.tools + p.grasp];
+  const vec3 v_now = v;
+  grip_hold(m, p.hold != 0u, p.dt, region + e, x0, mass, v_now, u, v);
+  return true;
+}
+
+// The hold of the grip's phyxels that are not candidates of this pass, spread over all its
+// invocations.
+void hold_others() {
+  const uint region = p.grasp * p.grip_capacity;
+  const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * PHYXEL_WORKGROUP_SIZE;
+  const ContactMotion m = motion[p.motion * p.tools + p.grasp];
+  for (uint e = PHYXEL_GLOBAL_INDEX; e < held[p.grasp].total; e += stride) {
+    const uint i = grip[region + e].phyxel.x;
+    const uint s = candidate_slot[i];
+    if (s < count.total && list[s] == i) continue;  // hold_candidate's
+    if ((flags[i] & kFlagRemoved) != 0u) {
+      grip_force[region + e] = vec4(0.0);
+      continue;
+    }
+    vec3 u;
+    vec3 v;
+    grip_hold(m, p.hold != 0u, p.dt, region + e, rest[i].xyz - p.origin.xyz, ext[i].w, vel[i].xyz,
+              u, v);
+    disp[i] = vec4(u, 0.0);
+    vel[i] = vec4(v, 0.0);
+  }
 }
 
 void main() {
@@ -78,11 +128,14 @@ void main() {
     }
     barrier();  // the next tool's sums reuse the shared arrays
   }
-  if ((p.fuse & kContactFuseReduce) != 0u) fused_reduce();
-  if (!candidate) return;
-  if (moved) {
-    disp[i] = vec4(u, 0.0);
-    vel[i] = vec4(v, 0.0);
+  if (candidate) {
+    if (p.grasp < p.tools) moved = hold_candidate(i, x0, mass, u, v) || moved;
+    if (moved) {
+      disp[i] = vec4(u, 0.0);
+      vel[i] = vec4(v, 0.0);
+    }
+    contact[i] = touched;
   }
-  contact[i] = touched;
+  if (p.grasp < p.tools) hold_others();
+  if ((p.fuse & kContactFuseReduce) != 0u) fused_reduce();
 }

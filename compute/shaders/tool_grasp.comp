@@ -54,17 +54,13 @@ layout(std430, binding = kGraspBindingSamples) buffer Samples {
 layout(std430, binding = kGraspBindingDone) coherent buffer Done {
   uint done;
 };
+layout(std430, binding = kGraspBindingGripOf) writeonly buffer GripOf {
+  uint grip_of[];
+};
 #include "last_workgroup.glsl"
+#include "tool_grasp.glsl"
 
-shared vec4 partial[PHYXEL_WORKGROUP_SIZE];
 shared uint taken[PHYXEL_WORKGROUP_SIZE];
-
-const vec3 kToolFrameAxis = vec3(0.0, 0.0, 1.0);
-
-// grip_point: where the tool at (position, axis) holds an offset of its frame.
-vec3 grip_point(vec3 position, vec3 axis, vec3 offset) {
-  return position + offset + tool_rotation_offset(kToolFrameAxis, axis, offset);
-}
 
 void capture(ContactMotion m) {
   const uint t = gl_LocalInvocationID.x;
@@ -96,6 +92,7 @@ void capture(ContactMotion m) {
     if (take) {
       const vec3 offset = r + tool_rotation_offset(m.to_axis.xyz, kToolFrameAxis, r);
       grip[region + base + taken[t] - 1u] = GraspEntry(vec4(offset, 0.0), uvec4(i, 0u, 0u, 0u));
+      grip_of[region + i] = base + taken[t] - 1u;
     }
     base += taken[PHYXEL_WORKGROUP_SIZE - 1u];
     barrier();
@@ -115,36 +112,11 @@ void hold(ContactMotion m) {
     grip_force[slot] = vec4(0.0);
     return;
   }
-  const vec3 offset = grip[slot].offset.xyz;
-  const vec3 to_turn = tool_rotation_offset(kToolFrameAxis, m.to_axis.xyz, offset);
-  const vec3 from_turn =
-      p.hold != 0u ? to_turn : tool_rotation_offset(kToolFrameAxis, m.from_axis.xyz, offset);
-  const vec3 from_p = p.hold != 0u ? m.to_position.xyz : m.from_position.xyz;
-  const vec3 x = m.to_position.xyz + offset + to_turn;
-  const vec3 v = ((m.to_position.xyz - from_p) + (to_turn - from_turn)) / p.dt;
-  const vec3 f = ext[i].w * (v - vel[i].xyz) / p.dt;
-  disp[i] = vec4(x - (rest[i].xyz - p.origin.xyz), 0.0);
+  vec3 u;
+  vec3 v;
+  grip_hold(m, p.hold != 0u, p.dt, slot, rest[i].xyz - p.origin.xyz, ext[i].w, vel[i].xyz, u, v);
+  disp[i] = vec4(u, 0.0);
   vel[i] = vec4(v, 0.0);
-  grip_force[slot] = vec4(f, 1.0);
-}
-
-void reduce() {
-  const uint t = gl_LocalInvocationID.x;
-  const uint region = p.tool * p.capacity;
-  vec4 sum = vec4(0.0);
-  for (uint k = t; k < held[p.tool].total; k += PHYXEL_WORKGROUP_SIZE)
-    sum += grip_force[region + k];
-  partial[t] = sum;
-  barrier();
-  for (uint half_size = PHYXEL_WORKGROUP_SIZE / 2u; half_size > 0u; half_size >>= 1u) {
-    if (t < half_size) partial[t] += partial[t + half_size];
-    barrier();
-  }
-  if (t == 0u) {
-    const uint row = 2u * (p.substep * p.tools + p.tool);
-    samples[row].xyz -= partial[0].xyz;
-    samples[row + 1u].z = partial[0].w;
-  }
 }
 
 void main() {
@@ -153,8 +125,9 @@ void main() {
     capture(m);
   } else if (p.mode == kGraspHold || p.mode == kGraspHoldReduce) {
     hold(m);
-    if (p.mode == kGraspHoldReduce && finished_last()) reduce();
+    if (p.mode == kGraspHoldReduce && finished_last())
+      grip_reduce(p.tool, p.tools, p.capacity, p.substep);
   } else {
-    reduce();
+    grip_reduce(p.tool, p.tools, p.capacity, p.substep);
   }
 }

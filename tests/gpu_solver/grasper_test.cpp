@@ -1,7 +1,8 @@
 // The grasper on the GPU against the CPU reference (engine/solver/grasper.h): the same phyxels
 // taken when the jaws close, the same motion while they hold and pull (turning the tool's axis
 // too), the same force on the tool, the same grip when held phyxels are removed, and the same
-// letting go, with the motions given chunk by chunk as the run loop does.
+// letting go, with the motions given chunk by chunk as the run loop does; and the hold inside
+// tool_contact's dispatch giving the bits of its own pass.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -18,7 +19,9 @@ struct GripRun {
   std::vector<ToolContactSample> samples;   // every substep
 };
 
-GripRun grip(Solver& solver, const Scene& scene, const PhyxelSet& set) {
+// With sleep_bar, object 0 (the bar) is put to sleep after chunk 5 (its held phyxels then in
+// no candidate list) and woken after chunk 7.
+GripRun grip(Solver& solver, const Scene& scene, const PhyxelSet& set, bool sleep_bar = false) {
   GripRun out;
   advance_tools_in_chunks(solver, scene, set, scene.simulation.steps, 8, [&](const auto& felt) {
     out.samples.insert(out.samples.end(), felt.begin(), felt.end());
@@ -27,6 +30,9 @@ GripRun grip(Solver& solver, const Scene& scene, const PhyxelSet& set) {
     // At 24 ms two held phyxels are aspirated: they leave the grip.
     if (out.held.size() == 3 && out.held.back().size() > 2)
       solver.removal()->remove_phyxels({out.held.back()[0], out.held.back()[1]});
+    const size_t chunk = out.u.size();
+    if (sleep_bar && (chunk == 5 || chunk == 7))
+      solver.pass_selection()->set_object_awake(0, chunk == 7);
   });
   return out;
 }
@@ -71,6 +77,50 @@ TEST_F(GpuSolverTest, GrasperCapturesHoldsAndReleasesAsTheCpu) {
       "[ grasper  ] held up to %zu; |u| up to %.3g m, GPU within %.3g m; force up to %.3g N, "
       "within %.3g N\n",
       most, largest_u, worst_u, largest_f, worst_f);
+}
+
+// The bar, and a box far from the tool (index 1) that stays awake when the bar sleeps.
+std::string bar_and_far_box_json() {
+  std::string j = phyxel::test::bar_json(phyxel::test::kBarLength + 0.0006, 0.0027, 0.002, 0.06,
+                                         0.08, "[0.3, 0, 1]");
+  const std::string end_of_bar = "}]}],\n  \"tools\"";
+  const size_t at = j.find(end_of_bar);
+  if (at == std::string::npos) return j;
+  j.insert(at + 3, R"(, {"name": "far", "shape": {"type": "box", "min": [0.1, -0.002, -0.002],
+    "max": [0.106, 0.002, 0.002]}, "spacing": 0.001,
+    "material": {"young": 1e4, "poisson": 0, "density": 1000, "damping": 100}})");
+  return j;
+}
+
+// The hold inside tool_contact (grasp_in_contact) against its own pass after it: the same
+// bits, while the held phyxels are candidates, removed, or asleep (no candidates).
+TEST_F(GpuSolverTest, GrasperHoldInsideContactGivesTheBitsOfItsOwnPass) {
+  const Scene scene = parse_scene(bar_and_far_box_json(), "bar.json");
+  const PhyxelSet set = sample_scene(scene);
+  ASSERT_EQ(set.objects.size(), 2u);
+  GpuSolverOptions own;
+  own.grasp_in_contact = false;
+  GpuSolver fused(ctx(), set, Vec3::Zero());
+  GpuSolver separate(ctx(), set, Vec3::Zero(), own);
+  const GripRun f = grip(fused, scene, set, true);
+  const GripRun s = grip(separate, scene, set, true);
+  ASSERT_EQ(f.held.size(), s.held.size());
+  ASSERT_GT(f.held.size(), 8u);
+  size_t most = 0;
+  for (size_t k = 0; k < f.held.size(); ++k) {
+    SCOPED_TRACE("chunk " + std::to_string(k));
+    EXPECT_EQ(f.held[k], s.held[k]);
+    EXPECT_EQ(f.u[k], s.u[k]);
+    most = std::max(most, f.held[k].size());
+  }
+  EXPECT_GT(most, 10u);
+  EXPECT_FALSE(f.held[6].empty()) << "nothing held while the bar slept";
+  EXPECT_NE(f.u[5], f.u[6]) << "the sleeping bar's held phyxels did not move";
+  ASSERT_EQ(f.samples.size(), s.samples.size());
+  for (size_t k = 0; k < f.samples.size(); ++k) {
+    EXPECT_EQ(f.samples[k].force, s.samples[k].force) << k;
+    EXPECT_EQ(f.samples[k].held, s.samples[k].held) << k;
+  }
 }
 
 }  // namespace
