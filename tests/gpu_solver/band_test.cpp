@@ -2,11 +2,13 @@
 // (engine/solver/cpu_solver_band.cpp, compute/gpu_solver_band.cpp): a clamped beam slit
 // half-way through at rest (the band built chunk by chunk as the run loop gives the motions,
 // then all of it when the blade is taken away), then left to sag under gravity: the same
-// band, displacements and strain energy, and a band that matters.
+// band, displacements and strain energy, and a band that matters; checkpoints keep it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
+#include "engine/run/checkpoint.h"
 #include "engine/surgery/tool_track.h"
 #include "tests/cutting/cutting_fixtures.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
@@ -16,6 +18,7 @@ namespace {
 
 using phyxel::test::clamped_beam;
 using phyxel::test::crossing_scalpel;
+namespace fs = std::filesystem;
 
 // The slit: the plane x = 9 mm above z = 5 mm, across the beam in y.
 Scene slit_beam(double cut_band) {
@@ -84,6 +87,40 @@ TEST_F(GpuSolverTest, TheCutBandMatchesTheCpuAndStiffensTheSlitBeam) {
   std::printf("[ band     ] strain energy: cpu %.6e J, gpu %.6e J\n", strain_cpu, strain_gpu);
   EXPECT_GT(strain_cpu, 0);
   EXPECT_NEAR(strain_gpu, strain_cpu, 1e-4 * strain_cpu);
+}
+
+TEST_F(GpuSolverTest, ARunWithTheCutBandCheckpointedMidCutResumesBitIdentically) {
+  // As ScniBand.ARunCheckpointedMidCutResumesBitIdentically on the CPU: stopped at substep 144
+  // of chunks of 16 (cells built, the blade still in the slit), resumed, the same bits.
+  const Scene scene = slit_beam(3);
+  const PhyxelSet set = sample_scene(scene);
+  const fs::path dir = phyxel::test::test_output_dir("gpu_band_checkpoint");
+  auto run = [&](const std::string& name, int64_t steps, const Checkpoint* from) {
+    GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+    RunOptions options;
+    options.steps = steps;
+    options.tool_chunk_substeps = 16;
+    options.out_dir = dir / name;
+    fs::create_directories(options.out_dir);
+    options.checkpoint_every = 144;
+    options.resume = from;
+    options.scene_hash = 0;  // a scene built in code
+    run_simulation(scene, set, gpu, options);
+    return gpu.read_state(false);
+  };
+  const PointState full = run("full", 240, nullptr);
+  run("part", 144, nullptr);
+  const Checkpoint at_stop = read_checkpoint(dir / "part" / kCheckpointFile);
+  ASSERT_FALSE(at_stop.band.quads.empty());
+  ASSERT_GT(std::count_if(at_stop.band.built_with.begin(), at_stop.band.built_with.end(),
+                          [](uint64_t q) { return q > 0; }),
+            0);
+  const PointState resumed = run("part", 240, &at_stop);
+  ASSERT_EQ(resumed.displacement.size(), full.displacement.size());
+  for (size_t i = 0; i < full.displacement.size(); ++i) {
+    ASSERT_EQ(resumed.displacement[i], full.displacement[i]) << "phyxel " << i;
+    ASSERT_EQ(resumed.velocity[i], full.velocity[i]) << "phyxel " << i;
+  }
 }
 
 }  // namespace
