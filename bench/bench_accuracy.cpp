@@ -167,7 +167,7 @@ int bench_accuracy(const Args& args) {
           ValidationRun r;
           try {
             r = run_validation(c, scale, fraction, factory);
-          } catch (const std::invalid_argument& e) {  // a case this solver refuses (cut_band)
+          } catch (const std::invalid_argument& e) {  // a case this solver refuses
             std::printf("%-17s %-30s skipped: %s\n", c.name.c_str(), device.c_str(), e.what());
             continue;
           }

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "compute/gpu_solver_band.h"
 #include "compute/gpu_solver_kernels.h"
 #include "compute/gpu_solver_setup.h"
 
@@ -89,6 +90,7 @@ GpuSolver::~GpuSolver() {
   } catch (...) {
     // A lost device: nothing is left to wait for.
   }
+  band_.reset();  // its buffers and pipelines before the context it may own
 }
 
 void GpuSolver::settle() {
@@ -106,11 +108,6 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   if (lanes > kMaxLanes || (lanes & (lanes - 1)) != 0)
     throw std::invalid_argument("GPU solver lanes must be 0 (auto), 1, 2, 4, 8 or 16, not " +
                                 std::to_string(lanes));
-  for (const ObjectRange& o : set.objects)
-    if (o.cut_band > 0)
-      throw std::invalid_argument("object \"" + o.name +
-                                  "\": cut_band (the SCNI band round a cut) runs on the CPU "
-                                  "solver only; run with --device cpu or set cut_band to 0");
   // Everything this set needs, before the first allocation: one clear error with the bytes.
   check_capacity(*ctx_, count_, lattice_pair_bound(set));
 
@@ -193,6 +190,7 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   }
   build_neighbours(host.rest_lo);  // CSR, weights, A^-1, kappa; then the first forces
   build_pass_lists();
+  make_band(set);
   for (int k = 0; k < 2; ++k)
     rec_[k] = std::make_unique<Recorder>(ctx, k == 0 ? "solver steps A" : "solver steps B");
   compute_forces();
@@ -262,6 +260,7 @@ void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
             {"IndexHi", nbr_index_.hi()},
             {"WeightHi", weight_.hi()}},
            n * pc.lanes);
+  record_band(rec, disp);  // while the band has cells
 }
 
 void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
@@ -278,7 +277,7 @@ void GpuSolver::record_force(Recorder& rec, uint32_t mode, float dt, const Buffe
             {"Stress", stress_},
             {"Vel", vel_},
             {"Force", force_},
-            {"Ext", ext_},
+            {"Ext", force_ext()},
             {"Flags", flags_},
             {"Classes", classes_},
             {"List", force_list_},
@@ -474,6 +473,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
   if (!tools_.empty()) finish_contact(substeps, true);
+  collect_band_quads();                        // the cuts' quads, where the scene has a band
   if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
   lap(mark, t.rest);
 }

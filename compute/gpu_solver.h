@@ -24,6 +24,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -37,6 +38,7 @@
 #include "compute/pair_buffer.h"
 #include "compute/shaders/layout.h"
 #include "compute/timing.h"
+#include "engine/solver/cut_band.h"
 #include "engine/solver/solver.h"
 
 namespace phyxel::gpu {
@@ -108,6 +110,7 @@ struct MomentInverseRow {
 };
 
 class SolverKernels;
+struct GpuBand;
 
 class GpuSolver final : public SolverWithAllFacets {
  public:
@@ -223,6 +226,15 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<SeveredPair> severed_since(size_t first) override;
   std::vector<uint8_t> pair_alive() override;
   void sever_pairs(const std::vector<SeveredPair>& pairs) override;
+  CutBandState cut_band_state() override;
+  void restore_cut_band(const CutBandState& state) override;
+
+  // The SCNI band (objects with cut_band > 0), with CpuSolver's semantics and moments
+  // (engine/solver/cpu_solver.h; gpu_solver_band.cpp): the quads stored, the phyxels in it
+  // (built or not), whether phyxel i's cell is integrated by it.
+  const std::vector<std::array<Vec3, 4>>& cut_quads() const;
+  size_t band_size() const;
+  bool in_band(size_t i) const;
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -362,6 +374,22 @@ class GpuSolver final : public SolverWithAllFacets {
   void apply_edit(const std::vector<uint32_t>& flags, const std::vector<float>& weights,
                   const std::vector<uint32_t>& touched);
   void mark_severed(const SeveredPair& p);  // alive_ of both slots
+  // The SCNI band (gpu_solver_band.cpp): made for a scene with cut_band; the quads of the last
+  // advance's cuts; the cells built at a new chunk (all: every cell the quads reach), uploaded
+  // with kFlagBand set on the phyxels that joined; the band's passes after the stress pass; the
+  // ext the force pass reads (the band's copy once it has cells).
+  void make_band(const PhyxelSet& set);
+  void collect_band_quads();
+  void refresh_band(bool all);
+  void use_band(const CutBand::Refresh& refresh);  // uploads, flags, precompute, forces
+  void upload_band();
+  void copy_band_ext();  // ext into the band's copy (the nodes no box lists keep it)
+  bool band_built() const;
+  void record_band(Recorder& rec, const Buffer& disp);
+  void record_band_stress(Recorder& rec, const Buffer& disp);
+  double band_energy();  // sum V_b W(F_b) over the band's boxes, for the current u
+  const Buffer& force_ext() const;
+  std::unique_ptr<GpuBand> band_;
   bool contact_recorded() const { return contact_active_; }
   // tool_contact writes the samples itself (no tool_resist adds to its partials after it), and
   // the dirty list's empty header where there is one: the sever pass and the force pass's tear

@@ -48,6 +48,7 @@ void reserve(Context& ctx, Buffer& b, uint64_t bytes, MemoryIntent intent, const
 
 void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   settle();
+  refresh_band(true);  // no blade left in the cut: all of it
   std::vector<ContactToolShape> shapes;
   for (const ContactTool& t : tools) {
     const bool capsule = t.shape.type == ToolShape::Type::Capsule;
@@ -116,7 +117,8 @@ void GpuSolver::set_tool_motion(const std::vector<ToolMotion>& motion) {
     throw std::invalid_argument("GpuSolver::set_tool_motion: " + std::to_string(motion.size()) +
                                 " motions for " + std::to_string(tools_.size()) +
                                 " tools (substeps x tools expected)");
-  pending_motion_ = motion;  // as CpuBackend: empty keeps the last chunk's motions
+  if (!tools_.empty()) refresh_band(false);  // the chunks before the last one: the cut passed
+  pending_motion_ = motion;                  // as CpuBackend: empty keeps the last chunk's motions
 }
 
 void GpuSolver::record_max_norms(Recorder& rec) {

@@ -147,6 +147,7 @@ void GpuSolver::set_external_forces(const std::vector<Vec3>& loads) {
     ext[i] = {float(f.x()), float(f.y()), float(f.z()), float(mass_[i])};
   }
   upload(*ctx_, ext_, ext);
+  copy_band_ext();  // the band's copy starts from it
   compute_forces();
 }
 

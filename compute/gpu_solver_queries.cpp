@@ -78,6 +78,7 @@ Energies GpuSolver::energies() {
     e.kinetic += p.y;
     e.potential += p.z;
   }
+  e.strain += band_energy();  // the band phyxels' (their nodal energy is 0)
   return e;
 }
 

@@ -84,7 +84,7 @@ void GpuSolver::record_force_tear(Recorder& rec, uint32_t mode, float dt, const 
             {"Stress", stress_},
             {"Vel", vel_},
             {"Force", force_},
-            {"Ext", ext_},
+            {"Ext", force_ext()},
             {"Flags", flags_},
             {"Classes", classes_},
             {"List", force_list_},

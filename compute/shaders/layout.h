@@ -92,6 +92,9 @@ PHYXEL_CONST uint kFlagCutDirty = 1024u;
 // Set by solver_precompute: left without a fit (engine/solver/tearing.h left_without_fit:
 // regularised after it lost a pair, not fixed); solver_force_tear severs every pair it still has.
 PHYXEL_CONST uint kFlagNoFit = 2048u;
+// Integrated by the SCNI band (layout_band.h): its precompute gives it no elastic volume and no
+// hourglass stiffness (its energy is its band boxes').
+PHYXEL_CONST uint kFlagBand = 4096u;
 PHYXEL_CONST uint kFlagClassShift = 16u;  // flags >> 16 = index into the SolverClass array
 PHYXEL_CONST uint kMaxSolverClasses = 65536u;
 

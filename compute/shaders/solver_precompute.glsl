@@ -53,7 +53,7 @@ void finish_precompute(uint i, uint fl, SolverClass cls, PairMoments m, bool cut
     damage = reference_lmin > 0.0 ? clamp(lmin / reference_lmin, 0.0, 1.0)
                                   : (lmin >= reference_lmin ? 1.0 : 0.0);
   }
-  const float volume = damage * rest[i].w;
+  const float volume = (fl & kFlagBand) != 0u ? 0.0 : damage * rest[i].w;
   local_pos[i].w = trace > 0.0 ? cls.kernel.z * cls.elastic.y * volume / (trace / 3.0) : 0.0;
   ainv[2u * i] = vec4(inv[0][0], inv[1][0], inv[2][0], inv[1][1]);
   ainv[2u * i + 1u] = vec4(inv[2][1], inv[2][2], volume, 0.0);

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cstring>
@@ -30,6 +31,7 @@ enum Section : uint32_t {
   kTorn = 11,         // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
   kGrips = 12,        // per tool: the grasper's jaws closed and what they hold
   kAspiration = 13,   // the aspirator: removed phyxels, surface, severed log read, totals
+  kCutBand = 14,      // the SCNI band: its quads, counts and cells (CutBandState)
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -246,6 +248,32 @@ void write_sections(Writer& w, const Checkpoint& c) {
   w.put_array(a.removed_mass);
   w.put_array(a.removed_volume);
   w.end_section();
+
+  const CutBandState& band = c.band;
+  w.begin_section(kCutBand);
+  w.put<uint64_t>(band.quads.size());
+  for (const auto& q : band.quads)
+    for (const Vec3& x : q) w.put_vec3(x);
+  w.put<uint64_t>(band.quads_built);
+  w.put<uint64_t>(band.quads_before_chunk);
+  w.put_array(band.phyxel);
+  w.put_array(band.dirty);
+  w.put_array(band.built_with);
+  w.end_section();
+}
+
+void read_cut_band(Reader& r, CutBandState& band) {
+  const uint64_t n = r.get<uint64_t>();
+  for (uint64_t k = 0; k < n; ++k) {
+    std::array<Vec3, 4> q;
+    for (Vec3& x : q) x = r.get_vec3();
+    band.quads.push_back(q);
+  }
+  band.quads_built = r.get<uint64_t>();
+  band.quads_before_chunk = r.get<uint64_t>();
+  band.phyxel = r.get_array<uint32_t>();
+  band.dirty = r.get_array<uint8_t>();
+  band.built_with = r.get_array<uint64_t>();
 }
 
 void read_grips(Reader& r, Checkpoint& c) {
@@ -377,6 +405,9 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
       break;
     case kAspiration:
       read_aspiration(r, c.aspiration);
+      break;
+    case kCutBand:
+      read_cut_band(r, c.band);
       break;
     default:  // a section this version does not know: skipped
       break;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/sampling/phyxel_set.h"
+#include "engine/solver/cut_band_state.h"
 #include "engine/solver/cutting.h"
 #include "engine/solver/grasper.h"
 #include "engine/surgery/aspiration.h"
@@ -68,6 +69,8 @@ struct Checkpoint {
   // (its surface empty without one).
   std::vector<Grip> grips;
   AspiratorState aspiration;
+  // The SCNI band round the cuts (objects with cut_band; empty without one).
+  CutBandState band;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

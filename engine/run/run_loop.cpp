@@ -168,12 +168,6 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
   awake_.assign(set.objects.size(), 1);
   if (options.checkpoint_every > 0 && options.out_dir.empty())
     throw std::runtime_error("checkpoints need an output folder");
-  if (options.checkpoint_every > 0 || options.resume)
-    for (const ObjectDesc& o : scene.objects)
-      if (o.cut_band > 0)
-        throw std::runtime_error(scene.file.string() + ": object \"" + o.name +
-                                 "\": cut_band: checkpoints do not store the SCNI band's cut "
-                                 "quads; set cut_band to 0 or run without checkpoints");
   if (options.scene_hash)
     scene_hash_ = *options.scene_hash;
   else if (options.checkpoint_every > 0 || options.resume)
@@ -238,6 +232,8 @@ void RunLoop::resume(const Checkpoint& c) {
     need(solver_.cutting(), solver_, "sever pairs").sever_pairs(c.severed);
   try {
     aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
+    if (!c.band.phyxel.empty() || !c.band.quads.empty())   // after the cuts and removals
+      need(solver_.cutting(), solver_, "restore the SCNI band").restore_cut_band(c.band);
     if (has_grasper(scene_))
       need(solver_.tools(), solver_, "restore a grasper's grip").restore_grips(c.grips);
   } catch (const std::invalid_argument& e) {
@@ -461,7 +457,10 @@ Checkpoint RunLoop::checkpoint() {
     c.tool_poses = tools_.poses();
     c.tool_stats = tools_.stats();
   }
-  if (Cutting* cut = solver_.cutting()) c.severed = cut->severed_since(0);
+  if (Cutting* cut = solver_.cutting()) {
+    c.severed = cut->severed_since(0);
+    c.band = cut->cut_band_state();
+  }
   if (has_grasper(scene_))
     c.grips = need(solver_.tools(), solver_, "hold a grasper's grip").grips();
   c.aspiration = aspirator_.state();

@@ -106,6 +106,8 @@ class CpuBackend final : public SolverWithAllFacets {
     solver_->sort_severed_from(logged_);
     logged_ = solver_->severed_log().size();
   }
+  CutBandState cut_band_state() override { return solver_->cut_band_state(); }
+  void restore_cut_band(const CutBandState& state) override { solver_->restore_cut_band(state); }
 
  private:
   int threads_;

@@ -11,6 +11,17 @@
 #include "engine/solver/tearing.h"
 
 namespace phyxel {
+namespace {
+
+// The quadrature volumes as the solver holds them (the band's boxes add up to them).
+template <class Real>
+std::vector<double> band_volumes(const PhyxelSet& set) {
+  std::vector<double> v(set.volume.size());
+  for (size_t i = 0; i < v.size(); ++i) v[i] = double(Real(set.volume[i]));
+  return v;
+}
+
+}  // namespace
 
 template <class Real>
 CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
@@ -18,7 +29,8 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
       object_(set.object),
       awake_(set.objects.size(), 1),
       flags_(set.flags),
-      nbr_(find_rest_neighbours(set)) {
+      nbr_(find_rest_neighbours(set)),
+      band_(set, band_volumes<Real>(set)) {
   const size_t n = set.size();
   rest_.resize(n);
   mass_.resize(n);
@@ -47,14 +59,9 @@ CpuSolver<Real>::CpuSolver(const PhyxelSet& set, const Vec3& gravity)
     tear_[i] = Real(set.materials[set.material[i]].tear_stress.value_or(0.0));
   // Moment matrices, their regularised inverses and the pair weights (in double).
   support_.resize(set.objects.size());
-  band_width_.resize(set.objects.size());
-  spacing_.resize(set.objects.size());
   for (size_t o = 0; o < set.objects.size(); ++o) {
     support_[o] = set.objects[o].support_radius;
     max_support_ = std::max(max_support_, support_[o]);
-    spacing_[o] = set.objects[o].spacing;
-    band_width_[o] = set.objects[o].cut_band * set.objects[o].spacing;
-    band_on_ = band_on_ || band_width_[o] > 0;
   }
   kappa_scale_.resize(n);
   elastic_volume_.resize(n);
@@ -186,7 +193,7 @@ void CpuSolver<Real>::compute_forces() {
         max_principal_[i] = phyxel::max_principal_stress<Real>(f, p);
       }
     }
-    const long nb = static_cast<long>(band_.size());
+    const long nb = static_cast<long>(band_box_.size());
     if (nb > 0) {  // the same on every thread: no barrier without a band
 #pragma omp for schedule(static)
       for (long c = 0; c < nb; ++c) band_stress(c);
@@ -195,7 +202,7 @@ void CpuSolver<Real>::compute_forces() {
     for (long s = 0; s < nf; ++s) {
       const uint32_t k = force_list_[s];
       V3 force = external_[k];
-      if (!gather_.empty()) force += band_force(k);
+      if (!band_.gather().empty()) force += band_force(k);
       for (uint32_t p = nbr_.offset[k]; p < nbr_.offset[k + 1]; ++p) {
         const uint32_t j = nbr_.index[p];
         const V3 x = rest_[j] - rest_[k];
@@ -309,7 +316,7 @@ void CpuSolver<Real>::step(Real dt) {
 
 template <class Real>
 void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
-  if (band_on_) refresh_band(cut_quads_.size());  // no blade left in the cut: all of it
+  if (band_.on()) refresh_band();  // no blade left in the cut: all of it
   tools_ = tools;
   cutting_ = false;
   for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
@@ -328,10 +335,8 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
 template <class Real>
 void CpuSolver<Real>::set_tool_motion(const std::vector<ToolMotion>& motion, Real dt) {
   if (tools_.empty()) return;
-  if (band_on_) {  // the chunks before the last one: the cut has passed their cells
-    refresh_band(quads_before_chunk_);
-    quads_before_chunk_ = cut_quads_.size();
-  }
+  // The chunks before the last one: the cut has passed their cells.
+  if (band_.on()) use_band(band_.start_chunk(flags_, threads_for(long(size()) * 256)));
   motion_ = motion;
   motion_step_ = 0;
   samples_.clear();
@@ -434,7 +439,7 @@ double CpuSolver<Real>::internal_energy() const {
     const double elastic = in_band(i) ? 0.0 : double(elastic_volume_[i] * w_density);
     total += elastic + 0.5 * double(kappa_[i] * hourglass);
   }
-  for (long c = 0; c < static_cast<long>(band_.size()); ++c) total += band_energy(c);
+  for (long c = 0; c < static_cast<long>(band_box_.size()); ++c) total += band_energy(c);
   return total;
 }
 

@@ -17,11 +17,11 @@
 
 #include "engine/sampling/phyxel_set.h"
 #include "engine/solver/contact.h"
+#include "engine/solver/cut_band.h"
 #include "engine/solver/cutting.h"
 #include "engine/solver/grasper.h"
 #include "engine/solver/mls_model.h"
 #include "engine/solver/neighbours.h"
-#include "engine/solver/scni_band.h"
 
 namespace phyxel {
 
@@ -149,13 +149,15 @@ class CpuSolver {
   // are built when the cut has passed them (no quad of the last chunk within h + s: at each
   // set_tool_motion) and at set_tools (or refresh_band) for all. Until then a phyxel keeps the
   // nodal scheme.
-  const std::vector<std::array<Vec3, 4>>& cut_quads() const { return cut_quads_; }
-  size_t band_size() const { return band_.size(); }  // phyxels in it (built or not)
+  const std::vector<std::array<Vec3, 4>>& cut_quads() const { return band_.quads(); }
+  size_t band_size() const { return band_.cells().size(); }  // phyxels in it (built or not)
   // Whether phyxel i's cell is integrated by the band (built at least once).
-  bool in_band(size_t i) const {
-    return !band_of_.empty() && band_of_[i] >= 0 && !band_[size_t(band_of_[i])].box.empty();
+  bool in_band(size_t i) const { return band_.in_band(i); }
+  CutBandState cut_band_state() const { return band_.state(); }
+  void restore_cut_band(const CutBandState& state) {
+    use_band(band_.restore(state, flags_, threads_for(long(size()) * 256)));
   }
-  void refresh_band() { refresh_band(cut_quads_.size()); }
+  void refresh_band() { use_band(band_.refresh_all(flags_, threads_for(long(size()) * 256))); }
 
  private:
   M3 moment_sum(size_t i) const;  // M_i
@@ -177,10 +179,8 @@ class CpuSolver {
   void apply_tears();         // after the stress pass of step() (cpu_solver_tearing.cpp)
   void precompute(size_t i);  // A_i^-1, its residual, kappa_i from the live pairs of i
   bool sever(uint32_t i, uint32_t k, float t);  // pair k of row i; false if already severed
-  // The band (cpu_solver_band.cpp): builds the cells the quads [quads_built_, upto) reach.
-  void refresh_band(size_t upto);
-  void build_band_cell(size_t cell, const PointGrid& grid);
-  void build_band_gather();
+  // The band (cpu_solver_band.cpp): the cells CutBand built, in Real; their hourglass off.
+  void use_band(const CutBand::Refresh& refresh);
   void band_stress(long cell);          // the boxes' V_b P_b (compute_forces)
   V3 band_force(uint32_t k) const;      // on phyxel k from the band cells listing it
   double band_energy(long cell) const;  // sum V_b W(F_b)
@@ -235,31 +235,14 @@ class CpuSolver {
   std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
   std::vector<SeveredPair> severed_;  // the log
 
-  // The SCNI band.
+  // The SCNI band: its cells and quads (double), and the boxes in Real with their stress.
   struct BandBox {
     Real volume = 0;
-    std::vector<uint32_t> node;
-    std::vector<V3> coeff;   // G = sum u_node c^T
+    std::vector<V3> coeff;   // G = sum u_node c^T (the nodes: band_'s)
     M3 stress = M3::Zero();  // V_b P_b
   };
-  struct BandCell {
-    uint32_t phyxel = 0;
-    std::vector<BandBox> box;  // empty until built
-    bool dirty = true;         // quads reached it since it was built
-  };
-  struct GatherEntry {
-    uint32_t cell, box, slot;
-  };
-  bool band_on_ = false;                     // an object has cut_band > 0
-  std::vector<double> band_width_;           // per object: m (0: none)
-  std::vector<double> spacing_;              // per object
-  std::vector<Vec3> object_lo_, object_hi_;  // per object: the bounds of its rest positions
-  std::vector<std::array<Vec3, 4>> cut_quads_;
-  size_t quads_built_ = 0, quads_before_chunk_ = 0;
-  std::vector<int32_t> band_of_;  // per phyxel: its cell in band_, -1 (empty while no band)
-  std::vector<BandCell> band_;
-  std::vector<uint32_t> gather_offset_;  // per phyxel: its entries in gather_
-  std::vector<GatherEntry> gather_;
+  CutBand band_;
+  std::vector<std::vector<BandBox>> band_box_;  // per cell
 
   std::vector<V3> u_, v_, f_;
   std::vector<M3> d_;  // pass-1 result

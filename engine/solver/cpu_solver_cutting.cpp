@@ -86,7 +86,7 @@ void CpuSolver<Real>::apply_cuts() {
     // The band looks across the surface the blade cut (the quad; its body's strip lies in it).
     const double area =
         ((c[2] - c[0]).cross(c[1] - c[0]).norm() + (c[3] - c[0]).cross(c[2] - c[0]).norm()) / 2;
-    if (band_on_ && !candidates_.empty() && area > 1e-12 * reach * reach) cut_quads_.push_back(c);
+    if (band_.on() && !candidates_.empty() && area > 1e-12 * reach * reach) band_.add_quad(c);
   }
   if (severed_.size() != first) precompute_touched(touched);
 }

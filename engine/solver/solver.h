@@ -155,6 +155,13 @@ class Cutting {
   virtual std::vector<SeveredPair> severed_since(size_t first) = 0;
   virtual std::vector<uint8_t> pair_alive() = 0;
   virtual void sever_pairs(const std::vector<SeveredPair>& pairs) = 0;
+  // The SCNI band round the cuts (objects with cut_band; cut_band_state.h), for checkpoints:
+  // its state, and the band rebuilt from one (after sever_pairs). Empty without a band.
+  virtual CutBandState cut_band_state() { return {}; }
+  virtual void restore_cut_band(const CutBandState& state) {
+    if (!state.phyxel.empty() || !state.quads.empty())
+      throw std::invalid_argument("this solver keeps no SCNI band (cut_band)");
+  }
 
  protected:
   ~Cutting() = default;
