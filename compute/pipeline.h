@@ -61,6 +61,8 @@ class Pipeline {
   uint32_t push_constant_size() const { return push_size_; }
   const std::array<uint32_t, 3>& workgroup_size() const { return workgroup_; }
   const std::string& name() const { return name_; }
+  // Unique to this pipeline in the process, never reused (as Buffer::serial); 0 when empty.
+  uint64_t serial() const { return serial_; }
   // The shader's bindings, read from its SPIR-V (set 0 binding i at index i).
   const std::vector<SpirvBinding>& shader_bindings() const { return shader_bindings_; }
 
@@ -74,6 +76,7 @@ class Pipeline {
   std::array<uint32_t, 3> workgroup_{};
   std::string name_;
   std::vector<SpirvBinding> shader_bindings_;
+  uint64_t serial_ = 0;
 };
 
 // A storage-buffer binding: the whole buffer, or `range` bytes from `offset`. `block` is the
