@@ -1,5 +1,6 @@
 #include "compute/buffer.h"
 
+#include <atomic>
 #include <cstring>
 #include <utility>
 
@@ -9,6 +10,9 @@ namespace phyxel::gpu {
 namespace {
 
 constexpr VkDeviceSize kMinAllocation = 16;
+
+// The last serial given to a buffer (Buffer::serial).
+std::atomic<uint64_t> last_serial{0};
 
 // Index of the first type in `type_bits` that has all `required` flags, preferring those that
 // also have all `preferred` flags and none of `avoided`.
@@ -140,6 +144,7 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, MemoryIntent intent, const std::
     }
     ctx.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer_), name);
     ctx.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, reinterpret_cast<uint64_t>(memory_), name);
+    serial_ = ++last_serial;
   } catch (...) {
     reset();
     throw;
@@ -166,6 +171,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     mapped_ = std::exchange(other.mapped_, nullptr);
     coherent_ = other.coherent_;
     name_ = std::move(other.name_);
+    serial_ = std::exchange(other.serial_, 0);
   }
   return *this;
 }
@@ -184,6 +190,7 @@ void Buffer::reset() {
   mapped_ = nullptr;
   size_ = 0;
   allocated_ = 0;
+  serial_ = 0;
   ctx_ = nullptr;
 }
 

@@ -48,6 +48,10 @@ class Buffer {
   VkDeviceSize size() const { return size_; }  // as requested
   MemoryIntent intent() const { return intent_; }
   const std::string& name() const { return name_; }
+  // Unique to this VkBuffer among all buffers of the process, never reused (a destroyed
+  // buffer's handle value may be); 0 when empty. Moves carry it. Keys the Recorder's
+  // descriptor sets.
+  uint64_t serial() const { return serial_; }
   // Mapped pointer of Upload and Readback buffers; null for Device buffers.
   void* mapped() const { return mapped_; }
   // Makes GPU writes visible to mapped() on non-coherent memory (a no-op on coherent memory).
@@ -64,6 +68,7 @@ class Buffer {
   void* mapped_ = nullptr;
   bool coherent_ = true;
   std::string name_;
+  uint64_t serial_ = 0;
 };
 
 // Blocking copies between host memory and a buffer (a one-off submit through a staging buffer

@@ -11,6 +11,11 @@ bool validation_default() {
   return PHYXEL_VALIDATION_DEFAULT != 0;
 }
 
+bool descriptor_cache_default() {
+  const char* text = std::getenv("PHYXEL_DESCRIPTOR_CACHE");
+  return text == nullptr || std::string(text) != "0";
+}
+
 std::string format_bytes(uint64_t bytes) {
   char text[64];
   const double b = static_cast<double>(bytes);

@@ -14,6 +14,9 @@ namespace phyxel::gpu {
 
 // The PHYXEL_VALIDATION CMake option: whether a Context validates unless told otherwise.
 bool validation_default();
+// ContextOptions::descriptor_cache's default: on unless $PHYXEL_DESCRIPTOR_CACHE is "0" (to
+// time the push-descriptor path against it).
+bool descriptor_cache_default();
 
 struct ContextOptions {
   // "gpu", "gpu:N" or part of a device name (see select_device in device_info.h).
@@ -24,6 +27,10 @@ struct ContextOptions {
   // Use VK_KHR_push_descriptor where the device has it; false forces the descriptor-set path
   // (one pool per Recorder) that devices without the extension take.
   bool push_descriptors = true;
+  // dispatch() binds a descriptor set its Recorder keeps per pipeline and binding list,
+  // written on the first dispatch of that list and only bound after (compute/descriptor_cache.h),
+  // instead of pushing or writing the descriptors at every dispatch.
+  bool descriptor_cache = descriptor_cache_default();
   // How long Recorder::submit_and_wait waits for the GPU before giving up with an error.
   uint32_t fence_timeout_ms = 120000;
   // Open a queue of the device's transfer-only family where it has one (DeviceInfo), for
@@ -61,6 +68,9 @@ class Context {
 
   // Support actually enabled on this device.
   bool push_descriptors() const { return push_descriptors_; }
+  bool descriptor_cache() const { return options_.descriptor_cache; }
+  // Whether dispatch() pushes its descriptors (the extension on and no cache).
+  bool pushes_descriptors() const { return push_descriptors_ && !options_.descriptor_cache; }
   bool memory_budget() const { return memory_budget_; }
   bool float64() const { return info_.float64; }
   bool int64() const { return info_.int64; }

@@ -1,12 +1,16 @@
 #include "compute/pipeline.h"
 
 #include <array>
+#include <atomic>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 namespace phyxel::gpu {
 namespace {
+
+// The last serial given to a pipeline (Pipeline::serial).
+std::atomic<uint64_t> last_pipeline_serial{0};
 
 // The layout the code declares: `storage_buffers` at set 0, then the caller's set 1.
 std::vector<SpirvBinding> declared_bindings(uint32_t storage_buffers, const CallerSet& set1) {
@@ -56,7 +60,7 @@ Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
                       " bytes of push constants (a multiple of 4, at most " +
                       std::to_string(info.max_push_constants_size) + " on " + info.name + ")");
   }
-  if (ctx.push_descriptors() && bindings > info.max_push_descriptors) {
+  if (ctx.pushes_descriptors() && bindings > info.max_push_descriptors) {
     throw VulkanError("shader '" + name_ + "': " + std::to_string(bindings) +
                       " bindings exceed maxPushDescriptors (" +
                       std::to_string(info.max_push_descriptors) + ")");
@@ -70,7 +74,7 @@ Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
     }
     auto set = vk_struct<VkDescriptorSetLayoutCreateInfo>(
         VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-    if (ctx.push_descriptors()) {
+    if (ctx.pushes_descriptors()) {
       set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     }
     set.bindingCount = bindings;
@@ -114,6 +118,7 @@ Pipeline::Pipeline(Context& ctx, const ShaderCode& code, uint32_t bindings,
     fn.vkDestroyShaderModule(ctx.device(), module, nullptr);
     ctx.set_name(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline_), name_);
     ctx.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, reinterpret_cast<uint64_t>(layout_), name_);
+    serial_ = ++last_pipeline_serial;
   } catch (...) {
     if (module != VK_NULL_HANDLE) fn.vkDestroyShaderModule(ctx.device(), module, nullptr);
     reset();
@@ -141,6 +146,7 @@ Pipeline& Pipeline::operator=(Pipeline&& other) noexcept {
     workgroup_ = other.workgroup_;
     name_ = std::move(other.name_);
     shader_bindings_ = std::move(other.shader_bindings_);
+    serial_ = std::exchange(other.serial_, 0);
   }
   return *this;
 }
@@ -156,14 +162,12 @@ void Pipeline::reset() {
   pipeline_ = VK_NULL_HANDLE;
   layout_ = VK_NULL_HANDLE;
   set_layout_ = VK_NULL_HANDLE;
+  serial_ = 0;
   ctx_ = nullptr;
 }
 
 namespace detail {
 namespace {
-
-// The most buffers one dispatch binds (solver_force_tear's 29; maxPushDescriptors is 32 or more).
-constexpr size_t kMaxDispatchBindings = 29;
 
 // The descriptor of binding `index`, after checking the buffer's block name (when the list is
 // `named`), size, offset and range.
@@ -203,11 +207,22 @@ VkDescriptorBufferInfo checked_buffer(const Pipeline& pipeline, const DeviceInfo
   return {b.buffer->handle(), b.offset, b.range};
 }
 
-}  // namespace
+using BufferInfos = std::array<VkDescriptorBufferInfo, kMaxDispatchBindings>;
 
-void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, size_t push_size,
-                     std::initializer_list<BufferRef> bindings, uint32_t elements,
-                     const Buffer* indirect, VkDeviceSize indirect_offset) {
+// Every buffer of the list checked (checked_buffer), their descriptors into `infos`.
+void check_buffers(const Pipeline& pipeline, const DeviceInfo& info,
+                   std::initializer_list<BufferRef> bindings, BufferInfos& infos) {
+  const bool named = bindings.size() > 0 && bindings.begin()->block != nullptr;
+  uint32_t count = 0;
+  for (const BufferRef& b : bindings) {
+    infos[count] = checked_buffer(pipeline, info, b, count, named);
+    ++count;
+  }
+}
+
+// The checks of a dispatch that do not look at its buffers; the group counts.
+std::array<uint32_t, 3> checked_groups(Recorder& rec, const Pipeline& pipeline, size_t push_size,
+                                       size_t buffers, uint32_t elements) {
   const std::string& name = pipeline.name();
   if (pipeline.handle() == VK_NULL_HANDLE) {
     throw std::logic_error("dispatch of an empty Pipeline");
@@ -220,62 +235,111 @@ void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, 
                            std::to_string(push_size) + " bytes, but the pipeline declares " +
                            std::to_string(pipeline.push_constant_size()));
   }
-  if (bindings.size() != pipeline.bindings()) {
-    throw std::logic_error("dispatch of '" + name + "': " + std::to_string(bindings.size()) +
+  if (buffers != pipeline.bindings()) {
+    throw std::logic_error("dispatch of '" + name + "': " + std::to_string(buffers) +
                            " buffers, but the pipeline declares " +
                            std::to_string(pipeline.bindings()) + " bindings");
   }
+  if (buffers > kMaxDispatchBindings)
+    throw std::logic_error("dispatch of '" + name + "': more than " +
+                           std::to_string(kMaxDispatchBindings) + " bindings");
   const std::array<uint32_t, 3>& wg = pipeline.workgroup_size();
   if (wg[1] != 1 || wg[2] != 1) {
     throw std::logic_error("dispatch of '" + name + "': dispatch() is for 1D workgroups");
   }
-  Context& ctx = rec.context();
-  const DeviceInfo& info = ctx.info();
-  const std::array<uint32_t, 3> groups = group_counts(elements, wg[0], info.max_workgroup_count);
+  return group_counts(elements, wg[0], rec.context().info().max_workgroup_count);
+}
 
-  // Up to kMaxDispatchBindings on the stack: a step records two dispatches, and the host work
-  // of recording is what limits small scenes (no allocation per dispatch).
-  std::array<VkDescriptorBufferInfo, kMaxDispatchBindings> infos{};
-  if (bindings.size() > infos.size())
-    throw std::logic_error("dispatch of '" + name + "': more than " +
-                           std::to_string(kMaxDispatchBindings) + " bindings");
-  const bool named = bindings.size() > 0 && bindings.begin()->block != nullptr;
-  uint32_t count = 0;
-  for (const BufferRef& b : bindings) {
-    infos[count] = checked_buffer(pipeline, info, b, count, named);
-    ++count;
+// Writes `count` storage-buffer descriptors into `set` (bindings 0..count-1), or pushes them
+// (set VK_NULL_HANDLE).
+void write_buffers(Recorder& rec, const Pipeline& pipeline, VkDescriptorSet set,
+                   const BufferInfos& infos, uint32_t count) {
+  std::array<VkWriteDescriptorSet, kMaxDispatchBindings> writes{};
+  for (uint32_t i = 0; i < count; ++i) {
+    writes[i] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    writes[i].dstSet = set;
+    writes[i].dstBinding = i;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &infos[i];
   }
+  Context& ctx = rec.context();
+  if (set == VK_NULL_HANDLE) {
+    ctx.fn().vkCmdPushDescriptorSetKHR(rec.cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(),
+                                       0, count, writes.data());
+  } else {
+    ctx.fn().vkUpdateDescriptorSets(ctx.device(), count, writes.data(), 0, nullptr);
+  }
+}
+
+bool same_blocks(const DescriptorSetCache::Entry& entry, std::initializer_list<BufferRef> list) {
+  size_t i = 0;
+  for (const BufferRef& b : list)
+    if (entry.blocks[i++] != b.block) return false;
+  return true;
+}
+
+// The recorder's set for this pipeline and binding list. A list met before with the same block
+// names (as pointers) was checked then: the key holds all that the checks read (each buffer's
+// serial fixes its size); any other is checked, and a new key's set written.
+VkDescriptorSet cached_set(Recorder& rec, const Pipeline& pipeline,
+                           std::initializer_list<BufferRef> bindings) {
+  DescriptorKey key(pipeline.serial());
+  for (const BufferRef& b : bindings) {
+    key.add(b.buffer->serial());
+    key.add(b.offset);
+    key.add(b.range);
+  }
+  DescriptorSetCache& cache = rec.descriptor_cache();
+  DescriptorSetCache::Entry* entry = cache.find(key);
+  if (entry != nullptr && same_blocks(*entry, bindings)) return entry->set;
+  BufferInfos infos{};
+  check_buffers(pipeline, rec.context().info(), bindings, infos);
+  if (entry == nullptr) {
+    entry = &cache.insert(key, pipeline.set_layout());
+    write_buffers(rec, pipeline, entry->set, infos, static_cast<uint32_t>(bindings.size()));
+  }
+  entry->blocks.clear();
+  for (const BufferRef& b : bindings) entry->blocks.push_back(b.block);
+  return entry->set;
+}
+
+}  // namespace
+
+void record_dispatch(Recorder& rec, const Pipeline& pipeline, const void* push, size_t push_size,
+                     std::initializer_list<BufferRef> bindings, uint32_t elements,
+                     const Buffer* indirect, VkDeviceSize indirect_offset) {
+  const std::array<uint32_t, 3> groups =
+      checked_groups(rec, pipeline, push_size, bindings.size(), elements);
+  Context& ctx = rec.context();
+  const auto count = static_cast<uint32_t>(bindings.size());
+  // Up to kMaxDispatchBindings on the stack: the host work of recording is what limits small
+  // scenes (no allocation per dispatch).
+  BufferInfos infos{};
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  if (count > 0 && ctx.descriptor_cache())
+    set = cached_set(rec, pipeline, bindings);
+  else
+    check_buffers(pipeline, ctx.info(), bindings, infos);
   if (indirect != nullptr && (!*indirect || indirect_offset % 4 != 0 ||
                               indirect_offset + 3 * sizeof(uint32_t) > indirect->size()))
-    throw std::logic_error("dispatch of '" + name + "': the indirect arguments are not in '" +
+    throw std::logic_error("dispatch of '" + pipeline.name() +
+                           "': the indirect arguments are not in '" +
                            (*indirect ? indirect->name() : std::string("an empty buffer")) + "'");
   if (elements == 0 && indirect == nullptr) return;
 
   const DeviceFunctions& fn = ctx.fn();
   const VkCommandBuffer cmd = rec.cmd();
   fn.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
-  if (count > 0) {
-    std::array<VkWriteDescriptorSet, kMaxDispatchBindings> writes{};
-    const VkDescriptorSet set = ctx.push_descriptors()
-                                    ? VK_NULL_HANDLE
-                                    : rec.allocate_descriptor_set(pipeline.set_layout());
-    for (uint32_t i = 0; i < count; ++i) {
-      writes[i] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-      writes[i].dstSet = set;
-      writes[i].dstBinding = i;
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &infos[i];
+  if (count > 0 && !ctx.pushes_descriptors()) {
+    if (set == VK_NULL_HANDLE) {  // neither cached nor pushed: a set for this dispatch
+      set = rec.allocate_descriptor_set(pipeline.set_layout());
+      write_buffers(rec, pipeline, set, infos, count);
     }
-    const uint32_t n = count;
-    if (ctx.push_descriptors()) {
-      fn.vkCmdPushDescriptorSetKHR(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, n,
-                                   writes.data());
-    } else {
-      fn.vkUpdateDescriptorSets(ctx.device(), n, writes.data(), 0, nullptr);
-      fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set,
-                                 0, nullptr);
-    }
+    fn.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set,
+                               0, nullptr);
+  } else if (count > 0) {
+    write_buffers(rec, pipeline, VK_NULL_HANDLE, infos, count);
   }
   if (push_size > 0) {
     fn.vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,

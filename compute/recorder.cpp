@@ -6,16 +6,13 @@
 namespace phyxel::gpu {
 namespace {
 
-constexpr uint32_t kSetsPerPool = 256;
-constexpr uint32_t kBuffersPerPool = kSetsPerPool * 8;
-
 constexpr VkPipelineStageFlags kGpuStages =
     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
 
 }  // namespace
 
 Recorder::Recorder(Context& ctx, const std::string& name, QueueRole role)
-    : ctx_(&ctx), name_(name), role_(role) {
+    : ctx_(&ctx), name_(name), per_dispatch_(ctx), cache_(ctx), role_(role) {
   const bool transfer = role == QueueRole::Transfer;
   if (transfer && ctx.transfer_queue() == VK_NULL_HANDLE)
     throw std::logic_error("Recorder '" + name + "': " + ctx.info().name +
@@ -53,10 +50,11 @@ Recorder::~Recorder() {
     // Never free what the GPU may still use: if it does not finish in time (hung device),
     // leak the pool rather than hang or free in-flight commands.
     const uint64_t timeout_ns = uint64_t{ctx_->options().fence_timeout_ms} * 1000000u;
-    if (fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns) == VK_TIMEOUT) return;
-  }
-  for (VkDescriptorPool p : descriptor_pools_) {
-    fn.vkDestroyDescriptorPool(ctx_->device(), p, nullptr);
+    if (fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns) == VK_TIMEOUT) {
+      per_dispatch_.abandon();
+      cache_.abandon();
+      return;
+    }
   }
   fn.vkDestroyFence(ctx_->device(), fence_, nullptr);
   fn.vkDestroyCommandPool(ctx_->device(), pool_, nullptr);
@@ -174,40 +172,9 @@ void Recorder::wait() {
   pending_ = false;
   VK_CHECK(fn.vkResetFences(ctx_->device(), 1, &fence_));
   VK_CHECK(fn.vkResetCommandPool(ctx_->device(), pool_, 0));
-  for (VkDescriptorPool p : descriptor_pools_) {
-    VK_CHECK(fn.vkResetDescriptorPool(ctx_->device(), p, 0));
-  }
-  descriptor_pool_in_use_ = 0;
+  per_dispatch_.reset();
+  cache_.trim(kCachedSets);
   begin();
-}
-
-VkDescriptorSet Recorder::allocate_descriptor_set(VkDescriptorSetLayout layout) {
-  const DeviceFunctions& fn = ctx_->fn();
-  while (true) {
-    if (descriptor_pool_in_use_ == descriptor_pools_.size()) {
-      VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBuffersPerPool};
-      auto info =
-          vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-      info.maxSets = kSetsPerPool;
-      info.poolSizeCount = 1;
-      info.pPoolSizes = &size;
-      VkDescriptorPool pool = VK_NULL_HANDLE;
-      VK_CHECK(fn.vkCreateDescriptorPool(ctx_->device(), &info, nullptr, &pool));
-      descriptor_pools_.push_back(pool);
-    }
-    auto alloc =
-        vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-    alloc.descriptorPool = descriptor_pools_[descriptor_pool_in_use_];
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &layout;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    const VkResult result = fn.vkAllocateDescriptorSets(ctx_->device(), &alloc, &set);
-    if (result == VK_SUCCESS) return set;
-    if (result != VK_ERROR_OUT_OF_POOL_MEMORY && result != VK_ERROR_FRAGMENTED_POOL) {
-      VK_CHECK(result);
-    }
-    ++descriptor_pool_in_use_;  // this pool is full: move on to the next (or a new one)
-  }
 }
 
 }  // namespace phyxel::gpu

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "compute/buffer.h"
+#include "compute/descriptor_cache.h"
 
 namespace phyxel::gpu {
 
@@ -70,9 +71,15 @@ class Recorder {
     wait();
   }
 
-  // For dispatch() on devices without push descriptors: a set from this recorder's pools,
-  // valid until the next wait().
-  VkDescriptorSet allocate_descriptor_set(VkDescriptorSetLayout layout);
+  // For dispatch() without the cache on devices without push descriptors: a set from this
+  // recorder's pools, valid until the next wait().
+  VkDescriptorSet allocate_descriptor_set(VkDescriptorSetLayout layout) {
+    return per_dispatch_.allocate(layout);
+  }
+  // For dispatch() with ContextOptions::descriptor_cache: the sets this recorder's commands
+  // bind, kept across submissions (dropped after a wait() once kCachedSets are kept).
+  DescriptorSetCache& descriptor_cache() { return cache_; }
+  static constexpr size_t kCachedSets = 1024;
   void count_dispatch() { ++dispatches_; }
 
  private:
@@ -83,8 +90,8 @@ class Recorder {
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
-  std::vector<VkDescriptorPool> descriptor_pools_;
-  size_t descriptor_pool_in_use_ = 0;
+  DescriptorPools per_dispatch_;
+  DescriptorSetCache cache_;
   uint32_t dispatches_ = 0;
   bool recording_ = false;
   bool pending_ = false;

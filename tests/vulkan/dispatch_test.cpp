@@ -1,5 +1,5 @@
 // The whole chain (embedded SPIR-V → pipeline → dispatch → readback) and the dispatch helper:
-// group rounding, push-constant and binding checks, both descriptor paths, many dispatches
+// group rounding, push-constant and binding checks, the descriptor paths, many dispatches
 // per submit, two contexts at once.
 #include <gtest/gtest.h>
 
@@ -159,8 +159,10 @@ TEST_F(DispatchTest, FrameQueueReadsWhatTheComputeQueueWrote) {
 TEST_F(DispatchTest, DescriptorSetPathWithoutPushDescriptors) {
   ContextOptions options = test_context_options();
   options.push_descriptors = false;
+  options.descriptor_cache = false;  // a set written per dispatch
   Context& plain = make_context(options);
   ASSERT_FALSE(plain.push_descriptors());
+  ASSERT_FALSE(plain.pushes_descriptors());
   for (const uint32_t n : {1u, 13u, 127u, 1000u}) {
     SCOPED_TRACE(n);
     expect_iota(run_iota(plain, n, 3), n, 3);
