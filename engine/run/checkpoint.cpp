@@ -138,6 +138,32 @@ class Reader {
   std::string file_;
 };
 
+// The aspirator's removals and the cut band's quads.
+void write_surgery_sections(Writer& w, const Checkpoint& c) {
+  const AspiratorState& a = c.aspiration;
+  w.begin_section(kAspiration);
+  w.put<uint64_t>(a.log_cursor);
+  w.put_array(a.removed);
+  w.put_array(a.surface);
+  w.put<int64_t>(a.events);
+  w.put<double>(a.max_radius);
+  w.put_array(a.removed_mass);
+  w.put_array(a.removed_volume);
+  w.end_section();
+
+  const CutBandState& band = c.band;
+  w.begin_section(kCutBand);
+  w.put<uint64_t>(band.quads.size());
+  for (const auto& q : band.quads)
+    for (const Vec3& x : q) w.put_vec3(x);
+  w.put<uint64_t>(band.quads_built);
+  w.put<uint64_t>(band.quads_before_chunk);
+  w.put_array(band.phyxel);
+  w.put_array(band.dirty);
+  w.put_array(band.built_with);
+  w.end_section();
+}
+
 void write_sections(Writer& w, const Checkpoint& c) {
   w.begin_section(kIdentity);
   w.put<uint64_t>(c.scene_hash);
@@ -238,28 +264,7 @@ void write_sections(Writer& w, const Checkpoint& c) {
   }
   w.end_section();
 
-  const AspiratorState& a = c.aspiration;
-  w.begin_section(kAspiration);
-  w.put<uint64_t>(a.log_cursor);
-  w.put_array(a.removed);
-  w.put_array(a.surface);
-  w.put<int64_t>(a.events);
-  w.put<double>(a.max_radius);
-  w.put_array(a.removed_mass);
-  w.put_array(a.removed_volume);
-  w.end_section();
-
-  const CutBandState& band = c.band;
-  w.begin_section(kCutBand);
-  w.put<uint64_t>(band.quads.size());
-  for (const auto& q : band.quads)
-    for (const Vec3& x : q) w.put_vec3(x);
-  w.put<uint64_t>(band.quads_built);
-  w.put<uint64_t>(band.quads_before_chunk);
-  w.put_array(band.phyxel);
-  w.put_array(band.dirty);
-  w.put_array(band.built_with);
-  w.end_section();
+  write_surgery_sections(w, c);
 }
 
 void read_cut_band(Reader& r, CutBandState& band) {
