@@ -63,13 +63,10 @@ void GpuSolver::collect_band_quads() {
       if (!blade.cuts()) continue;
       ToolMotion m = motion_[std::min(row, motion_steps_ - 1) * nt + t];
       if (row == motion_steps_) m.from = m.to;
-      const double reach = blade.reach > 0 ? blade.reach : contact_spacing_;
+      const double reach = blade_reach(blade, contact_spacing_);
       const phyxel::CutQuad quad = swept_quad(blade, m.from, m.to, reach);
       if (cut_force(samples_[s * nt + t].force, quad) < blade.threshold) continue;
-      const std::array<Vec3, 4>& c = quad.corner;
-      const double area =
-          ((c[2] - c[0]).cross(c[1] - c[0]).norm() + (c[3] - c[0]).cross(c[2] - c[0]).norm()) / 2;
-      if (area > 1e-12 * reach * reach) band_->cells.add_quad(c);
+      band_->cells.add_cut(quad.corner, reach);
     }
   }
 }

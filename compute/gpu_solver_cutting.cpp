@@ -63,7 +63,7 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       }
       ToolMotion m = motion_[std::min(row, motion_steps_ - 1) * nt + t];
       if (row == motion_steps_) m.from = m.to;
-      const double reach = blade.reach > 0 ? blade.reach : contact_spacing_;
+      const double reach = blade_reach(blade, contact_spacing_);
       const phyxel::CutQuad quad = swept_quad(blade, m.from, m.to, reach);
       // The w components carry the blade body's strip (CpuSolver's body_strip): its radius,
       // and how far back along the edge the blade's end and tip are from p2 and p3.

@@ -27,11 +27,6 @@ double blade_body_radius(const ContactTool& tool) {
   return tool.shape.type == ToolShape::Type::Capsule ? tool.shape.radius : 0.0;
 }
 
-// How far ahead the blade's quad reaches: its own reach, else the object's spacing.
-double blade_reach(const Blade& blade, double spacing) {
-  return blade.reach > 0 ? blade.reach : spacing;
-}
-
 }  // namespace
 
 template <class Real>
@@ -84,9 +79,7 @@ void CpuSolver<Real>::apply_cuts() {
       }
     }
     // The band looks across the surface the blade cut (the quad; its body's strip lies in it).
-    const double area =
-        ((c[2] - c[0]).cross(c[1] - c[0]).norm() + (c[3] - c[0]).cross(c[2] - c[0]).norm()) / 2;
-    if (band_.on() && !candidates_.empty() && area > 1e-12 * reach * reach) band_.add_quad(c);
+    if (band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
   }
   if (severed_.size() != first) precompute_touched(touched);
 }

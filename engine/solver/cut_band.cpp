@@ -199,4 +199,10 @@ void CutBand::build_gather() {
         gather_[fill[cells_[c].box[b].node[k]]++] = GatherEntry{c, b, k};
 }
 
+void CutBand::add_cut(const std::array<Vec3, 4>& c, double reach) {
+  const double area =
+      ((c[2] - c[0]).cross(c[1] - c[0]).norm() + (c[3] - c[0]).cross(c[2] - c[0]).norm()) / 2;
+  if (area > 1e-12 * reach * reach) quads_.push_back(c);
+}
+
 }  // namespace phyxel

@@ -44,7 +44,9 @@ class CutBand {
   bool on() const { return on_; }  // an object has cut_band > 0
 
   const std::vector<std::array<Vec3, 4>>& quads() const { return quads_; }
-  void add_quad(const std::array<Vec3, 4>& quad) { quads_.push_back(quad); }
+  // Keeps the quad a blade of `reach` swept in a substep, unless it has no area (more than
+  // 1e-12 reach^2: a blade that did not move cut no surface). Both solvers' cut passes call it.
+  void add_cut(const std::array<Vec3, 4>& quad, double reach);
   // threads: for the cells built (0: OpenMP's count).
   // At a new chunk of tool motion: builds the cells the quads of the chunks before the last
   // one reach (the cut has passed them), unless a quad of the last chunk reaches them too.

@@ -11,6 +11,10 @@ Vec3 blade_edge(const Blade& blade, const ToolPose& pose) {
   return rotate_with_axis(blade.reference_axis, pose.axis, blade.edge);
 }
 
+double blade_reach(const Blade& blade, double spacing) {
+  return blade.reach > 0 ? blade.reach : spacing;
+}
+
 CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach) {
   CutQuad q;
   q.edge = blade_edge(blade, to);

@@ -49,6 +49,8 @@ struct CutQuad {
   double tip_moved = 0, end_moved = 0;  // m: the tip's and the end's motion along the edge
 };
 CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach);
+// How far ahead a blade's quad reaches: its own reach, else the object's spacing.
+double blade_reach(const Blade& blade, double spacing);
 
 // The force pressing the edge into the tissue for a force `on_tool` (N) felt by the tool: its
 // component against the edge, max(0, -on_tool . edge).

@@ -17,27 +17,18 @@
 namespace phyxel::gpu::test {
 namespace {
 
-struct AspirationRun {
-  RunResult result;
-  PointState state;
-  std::vector<Vec3> forces;  // per step, the aspirator's
-  bool rows_timed = false;   // a profile of the solver after the run has the rows' reduction
+struct FusedRun : AspirationRun {
+  bool rows_timed = false;  // a profile of the solver after the run has the rows' reduction
 };
 
-AspirationRun aspirate(Context& ctx, const Scene& scene, const PhyxelSet& set, bool in_force,
-                       uint32_t lanes) {
+FusedRun aspirate(Context& ctx, const Scene& scene, const PhyxelSet& set, bool in_force,
+                  uint32_t lanes) {
   GpuSolverOptions options;
   options.contact_in_force = in_force;
   options.lanes = lanes;  // the contact follows the lanes' sum in lane 0
   GpuSolver gpu(ctx, set, Vec3::Zero(), options);
-  RunOptions run;
-  run.steps = 200;
-  AspirationRun out;
-  run.on_tool_step = [&](int64_t, double, const std::vector<ToolStepRecord>& records) {
-    out.forces.push_back(records.at(0).force);
-  };
-  out.result = run_simulation(scene, set, gpu, run);
-  out.state = gpu.read_state(false);
+  FusedRun out;
+  static_cast<AspirationRun&>(out) = run_aspirating(scene, set, gpu, 200);
   for (const PassTime& t : gpu.profile(2, out.result.plan.dt_used))
     out.rows_timed = out.rows_timed || t.name == "contact: rows";
   return out;
@@ -47,8 +38,8 @@ void expect_same_bits(Context& ctx, uint32_t lanes) {
   const Scene scene =
       parse_scene(phyxel::test::suction_block_json(1000, true, 10000), "block.json");
   const PhyxelSet set = sample_scene(scene);
-  const AspirationRun fused = aspirate(ctx, scene, set, true, lanes);
-  const AspirationRun apart = aspirate(ctx, scene, set, false, lanes);
+  const FusedRun fused = aspirate(ctx, scene, set, true, lanes);
+  const FusedRun apart = aspirate(ctx, scene, set, false, lanes);
   EXPECT_TRUE(fused.rows_timed);
   EXPECT_FALSE(apart.rows_timed);
   ASSERT_TRUE(fused.result.aspirating);

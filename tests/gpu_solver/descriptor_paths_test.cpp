@@ -13,33 +13,20 @@
 namespace phyxel::gpu::test {
 namespace {
 
-struct PathRun {
-  RunResult result;
-  PointState state;
-  std::vector<Vec3> forces;  // per step, the aspirator's
-};
-
 TEST_F(GpuSolverTest, DescriptorPathsGiveTheSameBits) {
   const Scene scene =
       parse_scene(phyxel::test::suction_block_json(1000, true, 10000), "block.json");
   const PhyxelSet set = sample_scene(scene);
-  std::vector<PathRun> runs;
+  std::vector<AspirationRun> runs;
   // Cached; pushed (where the device has push descriptors); written per dispatch.
   for (const bool cache : {true, false, false}) {
     ContextOptions options = test_context_options();
     options.descriptor_cache = cache;
     options.push_descriptors = runs.size() < 2;
     GpuSolver gpu(make_context(options), set, Vec3::Zero());
-    PathRun& out = runs.emplace_back();
-    RunOptions run;
-    run.steps = 150;
-    run.on_tool_step = [&out](int64_t, double, const std::vector<ToolStepRecord>& records) {
-      out.forces.push_back(records.at(0).force);
-    };
-    out.result = run_simulation(scene, set, gpu, run);
-    out.state = gpu.read_state(false);
+    runs.push_back(run_aspirating(scene, set, gpu, 150));
   }
-  const PathRun& cached = runs[0];
+  const AspirationRun& cached = runs[0];
   ASSERT_TRUE(cached.result.aspirating);
   EXPECT_GT(cached.result.aspiration.removed_mass[0], 0);
   for (size_t k = 1; k < runs.size(); ++k) {

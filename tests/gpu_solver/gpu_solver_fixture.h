@@ -26,6 +26,26 @@ using phyxel::test::tissue;
 
 constexpr double kSpacing = 0.0025;
 
+// A scene's run of `steps` on `gpu` with one aspirator: the run's result, the end state and
+// the aspirator's force at every step (the paths' same-bits tests compare these).
+struct AspirationRun {
+  RunResult result;
+  PointState state;
+  std::vector<Vec3> forces;
+};
+inline AspirationRun run_aspirating(const Scene& scene, const PhyxelSet& set, GpuSolver& gpu,
+                                    int64_t steps) {
+  AspirationRun out;
+  RunOptions run;
+  run.steps = steps;
+  run.on_tool_step = [&out](int64_t, double, const std::vector<ToolStepRecord>& records) {
+    out.forces.push_back(records.at(0).force);
+  };
+  out.result = run_simulation(scene, set, gpu, run);
+  out.state = gpu.read_state(false);
+  return out;
+}
+
 // nx x ny x nz phyxels (a line when ny = nz = 1, one phyxel when all are 1).
 inline Scene lattice_scene(int nx, int ny, int nz, const Material& m = tissue(),
                            double h_factor = 2.0) {
