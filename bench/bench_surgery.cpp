@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -17,6 +18,7 @@
 #include "bench/benches.h"
 #include "bench/timing.h"
 #include "compute/gpu_solver.h"
+#include "compute/timing.h"
 #include "engine/surgery/resection.h"
 #include "render/frame_output.h"
 
@@ -34,6 +36,7 @@ constexpr const char* kSurgeryHelp =
     "--profile-steps substeps after the run without frames (tools where it left them), the\n"
     "frame writer's host seconds by part (waiting for the frame in flight, cuts, aspirations,\n"
     "video texture, recording and submitting) against the run loop's parts without frames, the\n"
+    "GPU's time per pass of the scene's frame drawn alone after the run with frames, the\n"
     "outcome (removed share of each inclusion, aspirated share of each part), the GPU solver's\n"
     "host seconds in its advances (recording, submitting, waiting, the rest; in the run loop's\n"
     "advance, whose remainder is the tools' paths and records), and the surgery's\n"
@@ -125,6 +128,25 @@ nlohmann::json pass_profile(const Scene& scene, Solver& solver, const RunResult&
   return passes;
 }
 
+// The GPU's time per pass of the scene's frame (the median of 8), drawn alone and waited for
+// where the run ended: what a frame costs the GPU whichever queue draws it.
+nlohmann::json frame_pass_profile(render::FrameWriter& frames, gpu::GpuSolver& solver) {
+  nlohmann::json passes = nlohmann::json::object();
+  gpu::Context& ctx = solver.context();
+  gpu::PassTimer timer(ctx);
+  if (!timer.supported()) return passes;
+  gpu::Recorder rec(ctx, "surgery bench frame profile");
+  std::map<std::string, std::vector<double>> ns;
+  for (int f = 0; f < 8; ++f) {
+    timer.reset(rec);
+    frames.renderer().record(rec, solver.buffers(), frames.setup(), &timer);
+    rec.submit_and_wait();
+    for (const gpu::PassTime& p : timer.results()) ns[p.name].push_back(double(p.ns));
+  }
+  for (auto& [name, v] : ns) passes[name] = median_of(v) * 1e-3;
+  return passes;
+}
+
 // One run of the scene on a fresh solver; with frames, stereo frames drawn (not written) every
 // `frame_every` steps.
 nlohmann::json timed_run(const Scene& scene, const PhyxelSet& set, const SurgeryOptions& o,
@@ -177,6 +199,7 @@ nlohmann::json timed_run(const Scene& scene, const PhyxelSet& set, const Surgery
         {"frames", t.frames}, {"aspirations", t.aspirations}, {"wait", t.wait},
         {"cuts", t.cuts},     {"aspiration", t.aspiration},   {"video", t.video},
         {"submit", t.submit}};
+    if (gpu_solver) j["frame_gpu_pass_us"] = frame_pass_profile(*frames, *gpu_solver);
   } else {
     j["gpu_pass_us"] = pass_profile(scene, *solver, r, o.profile_steps, o.profile_parts);
   }
@@ -213,6 +236,34 @@ nlohmann::json surgery_row(const std::string& file, double k, const SurgeryOptio
   return row;
 }
 
+// "name us, name us, ..." of a pass profile.
+std::string pass_list(const nlohmann::json& passes) {
+  std::string out;
+  for (const auto& [name, us] : passes.items()) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%s%s %.1f", out.empty() ? "" : ", ", name.c_str(),
+                  us.get<double>());
+    out += text;
+  }
+  return out;
+}
+
+// The GPU solver's host seconds in the advances of one run (`run`: a "bare" or "frames" entry).
+void print_solver_host(const nlohmann::json& run, const char* which) {
+  if (!run.contains("solver_host_seconds")) return;
+  const nlohmann::json& t = run["solver_host_seconds"];
+  const nlohmann::json& h = run["host_seconds"];
+  std::printf(
+      "%36s %ssolver's advances: %lld, %lld submissions, %lld waits; host s: record %.3f, "
+      "submit %.3f, wait %.3f, rest %.3f, outside the solver %.3f\n",
+      "", which, static_cast<long long>(t["advances"].get<int64_t>()),
+      static_cast<long long>(t["submissions"].get<int64_t>()),
+      static_cast<long long>(t["waits"].get<int64_t>()), t["record"].get<double>(),
+      t["submit"].get<double>(), t["wait"].get<double>(), t["rest"].get<double>(),
+      h["advance"].get<double>() - t["record"].get<double>() - t["submit"].get<double>() -
+          t["wait"].get<double>() - t["rest"].get<double>());
+}
+
 void print_row(const nlohmann::json& r) {
   const nlohmann::json& b = r["bare"];
   std::printf("%-28.28s %5g %9zu %10.0f %8.3f", r["scene"].get<std::string>().c_str(),
@@ -227,26 +278,9 @@ void print_row(const nlohmann::json& r) {
               h["checks"].get<double>(), h["callbacks"].get<double>(),
               r["surgery_substep_us"].get<double>(), r["box_substep_us"].get<double>(),
               r["surgery_over_box"].get<double>());
-  std::string passes;
-  for (const auto& [name, us] : b["gpu_pass_us"].items()) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%s%s %.1f", passes.empty() ? "" : ", ", name.c_str(),
-                  us.get<double>());
-    passes += text;
-  }
-  std::printf("  %s\n", passes.c_str());
-  if (b.contains("solver_host_seconds")) {
-    const nlohmann::json& t = b["solver_host_seconds"];
-    std::printf(
-        "%36s solver's advances: %lld, %lld submissions, %lld waits; host s: record %.3f, "
-        "submit %.3f, wait %.3f, rest %.3f, outside the solver %.3f\n",
-        "", static_cast<long long>(t["advances"].get<int64_t>()),
-        static_cast<long long>(t["submissions"].get<int64_t>()),
-        static_cast<long long>(t["waits"].get<int64_t>()), t["record"].get<double>(),
-        t["submit"].get<double>(), t["wait"].get<double>(), t["rest"].get<double>(),
-        h["advance"].get<double>() - t["record"].get<double>() - t["submit"].get<double>() -
-            t["wait"].get<double>() - t["rest"].get<double>());
-  }
+  std::printf("  %s\n", pass_list(b["gpu_pass_us"]).c_str());
+  print_solver_host(b, "");
+  if (r.contains("frames")) print_solver_host(r["frames"], "with frames, ");
   if (h.contains("aspiration")) {
     const nlohmann::json& a = h["aspiration"];
     std::printf(
@@ -269,6 +303,9 @@ void print_row(const nlohmann::json& r) {
         fh["callbacks"].get<double>(), h["callbacks"].get<double>(), fh["outputs"].get<double>(),
         h["outputs"].get<double>());
   }
+  if (r.contains("frames") && r["frames"].contains("frame_gpu_pass_us"))
+    std::printf("%36s frame GPU us per pass (alone): %s\n", "",
+                pass_list(r["frames"]["frame_gpu_pass_us"]).c_str());
   std::string outcome;
   for (const auto& [name, v] : b["outcome"].items()) outcome += " " + name + " " + v.dump();
   if (!outcome.empty()) std::printf("%36s outcome:%s\n", "", outcome.c_str());

@@ -33,6 +33,13 @@ std::string format_bytes(uint64_t bytes) {
 
 namespace {
 
+// $PHYXEL_FRAME_QUEUE "0" turns ContextOptions::frame_queue off (to time frames drawn on the
+// solver's queue against frames drawn beside it).
+bool frame_queue_allowed() {
+  const char* text = std::getenv("PHYXEL_FRAME_QUEUE");
+  return text == nullptr || std::string(text) != "0";
+}
+
 // A test hook's count from the environment (context.h); -1 when unset or not a number.
 int64_t hook_from_env(const char* name) {
   const char* text = std::getenv(name);
@@ -70,7 +77,8 @@ Context::Context(const ContextOptions& options)
   features.features.shaderInt64 = info_.int64 ? VK_TRUE : VK_FALSE;
 
   const float priorities[2] = {1.0f, 1.0f};
-  const bool frame_queue = options.frame_queue && info_.compute_queue_count >= 2;
+  const bool frame_queue =
+      options.frame_queue && frame_queue_allowed() && info_.compute_queue_count >= 2;
   VkDeviceQueueCreateInfo queues[2];
   uint32_t queue_count = 0;
   for (const uint32_t family : {info_.compute_queue_family, info_.transfer_queue_family}) {
