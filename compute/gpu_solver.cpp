@@ -94,6 +94,11 @@ GpuSolver::~GpuSolver() {
 }
 
 void GpuSolver::settle() {
+  near_ready_ = false;  // a prefetched read_near is for the call right after its advance
+  wait_in_flight();
+}
+
+void GpuSolver::wait_in_flight() {
   if (in_flight_ < 0) return;
   const int k = in_flight_;
   in_flight_ = -1;  // waited for once, even where the wait throws
@@ -377,6 +382,8 @@ void GpuSolver::advance(int64_t substeps, double dt) {
 void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<int64_t>& pauses,
                                const std::function<void(int64_t)>& at) {
   settle();
+  const bool asked = near_asked_;  // prefetch_near: for this advance only
+  near_asked_ = false;
   for (size_t p = 0; p < pauses.size(); ++p)
     if (pauses[p] <= 0 || pauses[p] >= substeps || (p > 0 && pauses[p] <= pauses[p - 1]))
       throw std::invalid_argument(
@@ -402,6 +409,9 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
     return;
   }
   lap(mark, t.rest);
+  // read_near's passes at the end of the last submission, where the run loop asked for them.
+  const bool near = asked && count_ > 0 && !near_box_.empty();
+  if (near) ensure_near_buffers();
   const float fdt = static_cast<float>(dt);
   int cur = 0;
   bool pending[2] = {false, false};
@@ -420,6 +430,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
       Recorder& rec = *rec_[which];
       rec.barrier();  // the previous submission's writes (same queue, submission order)
       record_steps(rec, done, next, substeps, fdt, cur, nullptr);
+      if (near && next == substeps) record_near_box(rec, near_box_);
       ctx_->test_note_substeps(substeps_run_ + next);
       lap(mark, t.record);
       rec.submit();
@@ -475,6 +486,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   if (!tools_.empty()) finish_contact(substeps, true);
   collect_band_quads();                        // the cuts' quads, where the scene has a band
   if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
+  near_ready_ = near;
   lap(mark, t.rest);
 }
 

@@ -263,6 +263,9 @@ class GpuSolver final : public SolverWithAllFacets {
   // gathers by id) on the device; only those come back, written straight into read-back
   // buffers (20 bytes per phyxel that comes back, one submission).
   NearState read_near(const PhyxelSet& set, const Bounds& box) override;
+  void prefetch_near(const Bounds& box) override;
+  // Whether the next read_near of the prefetched box comes without a submission (tests).
+  bool near_prefetched() const { return near_ready_; }
   std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids) override;
 
   // Runs `steps` steps (>= 1) in one submit with a timestamp around every pass; returns the
@@ -295,7 +298,8 @@ class GpuSolver final : public SolverWithAllFacets {
 
  private:
   void build(const PhyxelSet& set, const Vec3& gravity);
-  void settle();  // waits for the submission advance() left in flight, if any
+  void settle();          // waits for the submission advance() left in flight, if any
+  void wait_in_flight();  // the same, keeping a prefetched read_near (host-only readers)
   void build_neighbours(const std::vector<layout::vec4>& rest_lo);
   // `record(rec, first, count)` over phyxels [0, count_), a submission per chunk, the stop
   // polled before each (SearchStopped naming `phase`).
@@ -511,6 +515,12 @@ class GpuSolver final : public SolverWithAllFacets {
   Buffer near_groups_, near_count_, near_ids_, near_state_, near_upload_;
   void ensure_near_buffers();
   void record_near(Recorder& rec, layout::NearPush push);
+  // read_near's passes for `box` (selection, scan, gather into the read-back buffers).
+  void record_near_box(Recorder& rec, const Bounds& box);
+  // prefetch_near's box; asked for the next advance; recorded by the last one and nothing
+  // since (settle() clears it: every call that touches the GPU starts with it).
+  Bounds near_box_;
+  bool near_asked_ = false, near_ready_ = false;
 
   // Graspers (gpu_solver_grasp.cpp); allocated by set_tools only when a tool grasps.
   bool grasping_ = false;             // a tool grasps

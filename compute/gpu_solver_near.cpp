@@ -3,7 +3,8 @@
 // u of the neighbours of what it took (read_displacements): solver_near selects them in a box
 // (modes 0 and 1, tool_broad_scan between) or gathers them by id (mode 2) and writes them
 // straight into read-back buffers. One submission each; 20 bytes per phyxel back, instead of
-// the 20 bytes per phyxel of the whole state and a host pass over it.
+// the 20 bytes per phyxel of the whole state and a host pass over it. After prefetch_near the
+// next advance records read_near's passes at the end of its last submission instead.
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -43,14 +44,12 @@ void GpuSolver::record_near(Recorder& rec, NearPush push) {
            elements);
 }
 
-NearState GpuSolver::read_near(const PhyxelSet& set, const Bounds& box) {
-  settle();
-  if (set.size() != count_)
-    throw std::invalid_argument("GpuSolver::read_near: the set has " + std::to_string(set.size()) +
-                                " phyxels, the solver " + std::to_string(count_));
-  NearState near;
-  if (count_ == 0 || box.empty()) return near;
-  ensure_near_buffers();
+void GpuSolver::prefetch_near(const Bounds& box) {
+  near_box_ = box;
+  near_asked_ = true;
+}
+
+void GpuSolver::record_near_box(Recorder& rec, const Bounds& box) {
   const uint32_t wg = kernels_->near.workgroup_size()[0];
   const uint32_t groups = (count_ + wg - 1) / wg;
   NearPush push{{float(box.min.x()), float(box.min.y()), float(box.min.z()), 0.0f},
@@ -59,8 +58,7 @@ NearState GpuSolver::read_near(const PhyxelSet& set, const Bounds& box) {
                 0u,
                 groups,
                 0u};
-  Recorder& rec = *rec_[0];
-  rec.barrier();  // what ran before (an edit's forces) wrote u or the principal stress
+  rec.barrier();  // what ran before (the last substep, an edit's forces) wrote u or the stress
   record_near(rec, push);
   rec.barrier();
   BroadPhasePush scan{};
@@ -70,7 +68,23 @@ NearState GpuSolver::read_near(const PhyxelSet& set, const Bounds& box) {
   rec.barrier();
   push.mode = 1;
   record_near(rec, push);
-  rec.submit_and_wait();
+}
+
+NearState GpuSolver::read_near(const PhyxelSet& set, const Bounds& box) {
+  // Recorded at the end of the last advance for this box, and nothing since (settle()).
+  const bool prefetched = near_ready_ && box.min == near_box_.min && box.max == near_box_.max;
+  settle();
+  if (set.size() != count_)
+    throw std::invalid_argument("GpuSolver::read_near: the set has " + std::to_string(set.size()) +
+                                " phyxels, the solver " + std::to_string(count_));
+  NearState near;
+  if (count_ == 0 || box.empty()) return near;
+  ensure_near_buffers();
+  if (!prefetched) {
+    Recorder& rec = *rec_[0];
+    record_near_box(rec, box);
+    rec.submit_and_wait();
+  }
   near_count_.invalidate();
   ContactCount count;
   std::memcpy(&count, near_count_.mapped(), sizeof count);

@@ -338,9 +338,13 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
     records = std::move(r.records);
     within_step_ = r.within_step > 0;
   } else
-    records = advance_with_tools(solver_, tools_, step_, next - step_, result_.plan.substeps,
-                                 result_.plan.dt_used, frame_pauses(next),
-                                 [this](int64_t substep) { frame_at_pause(substep); });
+    records = advance_with_tools(
+        solver_, tools_, step_, next - step_, result_.plan.substeps, result_.plan.dt_used,
+        frame_pauses(next), [this](int64_t substep) { frame_at_pause(substep); },
+        [this, next] {  // the aspiration's read at `next` inside the advance (surgery_events)
+          if (aspirates_at(next))
+            aspirator_.before_advance(solver_, tools_.poses(), double(next) * step_time_);
+        });
   for (size_t r = 0; r < records.size(); ++r) {
     uint32_t& most = contacts_since_check_[r % tools_.size()];
     most = std::max(most, records[r].contacts);
@@ -370,14 +374,18 @@ void RunLoop::frame_at_pause(int64_t substep) {
   options_.on_frame(step_ + substep / result_.plan.substeps, solver_);
 }
 
+// On the tool chunks' grid; at the end too unless the run keeps checkpoints (a run that can be
+// continued must not aspirate off the grid: the continued run would differ).
+bool RunLoop::aspirates_at(int64_t next) const {
+  const bool end = next == total_ && options_.checkpoint_every == 0;
+  return aspirator_.active() && tool_chunk_ > 0 && (next % tool_chunk_ == 0 || end);
+}
+
 // The tools' records to the caller, then the paper's hybrid tearing at the aspirators' mouths
 // at the end of each tool chunk.
 void RunLoop::surgery_events(int64_t next, const std::vector<ToolStepRecord>& records) {
   tool_rows(next, records);
-  // On the tool chunks' grid; at the end too unless the run keeps checkpoints (a run that
-  // can be continued must not aspirate off the grid: the continued run would differ).
-  const bool end = next == total_ && options_.checkpoint_every == 0;
-  if (aspirator_.active() && tool_chunk_ > 0 && (next % tool_chunk_ == 0 || end))
+  if (aspirates_at(next))
     for (const AspirationEvent& e :
          aspirator_.after_advance(solver_, tools_.poses(), double(next) * step_time_))
       if (options_.on_aspiration) options_.on_aspiration(e);

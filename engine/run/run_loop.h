@@ -61,6 +61,7 @@ class RunLoop {
   std::vector<int64_t> frame_pauses(int64_t next) const;
   void frame_at_pause(int64_t substep);
   void surgery_events(int64_t next, const std::vector<ToolStepRecord>& records);
+  bool aspirates_at(int64_t next) const;  // whether the aspirator acts after the advance to next
   void tool_rows(int64_t next, const std::vector<ToolStepRecord>& records);
   void pacing(int64_t next);
   void switch_loads(int64_t previous);

@@ -48,7 +48,8 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
 std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools, int64_t first,
                                                int64_t steps, int64_t substeps, double dt,
                                                const std::vector<int64_t>& pauses,
-                                               const std::function<void(int64_t)>& at) {
+                                               const std::function<void(int64_t)>& at,
+                                               const std::function<void()>& ready) {
   auto advance = [&] {
     if (pauses.empty())
       solver.advance(steps * substeps, dt);
@@ -61,6 +62,7 @@ std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools,
   }
   Tools& facet = need(solver.tools(), solver, "simulate tools");
   facet.set_tool_motion(tools.motions(first * substeps, steps * substeps, dt));
+  if (ready) ready();
   advance();
   return tools.fold(facet.tool_samples(), steps, substeps);
 }

@@ -145,10 +145,13 @@ RunResult run_simulation(const Scene& scene, const PhyxelSet& set, Solver& solve
 // solver's samples). Returns the per-step records (steps x tools; empty without tools). The run
 // loop and the viewer step tools this way.
 // With `pauses` (substeps into the advance), Solver::advance_paused calls at(k) at each.
+// `ready` runs once the tools' motions are set, before the advance (tools.poses(): where the
+// tools end it).
 std::vector<ToolStepRecord> advance_with_tools(Solver& solver, ToolTrack& tools, int64_t first,
                                                int64_t steps, int64_t substeps, double dt,
                                                const std::vector<int64_t>& pauses = {},
-                                               const std::function<void(int64_t)>& at = {});
+                                               const std::function<void(int64_t)>& at = {},
+                                               const std::function<void()>& ready = {});
 
 // A finite state running away: the first phyxel faster than its material's p-wave speed
 // (which no elastic tissue is: it would mean a strain above one per step), or phyxel -1.

@@ -210,6 +210,10 @@ class Solver {
   // selects them on the device, in float (callers test exactly, in a box with a margin), and
   // downloads only those; by default this filters read_state(true).
   virtual NearState read_near(const PhyxelSet& set, const Bounds& box);
+  // A hint before an advance: read_near(set, box) of its end state follows it. The GPU solver
+  // records that read into the advance's last submission (no round trip of its own); a
+  // read_near of the same box before any other call returns it. The CPU solver ignores it.
+  virtual void prefetch_near(const Bounds& /*box*/) {}
   // u of each of `ids`, in their order (a gather on the GPU; by default from read_state).
   virtual std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids);
 

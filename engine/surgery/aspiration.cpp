@@ -236,15 +236,11 @@ void Aspirator::read_event_displacements(Solver& solver, const AspirationEvent& 
   for (size_t k = 0; k < ids.size(); ++k) u_[ids[k]] = u[k];
 }
 
-std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
-                                                      const std::vector<ToolPose>& poses,
-                                                      double t) {
-  std::vector<AspirationEvent> events;
-  if (!active_) return events;
-  read_severed(solver);
-  // The suction tools on at t, and a box around their mouths holding every phyxel that
-  // fracture_sphere looks at (within reach + shell), with a margin for the solver's float test.
-  std::vector<size_t> on;
+// The suction tools on at t (into `on`), and a box around their mouths holding every phyxel
+// that fracture_sphere looks at (within reach + shell), with a margin for the solver's float
+// test.
+Bounds Aspirator::mouth_box(const std::vector<ToolPose>& poses, double t,
+                            std::vector<size_t>& on) const {
   Bounds box;
   for (size_t k = 0; k < scene_->tools.size() && k < poses.size(); ++k) {
     const Suction& s = scene_->tools[k].suction;
@@ -254,6 +250,24 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
     const Vec3 r = Vec3::Constant(1.01 * (s.reach + shell_) + 1e-6);
     box.extend(Bounds{poses[k].position - r, poses[k].position + r});
   }
+  return box;
+}
+
+void Aspirator::before_advance(Solver& solver, const std::vector<ToolPose>& poses, double t) const {
+  if (!active_) return;
+  std::vector<size_t> on;
+  const Bounds box = mouth_box(poses, t, on);
+  if (!on.empty()) solver.prefetch_near(box);
+}
+
+std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
+                                                      const std::vector<ToolPose>& poses,
+                                                      double t) {
+  std::vector<AspirationEvent> events;
+  if (!active_) return events;
+  read_severed(solver);
+  std::vector<size_t> on;
+  const Bounds box = mouth_box(poses, t, on);
   if (on.empty()) return events;
   auto mark = std::chrono::steady_clock::now();
   const MouthPhyxels near = read_mouths(solver, box);  // one read for every tool

@@ -150,6 +150,10 @@ class Aspirator {
   // aspiration of every suction tool on at t, applied to `solver` (Solver::remove_phyxels).
   std::vector<AspirationEvent> after_advance(Solver& solver, const std::vector<ToolPose>& poses,
                                              double t);
+  // Before the advance that ends at time t with the tools at `poses`, where after_advance
+  // follows it: the solver may read the mouths' phyxels within that advance
+  // (Solver::prefetch_near). Changes no outcome.
+  void before_advance(Solver& solver, const std::vector<ToolPose>& poses, double t) const;
   const AspirationTotals& totals() const { return totals_; }
   const AspirationTimes& times() const { return times_; }
   // For checkpoints: the state, and back (before the solver's state is set): the removed
@@ -165,6 +169,7 @@ class Aspirator {
   // torn_.loose at the torn phyxels of `near`, from the rest lists, removed_ and severed_.
   void refresh_loose(const MouthPhyxels& near, const NeighbourLists& nbr);
   void read_severed(Solver& solver);
+  Bounds mouth_box(const std::vector<ToolPose>& poses, double t, std::vector<size_t>& on) const;
   // The phyxels in `box` (Solver::read_near), u_ set at them.
   MouthPhyxels read_mouths(Solver& solver, const Bounds& box);
   // u_ at the event's phyxels and their neighbours (Solver::read_displacements).

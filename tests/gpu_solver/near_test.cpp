@@ -2,6 +2,7 @@
 // (solver_near) exactly what the whole state read back and filtered gives, bit for bit, and
 // the same phyxels with the same values (within float) as the CPU reference's.
 #include <algorithm>
+#include <memory>
 
 #include "engine/solver/solver.h"
 #include "tests/gpu_solver/gpu_solver_fixture.h"
@@ -59,6 +60,67 @@ TEST_F(GpuSolverTest, ReadNearGivesWhatTheWholeStateGivesAndTheCpusPhyxels) {
     }
   }
   EXPECT_EQ(cpu->read_displacements(ids), gathered);
+}
+
+// prefetch_near: the advance records read_near's passes at its end; the read after it gives
+// the bits of a read in a submission of its own, and any call that touches the GPU in between
+// (an edit, another advance) or another box reads afresh.
+TEST_F(GpuSolverTest, PrefetchedReadNearGivesTheBitsOfItsOwnSubmission) {
+  const Scene scene = lattice_scene(9, 7, 6, tissue(2e5, 0.35, 5.0));
+  const PhyxelSet set = sample_scene(scene);
+  const double dt = plan_time_step(scene, set).dt_stable;
+  std::vector<Vec3> u, v;
+  deformed_state(set, 5, 2e-5, u, v);
+  auto make = [&] {
+    auto s = std::make_unique<GpuSolver>(ctx(), set, Vec3(0, 0, -9.81));
+    s->set_principal_stress(true);
+    s->set_state(u, v);
+    return s;
+  };
+  auto same = [](const NearState& a, const NearState& b) {
+    EXPECT_EQ(a.ids, b.ids);
+    EXPECT_EQ(a.displacement, b.displacement);
+    EXPECT_EQ(a.principal, b.principal);
+  };
+  auto a = make(), b = make();
+  Bounds other = inner_box();
+  other.grow(kSpacing);
+
+  a->prefetch_near(inner_box());
+  a->advance(20, dt);
+  b->advance(20, dt);
+  EXPECT_TRUE(a->near_prefetched());
+  EXPECT_FALSE(b->near_prefetched());
+  (void)a->severed_since(0);  // the host's log: the prefetched read stays
+  EXPECT_TRUE(a->near_prefetched());
+  const NearState first = a->read_near(set, inner_box());
+  EXPECT_FALSE(a->near_prefetched());  // once
+  same(first, b->read_near(set, inner_box()));
+  ASSERT_FALSE(first.ids.empty());
+
+  // Another box than the prefetched one.
+  a->prefetch_near(inner_box());
+  a->advance(7, dt);
+  b->advance(7, dt);
+  same(a->read_near(set, other), b->read_near(set, other));
+
+  // An edit after the advance: its forces change the principal stress near it.
+  const uint32_t removed = 3 * 63 + 3 * 9 + 4;
+  a->prefetch_near(inner_box());
+  a->advance(5, dt);
+  b->advance(5, dt);
+  a->remove_phyxels({removed});
+  b->remove_phyxels({removed});
+  EXPECT_FALSE(a->near_prefetched());
+  same(a->read_near(set, inner_box()), b->read_near(set, inner_box()));
+
+  // Asked for one advance only.
+  a->prefetch_near(inner_box());
+  a->advance(3, dt);
+  a->advance(3, dt);
+  b->advance(6, dt);
+  EXPECT_FALSE(a->near_prefetched());
+  same(a->read_near(set, inner_box()), b->read_near(set, inner_box()));
 }
 
 }  // namespace
