@@ -100,6 +100,45 @@ TEST(EdgeResistance, AtThresholdZeroTheStiffnessChangesNothing) {
   EXPECT_EQ(stiff.u, none.u);
 }
 
+// A blade whose force never reaches its threshold (100 N) still severs the pairs its edge
+// carries past its reach (edge_passes): it is not a hook that drags a strand of tissue behind
+// it. Across the whole beam (the edge 3 mm past its far side, 1 mm short of the path's end),
+// every pair whose rest segment crosses the blade's plane is severed, and no other; without
+// the rule nothing was.
+TEST(EdgeResistance, APairCarriedPastTheReachIsSeveredWhateverTheForce) {
+  Scene scene = test::clamped_beam(5e4, 5);
+  scene.simulation.gravity = Vec3::Zero();
+  const double x_cut = 0.021, threshold = 100.0;
+  scene.tools.push_back(test::crossing_scalpel(x_cut, -0.003, 0.016, 0.0, 0.016, threshold));
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
+  double largest = 0;
+  for (int k = 0; k < 150; ++k) {
+    run.run(1);
+    largest = std::max(largest, edge_force(solver.tool_samples().back().force, Vec3::UnitY()));
+  }
+  std::printf("[ resist   ] largest cutting force %.3g N, %zu pairs severed\n", largest,
+              solver.severed_count());
+  EXPECT_LT(largest, threshold);
+  size_t across = 0;
+  std::vector<bool> severed(solver.pair_weights().size(), false);
+  const NeighbourLists& nbr = solver.neighbours();
+  for (const SeveredPair& p : solver.severed_log()) {
+    EXPECT_LT((set.rest[p.i].x() - x_cut) * (set.rest[p.j].x() - x_cut), 0) << p.i << " " << p.j;
+    severed[nbr.slot(p.i, p.j)] = true;
+  }
+  for (uint32_t i = 0; i < set.size(); ++i)
+    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
+      const uint32_t j = nbr.index[k];
+      if (j < i || (set.rest[i].x() - x_cut) * (set.rest[j].x() - x_cut) > 0) continue;
+      ++across;
+      EXPECT_TRUE(severed[k]) << i << " " << j;
+    }
+  EXPECT_GT(across, 100u);
+  EXPECT_EQ(solver.severed_count(), across);
+}
+
 // The law: pairs crossing the blade's plane behind its front, each pushed with k a_ij delta,
 // add up to k L D^2 / 2 for a band of depth D along a blade of length L inside the tissue,
 // whatever the spacing (a_ij: the pair's share of the plane's area). Averaged over four
