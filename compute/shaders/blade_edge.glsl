@@ -32,12 +32,14 @@ EdgeFrame edge_frame(CutQuad c) {
   return f;
 }
 
-// Whether the edge holds the pair p -> q (canonical order): t its crossing's fraction, behind
-// how far behind the body's front it lies (m), against the motion there (direction +-1).
-bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float direction) {
+// Where the pair p -> q crosses the blade's plane within its span (edge_crossing of
+// engine/solver/cutting.cpp): t its fraction, behind how far behind the body's front against
+// the motion there (m), moved that motion along the edge; false where it does not cross or the
+// blade does not move there.
+bool edge_crossing(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float moved) {
   t = 0.0;
   behind = 0.0;
-  direction = 0.0;
+  moved = 0.0;
   const vec3 pt = p - f.tip;
   const float dp = dot(f.normal, pt), dq = dot(f.normal, q - f.tip);
   if ((dp >= 0.0) == (dq >= 0.0)) return false;
@@ -45,11 +47,28 @@ bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out 
   const vec3 c = pt + t * (q - p);
   const float along = dot(c, f.axis);
   if (along < 0.0 || along > f.span) return false;
-  const float moved = f.tip_motion + along / f.span * (f.end_motion - f.tip_motion);
+  moved = f.tip_motion + along / f.span * (f.end_motion - f.tip_motion);
   if (moved == 0.0) return false;
+  behind = f.front - (moved > 0.0 ? 1.0 : -1.0) * dot(c, f.edge);
+  return true;
+}
+
+// Whether the edge holds the pair p -> q (canonical order): t its crossing's fraction, behind
+// how far behind the body's front it lies (m), against the motion there (direction +-1).
+bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float direction) {
+  float moved;
+  const bool crosses = edge_crossing(p, q, f, t, behind, moved);
   direction = moved > 0.0 ? 1.0 : -1.0;
-  behind = f.front - direction * dot(c, f.edge);
-  return behind > 0.0 && behind <= f.depth;
+  return crosses && behind > 0.0 && behind <= f.depth;
+}
+
+// Whether the edge carries the pair p -> q (canonical order) past its reach in this substep
+// (edge_passes of cutting.cpp): more than depth, at most depth plus the motion there, behind.
+bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {
+  float behind;
+  float moved;
+  return edge_crossing(p, q, f, t, behind, moved) && behind > f.depth &&
+         behind <= f.depth + abs(moved);
 }
 
 #endif

@@ -290,7 +290,8 @@ PHYXEL_ASSERT_SIZE(CutQuad, 112);
 // tool_sever: SeverGroups.lanes invocations per candidate, after tool_contact_reduce: for every
 // tool whose sample of this substep presses its edge with at least its threshold, each
 // candidate's invocations test its live pairs (every lanes-th each; canonical order, lower index
-// first) against the tool's quad, a pair going to the first tool that crosses it. The pair's
+// first) against the tool's quad, a pair going to the first tool that crosses it (and, whatever
+// the force, against a blade with a threshold whose edge carries them past its reach). The pair's
 // slot in the lower index's row is claimed by an atomic exchange (so each pair is severed and
 // logged once); the winner zeroes both slots, logs (i, j, t) and puts both phyxels in the dirty
 // list (once each, by kFlagCutDirty). The workgroup that finishes last (Done counts them) runs

@@ -3,7 +3,8 @@
 // per candidate, each taking every lanes-th of its live pairs, test each pair against the quad
 // each cutting blade swept, in the canonical order (lower index first) with the tie rule of
 // engine/solver/cutting.cpp (an endpoint on the plane is on the positive side; a segment through
-// an edge crosses, except through the front), and the pairs its edge holds (blade_edge.glsl).
+// an edge crosses, except through the front), and the pairs its edge holds (blade_edge.glsl);
+// whatever the force, the pairs a blade's edge carries past its reach (edge_passes).
 // A pair goes to the first tool that crosses it (the CPU's tool by tool: a later tool finds it
 // severed); no pair's test reads another's outcome, so the same pairs are severed with the same
 // t in any order. A pair is tested against a blade only where its segment meets the ball around
@@ -92,12 +93,17 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
 
 #include "blade_edge.glsl"
 
-// The quad, the body's strip, or a pair the edge holds (tool_resist).
-bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
-  if (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t)) return true;
+// Where the blade cuts in this substep: the quad, the body's strip, or a pair the edge holds
+// (tool_resist); whatever its force: a pair its edge carries past its reach (edge_passes).
+bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
+  t = 0.0;
+  if (cuts && (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t))) return true;
+  if (!(c.resist.x > 0.0)) return false;
+  const EdgeFrame f = edge_frame(c);
   float behind;
   float direction;
-  return c.resist.x > 0.0 && edge_holds(p, q, edge_frame(c), t, behind, direction);
+  if (cuts && edge_holds(p, q, f, t, behind, direction)) return true;
+  return edge_passes(p, q, f, t);
 }
 
 #include "pair_edit.glsl"
@@ -113,19 +119,22 @@ bool tool_cuts(CutQuad quad, uint tool) {
 }
 
 // Per tool of the first kSeverBallTools, a ball holding everything its blade can sever this
-// substep (the swept quad, the body's strip, the region the edge holds: each the convex hull of
-// corners in it), widened for float round-off: centre, radius squared; w < 0 where the blade does
-// not cut. A pair whose segment misses the ball is left untested (it cannot cross), so the same
-// pairs are severed as when testing all of them.
+// substep (the swept quad, the body's strip, the region the edge holds or carries past its
+// reach: each the convex hull of corners in it), widened for float round-off: centre, radius
+// squared; w < 0 where the blade severs nothing. A pair whose segment misses the ball is left
+// untested (it cannot cross), so the same pairs are severed as when testing all of them.
+// blade_cutting: whether its force reached the threshold (else only edge_passes severs).
 const uint kSeverBallTools = 8u;
 shared vec4 blade_ball[kSeverBallTools];
+shared bool blade_cutting[kSeverBallTools];
 
 void hold_in_ball(inout float r2, vec3 centre, vec3 x) {
   r2 = max(r2, dot(x - centre, x - centre));
 }
 
-// The corners of the region the edge holds: tip + along axis + across edge, along in [0, span],
-// |across . edge| <= front + depth (edge_holds' bounds), in the axis-edge plane.
+// The corners of the region the edge holds or carries past its reach: tip + along axis + across
+// edge, along in [0, span], |across . edge| <= front + depth + the faster end's motion
+// (edge_holds' and edge_passes' bounds), in the axis-edge plane.
 void hold_edge_region(inout float r2, vec3 centre, CutQuad c) {
   const EdgeFrame f = edge_frame(c);
   const float g = dot(f.axis, f.edge), det = 1.0 - g * g;
@@ -133,7 +142,8 @@ void hold_edge_region(inout float r2, vec3 centre, CutQuad c) {
     r2 = 1e30;  // axis along the edge: no ball
     return;
   }
-  const float across = abs(f.front) + abs(f.depth);
+  const float across =
+      abs(f.front) + abs(f.depth) + max(abs(f.tip_motion), abs(f.end_motion));
   for (uint corner = 0u; corner < 4u; ++corner) {
     const float along = (corner & 1u) != 0u ? f.span : 0.0;
     const float side = (corner & 2u) != 0u ? across : -across;
@@ -143,9 +153,14 @@ void hold_edge_region(inout float r2, vec3 centre, CutQuad c) {
   }
 }
 
-vec4 blade_ball_of(uint tool) {
+// Whether the blade may sever anything this substep: it cuts, or its edge holds pairs.
+bool tool_severs(CutQuad c, bool cuts) {
+  return cuts || (c.edge.w >= 0.0 && c.resist.x > 0.0);
+}
+
+vec4 blade_ball_of(uint tool, bool cuts) {
   const CutQuad c = quads[p.row * p.tools + tool];
-  if (!tool_cuts(c, tool)) return vec4(0.0, 0.0, 0.0, -1.0);
+  if (!tool_severs(c, cuts)) return vec4(0.0, 0.0, 0.0, -1.0);
   const vec3 centre = 0.25 * (c.p0.xyz + c.p1.xyz + c.p2.xyz + c.p3.xyz);
   float r2 = 0.0;
   hold_in_ball(r2, centre, c.p0.xyz);
@@ -175,22 +190,33 @@ bool segment_meets_ball(vec3 a, vec3 b, vec4 s) {
 }
 
 // Whether the tool's blade may sever the pair xi -> xj this substep (tools past
-// kSeverBallTools: whether it cuts at all).
+// kSeverBallTools: whether it severs at all).
 bool blade_may_sever(uint tool, CutQuad quad, vec3 xi, vec3 xj) {
-  if (tool >= kSeverBallTools) return tool_cuts(quad, tool);
+  if (tool >= kSeverBallTools) return tool_severs(quad, tool_cuts(quad, tool));
   const vec4 ball = blade_ball[tool];
   return ball.w >= 0.0 && segment_meets_ball(xi, xj, ball);
 }
 
-// Fills blade_ball (every invocation calls it); whether any blade cuts this substep.
-bool any_tool_cuts() {
+bool blade_cuts(uint tool, CutQuad quad) {
+  return tool < kSeverBallTools ? blade_cutting[tool] : tool_cuts(quad, tool);
+}
+
+// Fills blade_ball and blade_cutting (every invocation calls it); whether any blade may sever
+// this substep.
+bool any_tool_severs() {
   const uint t = gl_LocalInvocationIndex;
-  if (t < min(p.tools, kSeverBallTools)) blade_ball[t] = blade_ball_of(t);
+  if (t < min(p.tools, kSeverBallTools)) {
+    const bool cuts = tool_cuts(quads[p.row * p.tools + t], t);
+    blade_cutting[t] = cuts;
+    blade_ball[t] = blade_ball_of(t, cuts);
+  }
   barrier();
-  for (uint tool = 0u; tool < p.tools; ++tool)
+  for (uint tool = 0u; tool < p.tools; ++tool) {
+    const CutQuad quad = quads[p.row * p.tools + tool];
     if (tool < kSeverBallTools ? blade_ball[tool].w >= 0.0
-                               : tool_cuts(quads[p.row * p.tools + tool], tool))
+                               : tool_severs(quad, tool_cuts(quad, tool)))
       return true;
+  }
   return false;
 }
 
@@ -204,8 +230,10 @@ void sever_pair(uint i, vec3 xi, uint k) {
   for (uint tool = 0u; tool < p.tools; ++tool) {
     const CutQuad quad = quads[p.row * p.tools + tool];
     if (!blade_may_sever(tool, quad, xi, xj)) continue;
+    const bool cuts = blade_cuts(tool, quad);
     float t;
-    const bool crosses = i < j ? crosses_blade(xi, xj, quad, t) : crosses_blade(xj, xi, quad, t);
+    const bool crosses =
+        i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
     if (!crosses) continue;
     const uint lo = min(i, j), hi = max(i, j);
     const uint lo_slot = i < j ? k : find_slot(j, i);
@@ -222,7 +250,7 @@ void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const uint lanes = sever.lanes;
   const uint slot = invocation / lanes;
-  if (any_tool_cuts() && slot < count.total) {
+  if (any_tool_severs() && slot < count.total) {
     const uint i = list[slot];
     const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
     const uint end = offset[i + 1u];

@@ -1,6 +1,7 @@
 // CpuSolver: cutting (engine/solver/cutting.h; the GPU twin is compute/shaders/tool_sever.comp).
 // After the contacts of a step, each blade whose edge force reached its threshold tests the
-// rows of the broad phase's candidates against the quad it swept in the step; a crossing pair
+// rows of the broad phase's candidates against the quad it swept in the step (and a blade with
+// a threshold, whatever its force, against the pairs its edge carries past its reach); a pair
 // gets weight 0 on both sides, and the precompute reruns for the phyxels whose rows changed.
 #include <algorithm>
 #include <array>
@@ -52,16 +53,22 @@ void CpuSolver<Real>::apply_cuts() {
     const double reach = blade_reach(blade, contact_spacing_);
     const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
     const Vec3 felt = samples_[samples_.size() - nt + tool].force;
-    if (cut_force(felt, quad) < blade.threshold) continue;
-    const std::array<Vec3, 4>& c = quad.corner;
+    const bool cuts = cut_force(felt, quad) >= blade.threshold;
     const double body = blade_body_radius(tools_[tool]);
-    const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
+    // Below the threshold a blade whose edge holds pairs still severs those it carries past
+    // its reach (edge_passes); threshold 0 always cuts and holds nothing.
+    const bool passes = edge.stiffness > 0;
+    if (!cuts && !passes) continue;
+    const std::array<Vec3, 4>& c = quad.corner;
+    const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
       double behind = 0, direction = 0;
-      return blade_severs<double>(p, q, c, t) ||
-             (body > 0 && blade_severs<double>(p, q, strip, t)) ||
-             (edge.stiffness > 0 && edge_holds(p, q, edge, t, &behind, &direction));
+      if (cuts &&
+          (blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t)) ||
+           (passes && edge_holds(p, q, edge, t, &behind, &direction))))
+        return true;
+      return passes && edge_passes(p, q, edge, t);
     };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
@@ -78,8 +85,9 @@ void CpuSolver<Real>::apply_cuts() {
         touched.push_back(j);
       }
     }
-    // The band looks across the surface the blade cut (the quad; its body's strip lies in it).
-    if (band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
+    // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
+    // not at pairs only carried past the reach.
+    if (cuts && band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
   }
   if (severed_.size() != first) precompute_touched(touched);
 }

@@ -67,8 +67,17 @@ EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to
   return f;
 }
 
-bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
-                double* direction) {
+namespace {
+
+// Where the pair p -> q crosses the blade's plane within its length (edge_holds, edge_passes):
+// its fraction t, how far behind the body's front against the blade's motion there, and that
+// motion (m along the edge; linear from the tip's to the end's). False where the segment does
+// not cross, or the blade does not move there.
+struct EdgeCrossing {
+  double t = 0, behind = 0, moved = 0;
+};
+
+bool edge_crossing(const Vec3& p, const Vec3& q, const EdgeFrame& f, EdgeCrossing* x) {
   const Vec3 pt = p - f.tip;
   const double dp = f.normal.dot(pt), dq = f.normal.dot(q - f.tip);
   if ((dp >= 0) == (dq >= 0)) return false;  // the tie rule of segment_crosses_triangle
@@ -76,15 +85,32 @@ bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, dou
   const Vec3 c = pt + at * (q - p);
   const double along = c.dot(f.axis);
   if (along < 0 || along > f.length) return false;
-  // The blade's motion along the edge there (linear from the tip's to the end's).
   const double moved = f.tip_motion + along / f.length * (f.end_motion - f.tip_motion);
   if (moved == 0) return false;
-  const double sign = moved > 0 ? 1.0 : -1.0;
-  const double behind = f.front - sign * c.dot(f.edge);
-  if (!(behind > 0 && behind <= f.depth)) return false;
-  *t = at;
-  *delta = behind;
-  *direction = sign;
+  x->t = at;
+  x->behind = f.front - (moved > 0 ? 1.0 : -1.0) * c.dot(f.edge);
+  x->moved = moved;
+  return true;
+}
+
+}  // namespace
+
+bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
+                double* direction) {
+  EdgeCrossing x;
+  if (!edge_crossing(p, q, f, &x) || !(x.behind > 0 && x.behind <= f.depth)) return false;
+  *t = x.t;
+  *delta = x.behind;
+  *direction = x.moved > 0 ? 1.0 : -1.0;
+  return true;
+}
+
+bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
+  EdgeCrossing x;
+  if (!edge_crossing(p, q, f, &x) ||
+      !(x.behind > f.depth && x.behind <= f.depth + std::abs(x.moved)))
+    return false;
+  *t = x.t;
   return true;
 }
 

@@ -98,7 +98,8 @@ double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3
 // its motion with stiffness * a_ij * delta
 // (split (1 - t) on i, t on j), a_ij its share of the plane's area (pair_area_share). The tool
 // feels the sum back; once its cutting force reaches the threshold, the held pairs are severed
-// with those the blade swept.
+// with those the blade swept. A pair carried past depth is severed whatever the force
+// (edge_passes).
 struct EdgeFrame {
   Vec3 tip = Vec3::Zero();
   Vec3 axis = Vec3::UnitZ();
@@ -119,6 +120,13 @@ EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to
 // backwards beyond it: "behind" is against each point's own motion).
 bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
                 double* direction);
+
+// Whether the edge carries the pair p -> q (canonical order) past its reach in this substep: it
+// crosses the blade's plane as for edge_holds, more than depth and at most depth plus the
+// blade's motion there behind the front (held at the substep's start, let go at its end). Such a
+// pair is severed whatever the cutting force (docs/cutting.md, "The edge's resistance"): the
+// edge is not a hook that drags a strand along. t: where it crosses the blade's plane.
+bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t);
 
 // The edge's push on one phyxel, bounded by the blade's threshold (docs/cutting.md, "The edge's
 // resistance"): pairs that alone would push a phyxel harder than the whole blade's threshold
