@@ -101,6 +101,10 @@ struct GpuSolverOptions {
   // its closed jaws inside tool_contact's dispatch, the same bits as its own pass after it.
   // Tests turn it off to compare.
   bool grasp_in_contact = true;
+  // Where a blade resists (a threshold): tool_resist's last workgroup sums the samples and
+  // empties the dirty list, in place of tool_contact_reduce's dispatch and the list's fill, the
+  // same bits. Tests turn it off to compare.
+  bool resist_reduce = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -400,6 +404,8 @@ class GpuSolver final : public SolverWithAllFacets {
   // test that follow it in the substep (without a sever between for the tear) need no reset of
   // their own.
   bool contact_fused() const { return contact_active_ && !resisting_; }
+  // tool_resist sums the samples (and empties the dirty list) after tool_contact, which does not.
+  bool resist_fused() const { return contact_active_ && resisting_ && options_.resist_reduce; }
   // This advance's contact after substep 0 is in solver_force_tear (begin_contact decides).
   bool contact_in_force_ = false;
 

@@ -10,7 +10,8 @@
 // cleared. After every drift of every substep (record_steps): tool_contact over the candidates
 // (dispatched indirectly, at least one workgroup), whose last workgroup sums the samples (a
 // Readback buffer, read once after the advance with the candidate count) and empties the
-// dirty list; where a blade resists, tool_resist, then tool_contact_reduce does the sum instead.
+// dirty list; where a blade resists, tool_resist after it, whose last workgroup sums them instead
+// (tool_contact_reduce after it with GpuSolverOptions::resist_reduce off).
 // With contact_in_force_ (tearing, no blade or grasper) the contact of substeps 1 on is
 // solver_force_tear's, per candidate into contact_rows_, which record_contact_rows sums after
 // the advance's last force pass (tool_contact_reduce over rows: every 64 candidates' partial of
@@ -334,11 +335,13 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                      {"Slot", candidate_slot_}},
                     contact_count_, offsetof(ContactCount, groups_x));
   part_end(rec);
-  if (!fused) {  // tool_resist adds to the partials: tool_contact_reduce sums them after it
+  if (!fused) {  // tool_resist adds to the partials and sums them, or tool_contact_reduce after it
     rec.barrier();
     part_begin(rec, "contact: resist");
     record_resist(rec, step, dt, disp);
     part_end(rec);
+  }
+  if (!fused && !resist_fused()) {
     rec.barrier();
     part_begin(rec, "contact: reduce");
     dispatch(rec, kernels_->contact_reduce,

@@ -98,8 +98,8 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
 
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
-  rec.barrier();           // the samples of this substep
-  if (!contact_fused()) {  // else tool_contact emptied the list
+  rec.barrier();                              // the samples of this substep
+  if (!contact_fused() && !resist_fused()) {  // else tool_contact or tool_resist emptied it
     part_begin(rec, "cut: reset");
     record_dirty_reset(rec);
     part_end(rec);
@@ -133,7 +133,19 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
 
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
-  const ResistPush push{contact_origin_, dt, uint32_t(tools_.size()), row, partial_capacity()};
+  // Summing the samples itself (resist_fused), and emptying the dirty list as tool_contact would.
+  const uint32_t fuse = !resist_fused() ? 0u
+                        : cut_dirty_    ? kContactFuseReduce | kContactFuseDirtyReset
+                                        : kContactFuseReduce;
+  const ResistPush push{contact_origin_,
+                        dt,
+                        uint32_t(tools_.size()),
+                        row,
+                        partial_capacity(),
+                        uint32_t(step),
+                        fuse,
+                        0u,
+                        0u};
   dispatch_indirect(rec, kernels_->resist, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
@@ -148,7 +160,10 @@ void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffe
                      {"Force", candidate_force_},
                      {"Count", contact_count_},
                      {"IndexHi", nbr_index_.hi()},
-                     {"WeightHi", weight_.hi()}},
+                     {"WeightHi", weight_.hi()},
+                     {"Samples", samples_buffer_},
+                     {"Done", contact_done_},
+                     {"Dirty", cut_dirty_ ? cut_dirty_ : contact_done_}},  // unwritten without
                     contact_count_, offsetof(ContactCount, groups_x));
 }
 

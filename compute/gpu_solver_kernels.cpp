@@ -74,7 +74,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 19, sizeof(SeverPush));
-  resist = make(PHYXEL_SHADER(tool_resist), 14, sizeof(ResistPush));
+  resist = make(PHYXEL_SHADER(tool_resist), 17, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }
 

@@ -337,15 +337,21 @@ PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups done (solver_force_tear
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
 // removed sums the forces of the pairs each blade's edge holds (canonical order, its share),
 // adds dt / m times them to its velocity, and each workgroup adds its candidates' sums per tool
-// to tool_contact's partial force[tool * capacity + group].
+// to tool_contact's partial force[tool * capacity + group]. With fuse kContactFuseReduce the
+// workgroup that finishes last writes the samples as tool_contact_reduce does (and with
+// kContactFuseDirtyReset empties the dirty list), in place of that dispatch.
 struct ResistPush {
   vec4 origin;  // the motion table's frame (ContactPush.origin)
   float dt;     // s
   uint tools;
   uint row;       // row of the cut table (SeverPush.row)
   uint capacity;  // stride of the partial force buffer (ContactPush.capacity)
+  uint substep;   // of the advance: the row of the samples (kContactFuseReduce)
+  uint fuse;      // kContactFuse* bits (kContactFuseReduce, kContactFuseDirtyReset)
+  uint pad0;
+  uint pad1;
 };
-PHYXEL_ASSERT_SIZE(ResistPush, 32);
+PHYXEL_ASSERT_SIZE(ResistPush, 48);
 PHYXEL_CONST uint kResistBindingList = 0;  // candidates
 PHYXEL_CONST uint kResistBindingRest = 1;
 PHYXEL_CONST uint kResistBindingDisp = 2;
@@ -360,6 +366,9 @@ PHYXEL_CONST uint kResistBindingForce = 10;  // tool_contact's partials
 PHYXEL_CONST uint kResistBindingCount = 11;  // ContactCount
 PHYXEL_CONST uint kResistBindingIndexHi = 12;
 PHYXEL_CONST uint kResistBindingWeightHi = 13;
+PHYXEL_CONST uint kResistBindingSamples = 14;  // written with kContactFuseReduce
+PHYXEL_CONST uint kResistBindingDone = 15;     // workgroups done (tool_contact's); 0 between
+PHYXEL_CONST uint kResistBindingDirty = 16;    // the dirty list (kContactFuseDirtyReset)
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

@@ -4,8 +4,9 @@
 // order, its share (1 - t) or t), a_ij = (V_i + V_j) / (S_i + S_j) (pair_area_share), bounds
 // the sum by the threshold (bounded_edge_push), adds
 // dt / m times them to its velocity, and each workgroup adds its sums to tool_contact's partials
-// (tool_contact_reduce turns them into the force on the tool). Reads positions, writes only its
-// own velocity: no atomics.
+// (tool_contact_reduce turns them into the force on the tool; with kContactFuseReduce this
+// dispatch's last workgroup does, in the same order: the same bits, one dispatch and barrier
+// less per substep). Reads positions, writes only its own velocity: no atomics.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -27,8 +28,14 @@ layout(std430, binding = kResistBindingOffset) readonly buffer Offset { uint off
 #define PHYXEL_PAIR_ACCESS 0
 #include "pair_buffers.glsl"
 layout(std430, binding = kResistBindingQuads) readonly buffer Quads { CutQuad quads[]; };
-layout(std430, binding = kResistBindingForce) buffer Force { vec4 contact_force[]; };
+layout(std430, binding = kResistBindingForce) coherent buffer Force { vec4 contact_force[]; };
 layout(std430, binding = kResistBindingCount) readonly buffer Count { ContactCount count; };
+layout(std430, binding = kResistBindingSamples) writeonly buffer Samples { vec4 samples[]; };
+layout(std430, binding = kResistBindingDone) coherent buffer Done { uint done; };
+layout(std430, binding = kResistBindingDirty) writeonly buffer Dirty { uint dirty[]; };
+
+#include "last_workgroup.glsl"
+#include "tool_contact_sum.glsl"
 
 #include "blade_edge.glsl"
 
@@ -102,4 +109,9 @@ void main() {
     barrier();
   }
   if (moved) vel[i] = vec4(v, 0.0);
+  // kContactFuseReduce: after every workgroup added its sums, the last one writes the samples.
+  if ((p.fuse & kContactFuseReduce) == 0u || !finished_last()) return;
+  for (uint t = 0u; t < p.tools; ++t)
+    write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
+  if (lane == 0u && (p.fuse & kContactFuseDirtyReset) != 0u) dirty[0] = 0u;  // nothing severed
 }

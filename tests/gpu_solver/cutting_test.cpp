@@ -3,7 +3,8 @@
 // given chunk by chunk as the run loop does; two blades severing the same pairs in the same
 // substeps give each pair once, to the CPU's tool; two GPU runs give the same bits; a cut along
 // a lattice plane and a second crossing cut leave every value finite; blades past the first 8
-// (no ball around them) sever as the CPU.
+// (no ball around them) sever as the CPU; tool_resist summing its own samples gives the bits
+// of tool_contact_reduce after it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -314,6 +315,57 @@ TEST_F(GpuSolverTest, CutsAlongALatticePlaneAndAcrossEachOtherStayFinite) {
   EXPECT_GT(g.severed.size(), 0u);
   EXPECT_EQ(gpu.first_non_finite(), -1);
   EXPECT_TRUE(std::isfinite(gpu.energies().total()));
+}
+
+// tool_resist summing the samples itself (GpuSolverOptions::resist_reduce) against
+// tool_contact_reduce after it: the same bits, while a threshold blade cuts the beam and a
+// grasper holds and pulls its free end (its hold after the edge's resistance, in its own pass).
+TEST_F(GpuSolverTest, ResistSummingItsOwnSamplesGivesTheBitsOfTheReducePass) {
+  Scene scene = clamped_beam(5e4, 5);
+  scene.simulation.gravity = Vec3::Zero();
+  scene.tools.push_back(crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016, 100.0));
+  ToolDesc jaws;
+  jaws.name = "jaws";
+  jaws.type = ToolDesc::Type::Grasper;
+  jaws.shape.radius = 0.0005;
+  jaws.grasp.reach = 0.003;
+  jaws.grasp.from = 0.0002;
+  jaws.path = {{0.0, Vec3(0.039, 0.005, 0.005), Vec3::UnitZ()},
+               {0.003, Vec3(0.039, 0.005, 0.005), Vec3::UnitZ()},
+               {0.0096, Vec3(0.040, 0.005, 0.005), Vec3::UnitZ()}};
+  scene.tools.push_back(jaws);
+  const PhyxelSet set = sample_scene(scene);
+  double peak = 0;  // the blade's largest force below the threshold, as the parity test's
+  {
+    GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+    for (const ToolContactSample& s : run(gpu, scene, 96).samples)
+      peak = std::max(peak, s.force.norm());
+  }
+  scene.tools[0].blade.threshold = 0.05 * peak;
+  GpuSolverOptions own;
+  own.resist_reduce = false;
+  GpuSolver fused(ctx(), set, scene.simulation.gravity);
+  GpuSolver separate(ctx(), set, scene.simulation.gravity, own);
+  const CutRun f = run(fused, scene, 96);
+  const CutRun s = run(separate, scene, 96);
+  EXPECT_GT(f.severed.size(), 20u);
+  EXPECT_GT(fused.held_phyxels(1).size(), 4u);
+  EXPECT_EQ(fused.held_phyxels(1), separate.held_phyxels(1));
+  EXPECT_EQ(pair_set(f.severed), pair_set(s.severed));
+  EXPECT_EQ(f.alive, s.alive);
+  ASSERT_EQ(f.u.size(), s.u.size());
+  for (size_t i = 0; i < f.u.size(); ++i) ASSERT_EQ(f.u[i], s.u[i]) << i;
+  ASSERT_EQ(f.samples.size(), s.samples.size());
+  double largest = 0;
+  for (size_t k = 0; k < f.samples.size(); ++k) {
+    EXPECT_EQ(f.samples[k].force, s.samples[k].force) << k;
+    EXPECT_EQ(f.samples[k].contacts, s.samples[k].contacts) << k;
+    EXPECT_EQ(f.samples[k].held, s.samples[k].held) << k;
+    largest = std::max(largest, f.samples[k].force.norm());
+  }
+  EXPECT_GT(largest, 0.01);
+  std::printf("[ resist   ] %zu pairs severed, %zu held, force up to %.4g N: the same bits\n",
+              f.severed.size(), fused.held_phyxels(1).size(), largest);
 }
 
 }  // namespace
