@@ -12,12 +12,9 @@
 // barrier less per substep. With p.grasp a tool, that grasper's hold too (layout_surgery.h
 // ContactPush; tool_grasp.glsl): a candidate's hold follows its contact in its invocation, the
 // held phyxels that are no candidate are held by every invocation in turn (no two invocations
-// touch one phyxel), and the last workgroup subtracts the grip's force from the sample. The
-// pass is bound by its chain of dependent loads, not by its bytes: the hold's and the list's
-// loads are issued before the contact, and the last workgroup loads all its partials at once.
+// touch one phyxel), and the last workgroup subtracts the grip's force from the sample.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_control_flow_attributes : require
 #include "layout.h"
 #include "tool_contact.glsl"
 
@@ -53,151 +50,53 @@ layout(std430, binding = kContactBindingSlot) readonly buffer Slot { uint candid
 #include "last_workgroup.glsl"
 #include "tool_grasp.glsl"
 
-// Up to this many tools' partials are loaded in one loop by fused_reduce (the same sums in the
-// same order: one round trip to memory instead of one per tool and one for the grip).
-const uint kReduceTools = 4u;
-
-// The samples of p.tools <= kReduceTools tools and the grip's subtraction, by the last
-// workgroup: write_tool_sample's and grip_reduce's sums, their loads in one loop.
-void reduce_together() {
-  const uint t = gl_LocalInvocationIndex;
-  vec4 sum[kReduceTools];
-  vec2 along[kReduceTools];
-  [[unroll]] for (uint k = 0u; k < kReduceTools; ++k) {
-    sum[k] = vec4(0.0);
-    along[k] = vec2(kNoContactAxial, -kNoContactAxial);
-  }
-  const uint partials = (count.total + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
-  const bool grasp = p.grasp < p.tools;
-  vec4 grip_sum = vec4(0.0);
-  const uint held_total = grasp ? held[p.grasp].total : 0u;
-  const uint region = grasp ? p.grasp * p.grip_capacity : 0u;
-  const uint rounds = max(partials, held_total);
-  for (uint k = t; k < rounds; k += PHYXEL_WORKGROUP_SIZE) {
-    [[unroll]] for (uint tool = 0u; tool < kReduceTools; ++tool) {
-      if (tool >= p.tools || k >= partials) continue;
-      sum[tool] += contact_force[tool * p.capacity + k];
-      const vec2 s = contact_force[(p.tools + tool) * p.capacity + k].xy;
-      along[tool] = vec2(min(along[tool].x, s.x), max(along[tool].y, s.y));
-    }
-    if (k < held_total) grip_sum += grip_force[region + k];
-  }
-  [[unroll]] for (uint tool = 0u; tool < kReduceTools; ++tool)
-    if (tool < p.tools) write_sample(sum[tool], along[tool], tool, p.tools, p.substep);
-  if (grasp) grip_reduce_sum(grip_sum, p.grasp, p.tools, p.substep);
-}
-
 // kContactFuseReduce: after every workgroup wrote its partials, the last one writes the samples.
 void fused_reduce() {
   if (!finished_last()) return;
-  if (p.tools <= kReduceTools) {
-    reduce_together();
-  } else {
-    for (uint t = 0u; t < p.tools; ++t)
-      write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
-    // Lane 0 wrote the samples and subtracts the grip's force from them.
-    if (p.grasp < p.tools) grip_reduce(p.grasp, p.tools, p.grip_capacity, p.substep);
-  }
+  for (uint t = 0u; t < p.tools; ++t)
+    write_tool_sample(t, p.tools, p.capacity, p.substep, count.total);
+  // Lane 0 wrote the samples and subtracts the grip's force from them.
+  if (p.grasp < p.tools) grip_reduce(p.grasp, p.tools, p.grip_capacity, p.substep);
   if (gl_LocalInvocationIndex != 0u || (p.fuse & kContactFuseDirtyReset) == 0u) return;
   dirty[0] = 0u;  // the count: nothing severed yet
 }
 
-// Candidate i's grip entry where i is held (~0u otherwise) and its offset, looked up before
-// the contact so that these loads overlap the contact's.
-struct HeldLook {
-  uint e;
-  vec3 offset;
-};
-
-HeldLook look_held(bool candidate, uint i) {
-  HeldLook h = HeldLook(~0u, vec3(0.0));
-  if (!candidate || p.grasp >= p.tools) return h;
+// The grasper's hold of candidate i after its contact (u, v: after it), where i is held.
+// Returns whether it moved i.
+bool hold_candidate(uint i, vec3 x0, float mass, inout vec3 u, inout vec3 v) {
   const uint region = p.grasp * p.grip_capacity;
   const uint e = grip_of[region + i];
-  if (e >= held[p.grasp].total) return h;
-  const GraspEntry g = grip[region + e];
-  if (g.phyxel.x == i) h = HeldLook(e, g.offset.xyz);
-  return h;
-}
-
-// The grasper's hold of candidate i after its contact (u, v: after it), where i is held
-// (look_held). Returns whether it moved i.
-bool hold_candidate(HeldLook h, uint i, vec3 x0, float mass, inout vec3 u, inout vec3 v) {
-  if (h.e == ~0u) return false;  // not held
-  const uint slot = p.grasp * p.grip_capacity + h.e;
+  if (e >= held[p.grasp].total || grip[region + e].phyxel.x != i) return false;  // not held
   if ((flags[i] & kFlagRemoved) != 0u) {  // aspirated: no longer held
-    grip_force[slot] = vec4(0.0);
+    grip_force[region + e] = vec4(0.0);
     return false;
   }
   const ContactMotion m = motion[p.motion * p.tools + p.grasp];
   const vec3 v_now = v;
-  grip_hold_at(m, p.hold != 0u, p.dt, slot, h.offset, x0, mass, v_now, u, v);
+  grip_hold(m, p.hold != 0u, p.dt, region + e, x0, mass, v_now, u, v);
   return true;
 }
 
-// A held phyxel that is no candidate of this pass (hold_others' first entry of each
-// invocation), loaded before the contact: e is ~0u where there is none to hold.
-struct OtherLook {
-  uint e;
-  uint i;
-  vec3 offset;
-  bool removed;
-  vec3 x0;
-  float mass;
-  vec3 v_now;
-};
-
-// Whether grip entry e of the region names a candidate (hold_candidate holds it) and its
-// phyxel i.
-bool entry_is_candidate(uint region, uint e, out uint i) {
-  i = grip[region + e].phyxel.x;
-  const uint s = candidate_slot[i];
-  return s < count.total && list[s] == i;
-}
-
-OtherLook look_other() {
-  OtherLook o = OtherLook(~0u, 0u, vec3(0.0), false, vec3(0.0), 1.0, vec3(0.0));
-  const uint e = PHYXEL_GLOBAL_INDEX;
-  if (p.grasp >= p.tools) return o;
-  const uint region = p.grasp * p.grip_capacity;
-  // The entry read before the held count is known (clamped to the region).
-  const GraspEntry g = grip[region + min(e, p.grip_capacity - 1u)];
-  if (e >= held[p.grasp].total) return o;
-  const uint i = g.phyxel.x;
-  const uint s = candidate_slot[i];
-  if (s < count.total && list[s] == i) return o;  // hold_candidate's
-  o = OtherLook(e, i, g.offset.xyz, (flags[i] & kFlagRemoved) != 0u, rest[i].xyz - p.origin.xyz,
-                ext[i].w, vel[i].xyz);
-  return o;
-}
-
-// The hold of one held phyxel that is no candidate.
-void hold_other(uint region, uint e, uint i, vec3 offset, bool removed, vec3 x0, float mass,
-                vec3 v_now) {
-  if (removed) {
-    grip_force[region + e] = vec4(0.0);
-    return;
-  }
-  const ContactMotion m = motion[p.motion * p.tools + p.grasp];
-  vec3 u;
-  vec3 v;
-  grip_hold_at(m, p.hold != 0u, p.dt, region + e, offset, x0, mass, v_now, u, v);
-  disp[i] = vec4(u, 0.0);
-  vel[i] = vec4(v, 0.0);
-}
-
 // The hold of the grip's phyxels that are not candidates of this pass, spread over all its
-// invocations: each one's first entry from look_other, the rest (more entries than
-// invocations) read here.
-void hold_others(OtherLook o) {
+// invocations.
+void hold_others() {
   const uint region = p.grasp * p.grip_capacity;
-  if (o.e != ~0u) hold_other(region, o.e, o.i, o.offset, o.removed, o.x0, o.mass, o.v_now);
   const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * PHYXEL_WORKGROUP_SIZE;
-  for (uint e = PHYXEL_GLOBAL_INDEX + stride; e < held[p.grasp].total; e += stride) {
-    uint i;
-    if (entry_is_candidate(region, e, i)) continue;
-    hold_other(region, e, i, grip[region + e].offset.xyz, (flags[i] & kFlagRemoved) != 0u,
-               rest[i].xyz - p.origin.xyz, ext[i].w, vel[i].xyz);
+  const ContactMotion m = motion[p.motion * p.tools + p.grasp];
+  for (uint e = PHYXEL_GLOBAL_INDEX; e < held[p.grasp].total; e += stride) {
+    const uint i = grip[region + e].phyxel.x;
+    const uint s = candidate_slot[i];
+    if (s < count.total && list[s] == i) continue;  // hold_candidate's
+    if ((flags[i] & kFlagRemoved) != 0u) {
+      grip_force[region + e] = vec4(0.0);
+      continue;
+    }
+    vec3 u;
+    vec3 v;
+    grip_hold(m, p.hold != 0u, p.dt, region + e, rest[i].xyz - p.origin.xyz, ext[i].w, vel[i].xyz,
+              u, v);
+    disp[i] = vec4(u, 0.0);
+    vel[i] = vec4(v, 0.0);
   }
 }
 
@@ -206,17 +105,12 @@ void main() {
   const uint group = slot / PHYXEL_WORKGROUP_SIZE;
   const uint lane = gl_LocalInvocationIndex;
   const bool candidate = slot < count.total;  // no early return: barriers below
-  // The list's entry read before the count is known (clamped to the buffer): one round trip to
-  // memory less before the phyxel's own loads.
-  const uint listed = list[min(slot, uint(list.length()) - 1u)];
-  const uint i = candidate ? listed : 0u;
+  const uint i = candidate ? list[slot] : 0u;
   const bool takes = candidate && (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u;
   vec3 u = candidate ? disp[i].xyz : vec3(0.0);
   vec3 v = candidate ? vel[i].xyz : vec3(0.0);
   const float mass = candidate ? ext[i].w : 1.0;
   const vec3 x0 = candidate ? rest[i].xyz - p.origin.xyz : vec3(0.0);
-  const HeldLook held_look = look_held(candidate, i);
-  const OtherLook other = look_other();
   uint touched = 0u;
   bool moved = false;
   const float volume = candidate ? rest[i].w : 0.0;
@@ -235,13 +129,13 @@ void main() {
     barrier();  // the next tool's sums reuse the shared arrays
   }
   if (candidate) {
-    if (p.grasp < p.tools) moved = hold_candidate(held_look, i, x0, mass, u, v) || moved;
+    if (p.grasp < p.tools) moved = hold_candidate(i, x0, mass, u, v) || moved;
     if (moved) {
       disp[i] = vec4(u, 0.0);
       vel[i] = vec4(v, 0.0);
     }
     contact[i] = touched;
   }
-  if (p.grasp < p.tools) hold_others(other);
+  if (p.grasp < p.tools) hold_others();
   if ((p.fuse & kContactFuseReduce) != 0u) fused_reduce();
 }

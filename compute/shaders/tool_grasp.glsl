@@ -11,10 +11,10 @@ shared vec4 grip_partial[PHYXEL_WORKGROUP_SIZE];
 
 // The held phyxel of grip entry `slot` (its rest position x0 relative to the origin, its mass,
 // its velocity v_now) put where the tool carries its offset: u and v out, and its force
-// m dv / dt and 1 into grip_force[slot]. `hold`: the tool rests at the row's end pose. The
-// entry's offset is passed in (tool_contact loads it before its contact; grip_hold reads it).
-void grip_hold_at(ContactMotion m, bool hold, float dt, uint slot, vec3 offset, vec3 x0,
-                  float mass, vec3 v_now, out vec3 u, out vec3 v) {
+// m dv / dt and 1 into grip_force[slot]. `hold`: the tool rests at the row's end pose.
+void grip_hold(ContactMotion m, bool hold, float dt, uint slot, vec3 x0, float mass, vec3 v_now,
+               out vec3 u, out vec3 v) {
+  const vec3 offset = grip[slot].offset.xyz;
   const vec3 to_turn = tool_rotation_offset(kToolFrameAxis, m.to_axis.xyz, offset);
   const vec3 from_turn =
       hold ? to_turn : tool_rotation_offset(kToolFrameAxis, m.from_axis.xyz, offset);
@@ -26,25 +26,14 @@ void grip_hold_at(ContactMotion m, bool hold, float dt, uint slot, vec3 offset, 
   grip_force[slot] = vec4(f, 1.0);
 }
 
-void grip_hold(ContactMotion m, bool hold, float dt, uint slot, vec3 x0, float mass, vec3 v_now,
-               out vec3 u, out vec3 v) {
-  grip_hold_at(m, hold, dt, slot, grip[slot].offset.xyz, x0, mass, v_now, u, v);
-}
-
-// This thread's ordered sum of the grip's forces (entries t, t + workgroup, ...).
-vec4 grip_thread_sum(uint tool, uint capacity) {
+// By a whole workgroup: the tool's grip forces summed in a fixed order (tool_contact_reduce's),
+// subtracted from its sample of the substep, and the held count into the second row's z.
+void grip_reduce(uint tool, uint tools, uint capacity, uint substep) {
+  const uint t = gl_LocalInvocationIndex;
   const uint region = tool * capacity;
   vec4 sum = vec4(0.0);
-  for (uint k = gl_LocalInvocationIndex; k < held[tool].total; k += PHYXEL_WORKGROUP_SIZE)
+  for (uint k = t; k < held[tool].total; k += PHYXEL_WORKGROUP_SIZE)
     sum += grip_force[region + k];
-  return sum;
-}
-
-// By a whole workgroup: the tool's grip forces summed in a fixed order (tool_contact_reduce's),
-// subtracted from its sample of the substep, and the held count into the second row's z;
-// `sum`: each thread's grip_thread_sum (tool_contact loads them with the partials).
-void grip_reduce_sum(vec4 sum, uint tool, uint tools, uint substep) {
-  const uint t = gl_LocalInvocationIndex;
   grip_partial[t] = sum;
   barrier();
   for (uint half_size = PHYXEL_WORKGROUP_SIZE / 2u; half_size > 0u; half_size >>= 1u) {
@@ -56,10 +45,6 @@ void grip_reduce_sum(vec4 sum, uint tool, uint tools, uint substep) {
     samples[row].xyz -= grip_partial[0].xyz;
     samples[row + 1u].z = grip_partial[0].w;
   }
-}
-
-void grip_reduce(uint tool, uint tools, uint capacity, uint substep) {
-  grip_reduce_sum(grip_thread_sum(tool, capacity), tool, tools, substep);
 }
 
 #endif  // PHYXEL_TOOL_GRASP_GLSL
