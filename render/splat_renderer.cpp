@@ -288,7 +288,9 @@ void SplatRenderer::record_frame(gpu::Recorder& deform, gpu::Recorder& rec, cons
   } else {
     rec.fill(m.depth, layout::kDepthClear, 0, eyes * depth_range);
   }
-  rec.fill(m.accum, 0, 0, eyes * accum_range);
+  // Zeroed by the last frame's shading pass, which read it (splat_shade.comp).
+  if (m.accum_dirty) rec.fill(m.accum, 0, 0, m.accum.size());
+  m.accum_dirty = false;
   if (tool_count > 0) {
     rec.copy(m.tool_staging, m.tool_buffer, VkDeviceSize{tool_count} * sizeof(layout::RenderTool));
   }

@@ -154,6 +154,7 @@ void SplatRenderer::Impl::ensure_targets(const FrameSetup& setup) {
   depth =
       gpu::Buffer(ctx, n * stride * sizeof(uint32_t), gpu::MemoryIntent::Device, "render depth");
   accum = gpu::Buffer(ctx, accum_bytes, gpu::MemoryIntent::Device, "render accumulation");
+  accum_dirty = true;
   out_width = setup.frame_width();
   out_height = height;
   const uint64_t out_bytes = uint64_t(out_width) * out_height * 4;

@@ -110,6 +110,9 @@ struct SplatRenderer::Impl {
   // depth and the accumulated attributes; the frame in its layout; its host copy.
   uint32_t eye_width = 0, eye_height = 0, eyes = 0, eye_stride = 0;
   gpu::Buffer depth, accum, frame;
+  // The accumulation buffer needs a fill: new, or not yet zeroed by a shading pass (which
+  // zeroes what it read, splat_shade.comp; the backdrop layer's shading pass too).
+  bool accum_dirty = true;
   std::array<gpu::Buffer, SplatRenderer::kReadbackSlots> readback;  // made on first use
   uint32_t out_width = 0, out_height = 0;
   std::unique_ptr<gpu::Recorder> recorder;

@@ -111,7 +111,11 @@ PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, bindin
 // written by tool_visibility.comp), w of the cut-face discs alone (kAccumCut: the shading
 // pass makes that fraction of the pixel wet), and mirror x w (kAccumMirror: that fraction of
 // the pixel reflects the environment). 2^16 leaves room for sums of 32768 full-weight discs
-// before a 32-bit int overflows.
+// before a 32-bit int overflows. Planar: an eye's range holds kAccumChannels planes of
+// eye_stride ints (channel c of pixel i at c * eye_stride + i), so that neighbouring pixels'
+// atomics of one channel share cache lines and the shading pass reads only w and the tool
+// where nothing was drawn. The shading pass zeroes what it read non-zero: the buffer is
+// clear again for the next frame without a fill (SplatRenderer::Impl::accum_dirty).
 PHYXEL_CONST uint kAccumChannels = 10;
 PHYXEL_CONST uint kAccumCut = 8;
 PHYXEL_CONST uint kAccumMirror = 9;

@@ -28,8 +28,10 @@ vec2 plane_st(EyeSplat s, vec3 dir) {
   return vec2(s.ds.w + dot(s.ds.xyz, d), s.dt.w + dot(s.dt.xyz, d));
 }
 
+// Adds nothing for a zero: the sums are the same without the atomic.
 void add(uint at, float value) {
-  atomicAdd(accum[at], int(round(value * kAccumScale)));
+  const int v = int(round(value * kAccumScale));
+  if (v != 0) atomicAdd(accum[at], v);
 }
 
 void splat_pixel(EyeSplat s, uint x, uint y) {
@@ -66,14 +68,14 @@ void splat_pixel(EyeSplat s, uint x, uint y) {
   }
   // Two-sided: the normal that faces the eye (cut or thin tissue shows its back).
   const vec3 n = dot(s.n, dir) > 0.0 ? -n_splat : n_splat;
-  const uint at = pixel * kAccumChannels;
-  add(at + 0, colour.r * w);
-  add(at + 1, colour.g * w);
-  add(at + 2, colour.b * w);
-  add(at + 3, w);
-  add(at + 4, n.x * w);
-  add(at + 5, n.y * w);
-  add(at + 6, n.z * w);
-  if (s.cut) add(at + kAccumCut, w);
-  if (s.mirror > 0.0) add(at + kAccumMirror, s.mirror * w);
+  const uint plane = uint(accum.length()) / kAccumChannels;  // planar (render_layout.h)
+  add(pixel, colour.r * w);
+  add(pixel + plane, colour.g * w);
+  add(pixel + 2 * plane, colour.b * w);
+  add(pixel + 3 * plane, w);
+  add(pixel + 4 * plane, n.x * w);
+  add(pixel + 5 * plane, n.y * w);
+  add(pixel + 6 * plane, n.z * w);
+  if (s.cut) add(pixel + kAccumCut * plane, w);
+  if (s.mirror > 0.0) add(pixel + kAccumMirror * plane, s.mirror * w);
 }

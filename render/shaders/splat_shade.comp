@@ -20,7 +20,7 @@
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { ShadePush p; };
-layout(std430, binding = kShadeBindingAccum) readonly buffer Accum { int accum[]; };
+layout(std430, binding = kShadeBindingAccum) buffer Accum { int accum[]; };
 layout(std430, binding = kShadeBindingFrame) writeonly buffer Frame { uint frame[]; };
 layout(std430, binding = kShadeBindingDepth) readonly buffer Depth { uint depth[]; };
 layout(std430, binding = kShadeBindingBackdropDepth) readonly buffer BackdropDepth {
@@ -70,10 +70,15 @@ vec3 shade_tool(vec3 n, vec3 view) {
   return min(colour, vec3(1.0));
 }
 
+// Reads the pixel's accumulation (planar, render_layout.h) and zeroes what was not zero: a
+// tool's hit here, every channel where a disc was drawn (w > 0; the others are only added
+// with w). The next frame then finds the buffer clear.
 vec3 shade(uint eye, uint x, uint y) {
-  const uint at = (eye * p.frame.w + y * p.frame.x + x) * kAccumChannels;
-  const float w = float(accum[at + 3]);
-  const uint tool = uint(accum[at + kAccumTool]);
+  const uint plane = p.frame.w;
+  const uint at = eye * kAccumChannels * plane + y * p.frame.x + x;
+  const float w = float(accum[at + 3 * plane]);
+  const uint tool = uint(accum[at + kAccumTool * plane]);
+  if (tool != 0u) accum[at + kAccumTool * plane] = 0;
   const bool has_environment = p.near.z > 0.0;
   if (!(w > 0.0) && (p.frame.z & kShadeBackdropBit) != 0u) {
     // The backdrop layer, unless a tool is nearer (its exact depth won the depth buffer).
@@ -93,18 +98,22 @@ vec3 shade(uint eye, uint x, uint y) {
     return environment_colour(normalize(pixel_ray(unshifted, near, vec2(p.frame.xy), vec2(x, y))));
   }
   if (!(w > 0.0)) return shade_tool(unpack_tool_normal(tool), view);
-  const vec3 albedo = vec3(accum[at], accum[at + 1], accum[at + 2]) / w;
-  const vec3 sum_n = vec3(accum[at + 4], accum[at + 5], accum[at + 6]);
+  const vec3 albedo = vec3(accum[at], accum[at + plane], accum[at + 2 * plane]) / w;
+  const vec3 sum_n = vec3(accum[at + 4 * plane], accum[at + 5 * plane], accum[at + 6 * plane]);
+  const float cut_w = float(accum[at + kAccumCut * plane]);
+  const float mirror_w = float(accum[at + kAccumMirror * plane]);
+  for (uint c = 0; c < kAccumChannels; ++c)
+    if (c != kAccumTool) accum[at + c * plane] = 0;
   const float len = length(sum_n);
   const vec3 n = len > 0.0 ? sum_n / len : view;
   const float key = max(dot(n, kKeyLight), 0.0);
   const float head = max(dot(n, view), 0.0);
-  const float wet = clamp(float(accum[at + kAccumCut]) / w, 0.0, 1.0);
+  const float wet = clamp(cut_w / w, 0.0, 1.0);
   const float r_dot_v = max(dot(reflect(-kKeyLight, n), view), 0.0);
   const float spec = mix(kSpecular * pow(r_dot_v, kShininess),
                          kWetSpecular * pow(r_dot_v, kWetShininess), wet);
   const vec3 lit = albedo * (kAmbient + kKeyDiffuse * key + kHeadDiffuse * head);
-  const float mirror = has_environment ? clamp(float(accum[at + kAccumMirror]) / w, 0.0, 1.0) : 0.0;
+  const float mirror = has_environment ? clamp(mirror_w / w, 0.0, 1.0) : 0.0;
   const vec3 reflected = mirror > 0.0 ? environment_colour(reflect(-view, n)) : vec3(0.0);
   const vec3 colour = mix(lit, reflected, mirror) + spec;
   return min(colour, vec3(1.0));
