@@ -22,8 +22,8 @@ void explain_tools(const Scene& scene, const RunOptions& options, const TimeStep
   if (scalpels > 0)
     add("    cut            %zu scalpel(s): after the contact, on the same candidates (their "
         "margin grown by the support radius), the pairs crossing the blade's swept quad "
-        "severed in substeps whose cutting force reaches the threshold; then the precompute of "
-        "the phyxels they touched only",
+        "severed at the threshold or once the edge carries them past its reach; then the "
+        "precompute of their phyxels",
         scalpels);
   const auto aspirators = std::count_if(scene.tools.begin(), scene.tools.end(),
                                         [](const ToolDesc& t) { return t.suction.sucks(); });
