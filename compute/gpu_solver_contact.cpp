@@ -95,6 +95,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
           Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "contact workgroups done");
   }
   if (cutting_) prepare_cutting();
+  if (cutting_) prepare_blade_sides();
   prepare_grasping();
   if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);

@@ -310,8 +310,11 @@ struct SeverPush {
   uint row;         // row of the cut table
   uint sample_row;  // substep of the advance (its sample is rows 2 (substep tools + tool), +1)
   uint log_capacity;
+  uint pass;     // the substep's count for the side entries (engine cutting.h side_entry)
+  uint phyxels;  // the stride of the side entries [tool][phyxel]
+  uint pad0, pad1;
 };
-PHYXEL_ASSERT_SIZE(SeverPush, 32);
+PHYXEL_ASSERT_SIZE(SeverPush, 48);
 PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
 PHYXEL_CONST uint kSeverBindingRest = 1;
 PHYXEL_CONST uint kSeverBindingDisp = 2;
@@ -330,7 +333,8 @@ PHYXEL_CONST uint kSeverBindingLocal = 14;  // the precompute's (kPrecomputeBind
 PHYXEL_CONST uint kSeverBindingClasses = 15;
 PHYXEL_CONST uint kSeverBindingAinv = 16;
 PHYXEL_CONST uint kSeverBindingResid = 17;
-PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups done (solver_force_tear's too); 0 between
+PHYXEL_CONST uint kSeverBindingDone = 18;   // workgroups done (solver_force_tear's too); 0 between
+PHYXEL_CONST uint kSeverBindingSides = 19;  // uint [tool][phyxel]: side entries (blade_edge.glsl)
 
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
@@ -343,8 +347,11 @@ struct ResistPush {
   uint tools;
   uint row;       // row of the cut table (SeverPush.row)
   uint capacity;  // stride of the partial force buffer (ContactPush.capacity)
+  uint pass;      // SeverPush.pass of this substep
+  uint phyxels;   // SeverPush.phyxels
+  uint pad0, pad1;
 };
-PHYXEL_ASSERT_SIZE(ResistPush, 32);
+PHYXEL_ASSERT_SIZE(ResistPush, 48);
 PHYXEL_CONST uint kResistBindingList = 0;  // candidates
 PHYXEL_CONST uint kResistBindingRest = 1;
 PHYXEL_CONST uint kResistBindingDisp = 2;
@@ -359,6 +366,7 @@ PHYXEL_CONST uint kResistBindingForce = 10;  // tool_contact's partials
 PHYXEL_CONST uint kResistBindingCount = 11;  // ContactCount
 PHYXEL_CONST uint kResistBindingIndexHi = 12;
 PHYXEL_CONST uint kResistBindingWeightHi = 13;
+PHYXEL_CONST uint kResistBindingSides = 14;  // SeverPush's side entries, read
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

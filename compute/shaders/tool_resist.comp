@@ -4,8 +4,9 @@
 // order, its share (1 - t) or t), a_ij = (V_i + V_j) / (S_i + S_j) (pair_area_share), bounds
 // the sum by the threshold (bounded_edge_push), adds
 // dt / m times them to its velocity, and each workgroup adds its sums to tool_contact's partials
-// (tool_contact_reduce turns them into the force on the tool). Reads positions, writes only its
-// own velocity: no atomics.
+// (tool_contact_reduce turns them into the force on the tool). A pair that would cut a phyxel
+// from the side its blade keeps it on is not held (blade_edge.glsl, sides_allow). Reads
+// positions, writes only its own velocity: no atomics.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -29,6 +30,7 @@ layout(std430, binding = kResistBindingOffset) readonly buffer Offset { uint off
 layout(std430, binding = kResistBindingQuads) readonly buffer Quads { CutQuad quads[]; };
 layout(std430, binding = kResistBindingForce) buffer Force { vec4 contact_force[]; };
 layout(std430, binding = kResistBindingCount) readonly buffer Count { ContactCount count; };
+layout(std430, binding = kResistBindingSides) readonly buffer Sides { uint sides[]; };
 
 #include "blade_edge.glsl"
 
@@ -46,8 +48,9 @@ float plane_crossings(uint i, vec3 n) {
   return 0.5 * sum;
 }
 
-vec3 held_pairs_force(uint i, EdgeFrame f) {
+vec3 held_pairs_force(uint i, EdgeFrame f, uint tool) {
   const vec3 xi = position(i);
+  const uint side_i = side_at_start(sides[tool * p.phyxels + i], p.pass);
   vec3 total = vec3(0.0);
   float s_i = -1.0;
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
@@ -58,7 +61,8 @@ vec3 held_pairs_force(uint i, EdgeFrame f) {
     float behind;
     float direction;
     if (!(i < j ? edge_holds(xi, xj, f, t, behind, direction)
-                : edge_holds(xj, xi, f, t, behind, direction)))
+                : edge_holds(xj, xi, f, t, behind, direction)) ||
+        !sides_allow(side_i, side_at_start(sides[tool * p.phyxels + j], p.pass), f.normal, xi, xj))
       continue;
     if (s_i < 0.0) s_i = plane_crossings(i, f.normal);
     const float s_j = plane_crossings(j, f.normal);
@@ -82,7 +86,7 @@ void main() {
     const CutQuad quad = quads[p.row * p.tools + tool];
     vec3 force = vec3(0.0);
     if (takes && quad.edge.w >= 0.0 && quad.resist.x > 0.0) {
-      force = held_pairs_force(i, edge_frame(quad));
+      force = held_pairs_force(i, edge_frame(quad), tool);
       // bounded_edge_push: at most the blade's threshold (quad.edge.w) on one phyxel.
       const float size = length(force);
       if (size > quad.edge.w) force *= quad.edge.w / size;
