@@ -67,6 +67,10 @@ void GpuSolver::collect_band_quads() {
       const phyxel::CutQuad quad = swept_quad(blade, m.from, m.to, reach);
       if (cut_force(samples_[s * nt + t].force, quad) < blade.threshold) continue;
       band_->cells.add_cut(quad.corner, reach);
+      const ToolShape& body = tools_[t].shape;
+      const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
+      const PointStrip point = point_strip(blade, quad, m.from, m.to, radius, reach);
+      if (point.on) band_->cells.add_cut(point.corner, reach);
     }
   }
 }

@@ -80,6 +80,7 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       q.p3 =
           to_vec4(quad.corner[3] - origin, float((m.to.position - quad.corner[3]).dot(quad.edge)));
       q.edge = to_vec4(quad.edge, float(blade.threshold));
+      q.point = to_vec4(point_strip(blade, quad, m.from, m.to, radius, reach).ahead);
     }
   }
   Context& ctx = *ctx_;

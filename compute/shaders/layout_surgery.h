@@ -275,7 +275,9 @@ PHYXEL_CONST uint kGraspBindingGripOf = 13;
 // pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
 // resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
 // radius p0.w): the axis at the end pose (w: the blade's length, m) and (stiffness N/m^3, 0 where
-// nothing is held; depth m; the tip's and the end's motion along the edge, m).
+// nothing is held; depth m; the tip's and the end's motion along the edge, m). point: the
+// stab's strip ahead of the point (engine PointStrip): xyz from the tip to its far side, zero
+// where it is off.
 struct CutQuad {
   vec4 p0;
   vec4 p1;
@@ -284,8 +286,9 @@ struct CutQuad {
   vec4 edge;
   vec4 axis;
   vec4 resist;
+  vec4 point;
 };
-PHYXEL_ASSERT_SIZE(CutQuad, 112);
+PHYXEL_ASSERT_SIZE(CutQuad, 128);
 
 // tool_sever: SeverGroups.lanes invocations per candidate, after tool_contact_reduce: for every
 // tool whose sample of this substep presses its edge with at least its threshold, each

@@ -90,11 +90,25 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
   return severs_quad(p, q, tip - radius * e, end - radius * e, end + radius * e, tip + radius * e, t);
 }
 
+// The stab's strip ahead of the point (CpuSolver's point_strip): the blade's plane from the tip
+// to tip + point.xyz, the body's radius to either side; its far side is the front.
+bool crosses_point(vec3 p, vec3 q, CutQuad c, out float t) {
+  t = 0.0;
+  const float radius = c.p0.w;
+  const vec3 ahead = c.point.xyz;
+  if (radius <= 0.0 || dot(ahead, ahead) == 0.0) return false;
+  const vec3 e = c.edge.xyz;
+  const vec3 tip = c.p3.xyz + c.p3.w * e;
+  return severs_quad(p, q, tip + ahead - radius * e, tip - radius * e, tip + radius * e,
+                     tip + ahead + radius * e, t);
+}
+
 #include "blade_edge.glsl"
 
-// The quad, the body's strip, or a pair the edge holds (tool_resist).
+// The quad, the body's strip, the point's strip, or a pair the edge holds (tool_resist).
 bool crosses_blade(vec3 p, vec3 q, CutQuad c, out float t) {
-  if (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t)) return true;
+  if (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t) || crosses_point(p, q, c, t))
+    return true;
   float behind;
   float direction;
   return c.resist.x > 0.0 && edge_holds(p, q, edge_frame(c), t, behind, direction);
@@ -160,6 +174,9 @@ vec4 blade_ball_of(uint tool) {
       hold_in_ball(
           r2, centre,
           ((corner & 1u) != 0u ? end : tip) + ((corner & 2u) != 0u ? radius : -radius) * e);
+  if (radius > 0.0 && dot(c.point.xyz, c.point.xyz) > 0.0)
+    for (uint corner = 0u; corner < 2u; ++corner)
+      hold_in_ball(r2, centre, tip + c.point.xyz + (corner != 0u ? radius : -radius) * e);
   if (c.resist.x > 0.0) hold_edge_region(r2, centre, c);
   const float r = sqrt(r2) * 1.01 + 1e-5;  // m: far above float round-off at these sizes
   return vec4(centre, r * r);

@@ -57,10 +57,12 @@ void CpuSolver<Real>::apply_cuts() {
     const double body = blade_body_radius(tools_[tool]);
     const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
+    const PointStrip point = point_strip(blade, quad, m.from, m.to, body, reach);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
       double behind = 0, direction = 0;
       return blade_severs<double>(p, q, c, t) ||
              (body > 0 && blade_severs<double>(p, q, strip, t)) ||
+             (point.on && blade_severs<double>(p, q, point.corner, t)) ||
              (edge.stiffness > 0 && edge_holds(p, q, edge, t, &behind, &direction));
     };
     for (const uint32_t i : candidates_) {
@@ -80,6 +82,7 @@ void CpuSolver<Real>::apply_cuts() {
     }
     // The band looks across the surface the blade cut (the quad; its body's strip lies in it).
     if (band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
+    if (band_.on() && !candidates_.empty() && point.on) band_.add_cut(point.corner, reach);
   }
   if (severed_.size() != first) precompute_touched(touched);
 }

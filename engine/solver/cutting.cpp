@@ -51,6 +51,19 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
   return q;
 }
 
+PointStrip point_strip(const Blade& blade, const CutQuad& quad, const ToolPose& from,
+                       const ToolPose& to, double radius, double reach) {
+  PointStrip s;
+  const bool advances = (to.position - from.position).dot(to.axis) < 0;
+  if (!(blade.threshold > 0) || quad.sideways || !advances || !(radius > 0)) return s;
+  s.on = true;
+  s.ahead = -reach * to.axis;
+  const Vec3 side = radius * quad.edge;
+  s.corner = {to.position + s.ahead - side, to.position - side, to.position + side,
+              to.position + s.ahead + side};
+  return s;
+}
+
 EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to, double radius,
                      double depth) {
   EdgeFrame f;

@@ -49,6 +49,19 @@ struct CutQuad {
   double tip_moved = 0, end_moved = 0;  // m: the tip's and the end's motion along the edge
 };
 CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to, double reach);
+// The blade's point in a stab at a threshold (docs/cutting.md, "The point's reach"): the part
+// of the blade's plane ahead of its point, `reach` along -axis (its forward motion) and the
+// body's radius to either side of the axis, at the end pose; corners ordered so that the line
+// p0 -> p3 is its far side (blade_severs' front). Off where the blade moves sideways, does not
+// advance its point, has no body, or has threshold 0 (it cuts in every substep it moves, so its
+// point presses no dent ahead of it).
+struct PointStrip {
+  bool on = false;
+  std::array<Vec3, 4> corner;
+  Vec3 ahead = Vec3::Zero();  // m: from the tip to the strip's far side (-reach axis)
+};
+PointStrip point_strip(const Blade& blade, const CutQuad& quad, const ToolPose& from,
+                       const ToolPose& to, double radius, double reach);
 // How far ahead a blade's quad reaches: its own reach, else the object's spacing.
 double blade_reach(const Blade& blade, double spacing);
 
