@@ -406,6 +406,9 @@ class GpuSolver final : public SolverWithAllFacets {
   bool contact_fused() const { return contact_active_ && !resisting_; }
   // tool_resist sums the samples (and empties the dirty list) after tool_contact, which does not.
   bool resist_fused() const { return contact_active_ && resisting_ && options_.resist_reduce; }
+  // The fuse bits of the pass that sums the samples (tool_contact or tool_resist): the sum, and
+  // the dirty list emptied where there is one; 0 for a pass that does not.
+  uint32_t sample_fuse(bool sums) const;
   // This advance's contact after substep 0 is in solver_force_tear (begin_contact decides).
   bool contact_in_force_ = false;
 

@@ -257,6 +257,11 @@ uint32_t GpuSolver::contact_motion_row(int64_t step) const {
       std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_ - 1));
 }
 
+uint32_t GpuSolver::sample_fuse(bool sums) const {
+  if (!sums) return 0u;
+  return cut_dirty_ ? kContactFuseReduce | kContactFuseDirtyReset : kContactFuseReduce;
+}
+
 uint32_t GpuSolver::contact_hold(int64_t step) const {
   return motion_step_ + uint64_t(step) >= motion_steps_ ? 1u : 0u;
 }
@@ -294,9 +299,7 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
 void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
   const bool fused = contact_fused();
-  const uint32_t fuse = !fused       ? 0u
-                        : cut_dirty_ ? kContactFuseReduce | kContactFuseDirtyReset
-                                     : kContactFuseReduce;
+  const uint32_t fuse = sample_fuse(fused);
   const uint32_t grasp = grasp_in_contact(step);
   const ContactPush push{contact_origin_,
                          static_cast<uint32_t>(step),

@@ -134,9 +134,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
   // Summing the samples itself (resist_fused), and emptying the dirty list as tool_contact would.
-  const uint32_t fuse = !resist_fused() ? 0u
-                        : cut_dirty_    ? kContactFuseReduce | kContactFuseDirtyReset
-                                        : kContactFuseReduce;
+  const uint32_t fuse = sample_fuse(resist_fused());
   const ResistPush push{contact_origin_,
                         dt,
                         uint32_t(tools_.size()),

@@ -58,17 +58,17 @@ void CpuSolver<Real>::apply_cuts() {
     const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
     // Below the threshold a blade whose edge holds pairs still severs those it carries past
     // its reach (edge_passes); threshold 0 always cuts and holds nothing.
-    const bool passes = edge.stiffness > 0;
-    if (!cuts && !passes) continue;
+    const bool resists = edge.stiffness > 0;
+    if (!cuts && !resists) continue;
     const std::array<Vec3, 4>& c = quad.corner;
     const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
       double behind = 0, direction = 0;
       if (cuts &&
           (blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t)) ||
-           (passes && edge_holds(p, q, edge, t, &behind, &direction))))
+           (resists && edge_holds(p, q, edge, t, &behind, &direction))))
         return true;
-      return passes && edge_passes(p, q, edge, t);
+      return resists && edge_passes(p, q, edge, t);
     };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
