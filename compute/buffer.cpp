@@ -179,8 +179,9 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 void Buffer::reset() {
   if (ctx_ == nullptr) return;
   const DeviceFunctions& fn = ctx_->fn();
-  if (buffer_ != VK_NULL_HANDLE) fn.vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
-  if (memory_ != VK_NULL_HANDLE) {
+  const bool in_use = ctx_->abandoned();  // unfinished work may read it: leak it
+  if (buffer_ != VK_NULL_HANDLE && !in_use) fn.vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
+  if (memory_ != VK_NULL_HANDLE && !in_use) {
     // Freeing memory unmaps it.
     fn.vkFreeMemory(ctx_->device(), memory_, nullptr);
     ctx_->track_allocation(-static_cast<int64_t>(allocated_));

@@ -1,5 +1,6 @@
 #include "compute/context.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -125,6 +126,8 @@ Context::Context(const ContextOptions& options)
     set_test_fail_allocation_after(hook_from_env("PHYXEL_TEST_FAIL_ALLOC_AFTER"));
     if (const int64_t n = hook_from_env("PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP"); n >= 0)
       test_lost_at_substep_ = n;
+    if (const int64_t n = hook_from_env("PHYXEL_TEST_FENCE_TIMEOUT_MS"); n >= 0)
+      options_.fence_timeout_ms = static_cast<uint32_t>(std::min<int64_t>(n, UINT32_MAX));
   } catch (...) {
     destroy();
     throw;
@@ -137,6 +140,11 @@ Context::~Context() {
 
 void Context::destroy() {
   if (device_ == VK_NULL_HANDLE) return;
+  if (abandoned()) {  // work may still run on the device: keep it and its instance
+    (void)instance_.release();
+    device_ = VK_NULL_HANDLE;
+    return;
+  }
   if (fn_.vkDeviceWaitIdle != nullptr) fn_.vkDeviceWaitIdle(device_);
   auto destroy_device = reinterpret_cast<PFN_vkDestroyDevice>(
       instance_->fn().vkGetDeviceProcAddr(device_, "vkDestroyDevice"));

@@ -98,6 +98,8 @@ class Context {
   //   PHYXEL_TEST_FAIL_ALLOC_AFTER=N        the first N buffer allocations of this context
   //                                         succeed, every later one fails as
   //                                         VK_ERROR_OUT_OF_DEVICE_MEMORY (Buffer's constructor).
+  //   PHYXEL_TEST_FENCE_TIMEOUT_MS=N        ContextOptions::fence_timeout_ms is N (0: every wait
+  //                                         for unfinished work times out at once).
   //   PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP=N  the GPU solver's submission that would run its N-th
   //                                         substep (counted from 1 over the solver's life) and
   //                                         every submission after it fail as
@@ -114,6 +116,13 @@ class Context {
   }
   // Whether submissions are to fail as VK_ERROR_DEVICE_LOST (the hook). Called by Recorder.
   bool test_device_lost() const { return test_device_lost_; }
+
+  // Work the GPU did not finish in time (Recorder's fence timeout) may still run: from then on
+  // nothing of this context is freed (buffers, pipelines, images, the device), since freeing
+  // what in-flight work reads crashes (lavapipe runs it on threads of this process). The
+  // process is ending with an error; the leak is its cost.
+  void abandon() const { abandoned_.store(true); }
+  bool abandoned() const { return abandoned_.load(); }
 
   // Debug name for RenderDoc and validation messages (VK_EXT_debug_utils; no-op without).
   void set_name(VkObjectType type, uint64_t handle, const std::string& name) const;
@@ -139,6 +148,7 @@ class Context {
   uint64_t test_fail_alloc_after_ = UINT64_MAX;
   int64_t test_lost_at_substep_ = INT64_MAX;
   bool test_device_lost_ = false;
+  mutable std::atomic<bool> abandoned_{false};
 };
 
 // "1.5 MiB", "12.0 GiB".

@@ -11,6 +11,7 @@ constexpr uint32_t kBuffersPerPool = kSetsPerPool * 8;
 }  // namespace
 
 DescriptorPools::~DescriptorPools() {
+  if (ctx_->abandoned()) return;  // unfinished work may read the sets
   for (VkDescriptorPool p : pools_) ctx_->fn().vkDestroyDescriptorPool(ctx_->device(), p, nullptr);
 }
 

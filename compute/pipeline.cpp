@@ -151,14 +151,18 @@ Pipeline& Pipeline::operator=(Pipeline&& other) noexcept {
   return *this;
 }
 
-void Pipeline::reset() {
-  if (ctx_ == nullptr) return;
+void Pipeline::destroy() {
   const DeviceFunctions& fn = ctx_->fn();
   if (pipeline_ != VK_NULL_HANDLE) fn.vkDestroyPipeline(ctx_->device(), pipeline_, nullptr);
   if (layout_ != VK_NULL_HANDLE) fn.vkDestroyPipelineLayout(ctx_->device(), layout_, nullptr);
   if (set_layout_ != VK_NULL_HANDLE) {
     fn.vkDestroyDescriptorSetLayout(ctx_->device(), set_layout_, nullptr);
   }
+}
+
+void Pipeline::reset() {
+  if (ctx_ == nullptr) return;
+  if (!ctx_->abandoned()) destroy();  // else unfinished work may still run it: leak it
   pipeline_ = VK_NULL_HANDLE;
   layout_ = VK_NULL_HANDLE;
   set_layout_ = VK_NULL_HANDLE;

@@ -68,6 +68,8 @@ class Pipeline {
   const std::vector<SpirvBinding>& shader_bindings() const { return shader_bindings_; }
 
  private:
+  void destroy();  // the Vulkan objects (reset() forgets them)
+
   Context* ctx_ = nullptr;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

@@ -48,9 +48,11 @@ Recorder::~Recorder() {
   const DeviceFunctions& fn = ctx_->fn();
   if (pending_) {
     // Never free what the GPU may still use: if it does not finish in time (hung device),
-    // leak the pool rather than hang or free in-flight commands.
+    // leak the pool rather than hang or free in-flight commands, and so does the context.
     const uint64_t timeout_ns = uint64_t{ctx_->options().fence_timeout_ms} * 1000000u;
-    if (fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns) == VK_TIMEOUT) {
+    if (ctx_->abandoned() ||
+        fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns) == VK_TIMEOUT) {
+      ctx_->abandon();
       per_dispatch_.abandon();
       cache_.abandon();
       return;
@@ -162,6 +164,7 @@ void Recorder::wait() {
   const uint64_t timeout_ns = uint64_t{ctx_->options().fence_timeout_ms} * 1000000u;
   const VkResult waited = fn.vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, timeout_ns);
   if (waited == VK_TIMEOUT) {
+    ctx_->abandon();
     throw VulkanError("the GPU did not finish '" + name_ + "' within " +
                           std::to_string(ctx_->options().fence_timeout_ms) +
                           " ms (hung or far too much work per submit); try a smaller scene, "

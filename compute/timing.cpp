@@ -21,7 +21,8 @@ PassTimer::PassTimer(Context& ctx, uint32_t max_passes) : ctx_(&ctx), max_passes
 }
 
 PassTimer::~PassTimer() {
-  if (pool_ != VK_NULL_HANDLE) ctx_->fn().vkDestroyQueryPool(ctx_->device(), pool_, nullptr);
+  if (pool_ != VK_NULL_HANDLE && !ctx_->abandoned())
+    ctx_->fn().vkDestroyQueryPool(ctx_->device(), pool_, nullptr);
 }
 
 void PassTimer::reset(Recorder& rec) {

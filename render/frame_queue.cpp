@@ -65,7 +65,8 @@ void FrameQueue::destroy_semaphores() {
   for (auto& r : deforms_) r.reset();
   for (auto* semaphores : {&drawn_, &deformed_}) {
     for (VkSemaphore& s : *semaphores) {
-      if (s != VK_NULL_HANDLE) ctx_->fn().vkDestroySemaphore(ctx_->device(), s, nullptr);
+      if (s != VK_NULL_HANDLE && !ctx_->abandoned())
+        ctx_->fn().vkDestroySemaphore(ctx_->device(), s, nullptr);
       s = VK_NULL_HANDLE;
     }
   }

@@ -81,6 +81,7 @@ uint32_t shade_layout(FrameLayout layout) {
 using namespace detail;
 
 SplatRenderer::Impl::~Impl() {
+  if (ctx.abandoned()) return;  // unfinished work may read the sets
   const VkDevice device = ctx.device();
   if (pool != VK_NULL_HANDLE) ctx.fn().vkDestroyDescriptorPool(device, pool, nullptr);
   if (texture_layout != VK_NULL_HANDLE) {

@@ -145,17 +145,22 @@ GpuImage& GpuImage::operator=(GpuImage&& other) noexcept {
 void GpuImage::reset() {
   if (images_ == nullptr) return;
   gpu::Context& ctx = images_->context();
+  if (!ctx.abandoned()) destroy();  // else unfinished work may still use it: leak it
+  view_ = VK_NULL_HANDLE;
+  image_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  bytes_ = 0;
+  images_ = nullptr;
+}
+
+void GpuImage::destroy() {
+  gpu::Context& ctx = images_->context();
   if (view_ != VK_NULL_HANDLE) images_->fn().vkDestroyImageView(ctx.device(), view_, nullptr);
   if (image_ != VK_NULL_HANDLE) images_->fn().vkDestroyImage(ctx.device(), image_, nullptr);
   if (memory_ != VK_NULL_HANDLE) {
     ctx.fn().vkFreeMemory(ctx.device(), memory_, nullptr);
     ctx.track_allocation(-static_cast<int64_t>(bytes_));
   }
-  view_ = VK_NULL_HANDLE;
-  image_ = VK_NULL_HANDLE;
-  memory_ = VK_NULL_HANDLE;
-  bytes_ = 0;
-  images_ = nullptr;
 }
 
 Texture::Texture(const Images& images, const RgbaImage& source, uint32_t max_side)
@@ -255,7 +260,7 @@ Texture& Texture::operator=(Texture&& other) noexcept {
 }
 
 void Texture::reset() {
-  if (images_ != nullptr && sampler_ != VK_NULL_HANDLE) {
+  if (images_ != nullptr && sampler_ != VK_NULL_HANDLE && !images_->context().abandoned()) {
     images_->fn().vkDestroySampler(images_->context().device(), sampler_, nullptr);
   }
   sampler_ = VK_NULL_HANDLE;

@@ -72,6 +72,8 @@ class GpuImage {
   uint32_t mip_levels() const { return mips_; }
 
  private:
+  void destroy();  // the Vulkan objects (reset() forgets them)
+
   const Images* images_ = nullptr;
   VkImage image_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;

@@ -20,7 +20,7 @@ packages=(
   vulkan-validationlayers              # validation layers, on in every GPU test
   glslang-tools spirv-tools            # shaders compiled at build time
   libglfw3-dev                         # windowed viewer
-  xvfb xauth xdotool                   # viewer test: virtual X server, key presses (docs/decisions.md)
+  xvfb xdotool                         # viewer test: virtual X server, key presses (docs/decisions.md)
   libgtest-dev                         # tests
   clang libclang-rt-14-dev             # libFuzzer: readers fuzzed a minute each in CI
   calculix-ccx                         # FEM reference solutions for validation

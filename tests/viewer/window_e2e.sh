@@ -13,22 +13,46 @@
 set -uo pipefail
 phyxel="$1" src="$2" out="$3"
 
+# fail MESSAGE: says what failed, shows the current viewer's log and how it exited.
 fail() {
   echo "window_e2e: $*" >&2
-  [ -f "$out/view.log" ] && sed 's/^/  view: /' "$out/view.log" >&2
+  if [ -n "${log:-}" ] && [ -f "$log" ]; then
+    sed 's/^/  view: /' "$log" >&2
+  fi
+  if [ -n "${pid:-}" ] && ! kill -0 "$pid" 2>/dev/null; then
+    wait "$pid" 2>/dev/null
+    echo "  view: exit status $?" >&2
+  fi
   exit 1
 }
 
 if [ "${PHYXEL_E2E_INNER:-}" != 1 ]; then
-  for tool in xvfb-run xauth xdotool; do
+  for tool in Xvfb xdotool; do
     command -v "$tool" >/dev/null ||
-      fail "$tool is missing: scripts/install-deps.sh installs it (packages xvfb, xauth, xdotool)"
+      fail "$tool is missing: scripts/install-deps.sh installs it (packages xvfb, xdotool)"
   done
   icd="$(ls /usr/share/vulkan/icd.d/lvp_icd*.json 2>/dev/null | head -1)"
   [ -n "$icd" ] || fail "lavapipe's ICD is not installed (package mesa-vulkan-drivers)"
   mkdir -p "$out"
-  export VK_DRIVER_FILES="$icd" VK_ICD_FILENAMES="$icd" PHYXEL_E2E_INNER=1
-  exec xvfb-run -a -s "-screen 0 1280x720x24" bash "$0" "$@"
+  # Xvfb takes a free display itself (-displayfd), so two servers started at once cannot
+  # race for one number as xvfb-run -a's do; -noreset keeps it up while no client is
+  # connected (between two viewers); local sockets only, no cookie to share.
+  rm -f "$out/xvfb.display"
+  Xvfb -displayfd 3 -screen 0 1280x720x24 -nolisten tcp -noreset 3>"$out/xvfb.display" \
+    2>"$out/xvfb.log" &
+  xvfb=$!
+  trap 'kill "$xvfb" 2>/dev/null' EXIT
+  for _ in $(seq 600); do
+    [ -s "$out/xvfb.display" ] && break
+    kill -0 "$xvfb" 2>/dev/null || fail "Xvfb did not start ($out/xvfb.log)"
+    sleep 0.1
+  done
+  display="$(head -1 "$out/xvfb.display")"
+  [ -n "$display" ] || fail "Xvfb named no display in 60 s ($out/xvfb.log)"
+  export VK_DRIVER_FILES="$icd" VK_ICD_FILENAMES="$icd" PHYXEL_E2E_INNER=1 DISPLAY=":$display"
+  unset XAUTHORITY
+  bash "$0" "$@"
+  exit $?
 fi
 
 # Every wait below is a hang detector, not a timing check: it allows `slack` times the seconds
@@ -37,7 +61,7 @@ fi
 slack="${PHYXEL_E2E_SLACK:-4}"
 
 # start_viewer LOG ARGS...: runs phyxel view ARGS in the background, finds its window.
-pid="" win=""
+pid="" win="" log=""
 start_viewer() {
   log="$out/$1"
   shift

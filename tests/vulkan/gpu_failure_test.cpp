@@ -138,13 +138,16 @@ TEST_F(GpuFailureTest, DeviceLostMidRunKeepsTheEarlierPointsFiles) {
   expect_no_temporary_files(r.options.out_dir);
 }
 
-// `phyxel run --device gpu` (on the test device) with the hooks set in its environment.
-std::pair<int, std::string> phyxel_run(const fs::path& dir, const std::string& env) {
+// `phyxel run --device gpu` (on the test device) with the hooks set in its environment, of a
+// block of 4 x 2 x 2 phyxels (or finer with a smaller spacing).
+std::pair<int, std::string> phyxel_run(const fs::path& dir, const std::string& env,
+                                       const std::string& spacing = "0.0025") {
   const std::string device = test_context_options().device;  // also points the loader
   std::ofstream(dir / "block.json") << R"({
   "simulation": {"dt": 1e-5, "steps": 40},
   "objects": [{"name": "block", "shape": {"type": "box", "min": [0, 0, 0],
-               "max": [0.01, 0.005, 0.005]}, "spacing": 0.0025,
+               "max": [0.01, 0.005, 0.005]}, "spacing": )"
+                                    << spacing << R"(,
                "material": {"young": 1e5, "poisson": 0.3, "density": 1000, "damping": 20},
                "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [0.001, 1, 1]}]}],
   "output": {"every": 10}
@@ -179,6 +182,21 @@ TEST(GpuFailureCli, OutOfMemoryAtSetupIsOneLineNamingTheBuffer) {
   for (const char* part :
        {"block.json while setting up: out of GPU memory on ", "for buffer '",
         "VK_ERROR_OUT_OF_DEVICE_MEMORY", "--device cpu", "no points file was written"})
+    EXPECT_NE(err.find(part), std::string::npos) << "no \"" << part << "\" in: " << err;
+  expect_no_temporary_files(dir);
+}
+
+// A submission the GPU does not finish in time (here every one: a timeout of 0 ms, with work
+// enough that lavapipe's threads still run it) is one line, and the process ends without
+// freeing what that work reads: before, the buffers and pipelines were freed under it (a
+// crash on lavapipe, SIGSEGV, found when a loaded machine took over 120 s for one frame).
+TEST(GpuFailureCli, WorkNotFinishedInTimeIsOneLineAndNoCrash) {
+  const fs::path dir = phyxel::test::test_output_dir("gpu_failure_cli_timeout");
+  const auto [code, err] = phyxel_run(dir, "PHYXEL_TEST_FENCE_TIMEOUT_MS=0", "0.00025");
+  EXPECT_EQ(code, 1) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  for (const char* part :
+       {"block.json while setting up: ", "the GPU did not finish '", "within 0 ms", "--device cpu"})
     EXPECT_NE(err.find(part), std::string::npos) << "no \"" << part << "\" in: " << err;
   expect_no_temporary_files(dir);
 }
