@@ -123,16 +123,11 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // An advance's first submission: the GPU starts after recording this many substeps, not the
   // whole advance (a tool chunk of 64 substeps cost the brain about 18 us of idle GPU per
   // substep while its host recorded; docs/performance-log.md, "Recording off the critical
-  // path"). Each later one holds up to kSubmitGrowth times the substeps recorded so far (the
-  // host records them while the GPU runs those), up to kStepsPerSubmit: the brain's tool chunk
-  // of 18 substeps in two submissions (4, 14) where 8, 8, 2 idled the GPU longer
-  // (docs/performance-log.md, "The checks inside the advance; a smaller first submission
-  // tried").
-  static constexpr int64_t kFirstSubmitSteps = 4;
-  static constexpr int64_t kSubmitGrowth = 4;
+  // path"). Each later one holds half the substeps recorded so far, up to kStepsPerSubmit.
+  static constexpr int64_t kFirstSubmitSteps = 8;
   // Substeps of the submission after `done` substeps of an advance.
   static int64_t submit_steps(int64_t done) {
-    return std::min(kStepsPerSubmit, std::max(kFirstSubmitSteps, kSubmitGrowth * done));
+    return std::min(kStepsPerSubmit, std::max(kFirstSubmitSteps, done / 2));
   }
   // The host's side of the advances so far (phyxel bench --surgery --profile-parts): seconds
   // recording the substeps, submitting, waiting for the GPU, and the rest (the tools' motion

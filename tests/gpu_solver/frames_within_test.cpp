@@ -96,21 +96,18 @@ TEST_F(GpuSolverTest, FramesInsideTheAdvancesDrawWhatSplitAdvancesDrawAndChangeN
   }
 }
 
-TEST_F(GpuSolverTest, AnAdvanceIsSubmittedInPiecesThatGrowFromTheFirstFourSubsteps) {
+TEST_F(GpuSolverTest, AnAdvanceIsSubmittedInPiecesThatGrowFromTheFirstEightSubsteps) {
   const Scene scene = two_material_scene();
   const PhyxelSet set = sample_scene(scene);
   GpuSolver gpu(ctx(), set, scene.simulation.gravity);
   gpu.advance(64, plan_time_step(scene, set).dt_stable);
-  // 4, 16 and the last 44; the last left running (nothing to read back).
-  EXPECT_EQ(GpuSolver::submit_steps(0), 4);
-  EXPECT_EQ(GpuSolver::submit_steps(4), 16);
-  EXPECT_EQ(GpuSolver::submit_steps(36), 144);
+  // 8, 8, 8, 12, 18 and the last 10; the last left running (nothing to read back).
+  EXPECT_EQ(GpuSolver::submit_steps(0), 8);
+  EXPECT_EQ(GpuSolver::submit_steps(36), 18);
   EXPECT_EQ(GpuSolver::submit_steps(4096), GpuSolver::kStepsPerSubmit);
   EXPECT_EQ(gpu.advance_host_times().advances, 1);
-  EXPECT_EQ(gpu.advance_host_times().submissions, 3);
-  EXPECT_EQ(gpu.advance_host_times().waits, 2);
-  gpu.advance(18, plan_time_step(scene, set).dt_stable);  // the brain's tool chunk: 4, 14
-  EXPECT_EQ(gpu.advance_host_times().submissions, 5);
+  EXPECT_EQ(gpu.advance_host_times().submissions, 6);
+  EXPECT_EQ(gpu.advance_host_times().waits, 5);
   EXPECT_TRUE(gpu.advance_in_flight());
 }
 
