@@ -95,6 +95,7 @@ GpuSolver::~GpuSolver() {
 
 void GpuSolver::settle() {
   near_ready_ = false;  // a prefetched read_near is for the call right after its advance
+  checks_ready_ = false;
   wait_in_flight();
 }
 
@@ -384,6 +385,8 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   settle();
   const bool asked = near_asked_;  // prefetch_near: for this advance only
   near_asked_ = false;
+  const bool checks = checks_asked_;  // prefetch_checks: likewise
+  checks_asked_ = false;
   for (size_t p = 0; p < pauses.size(); ++p)
     if (pauses[p] <= 0 || pauses[p] >= substeps || (p > 0 && pauses[p] <= pauses[p - 1]))
       throw std::invalid_argument(
@@ -431,6 +434,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
       rec.barrier();  // the previous submission's writes (same queue, submission order)
       record_steps(rec, done, next, substeps, fdt, cur, nullptr);
       if (near && next == substeps) record_near_box(rec, near_box_);
+      if (checks && next == substeps) record_checks(rec);
       ctx_->test_note_substeps(substeps_run_ + next);
       lap(mark, t.record);
       rec.submit();
@@ -487,6 +491,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   collect_band_quads();                        // the cuts' quads, where the scene has a band
   if (cutting_ || tearing_) finish_cutting();  // the pairs cut or torn
   near_ready_ = near;
+  checks_ready_ = checks;
   lap(mark, t.rest);
 }
 

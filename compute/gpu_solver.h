@@ -38,6 +38,7 @@
 #include "compute/pair_buffer.h"
 #include "compute/shaders/layout.h"
 #include "compute/timing.h"
+#include "engine/solver/check_prefetch.h"
 #include "engine/solver/cut_band.h"
 #include "engine/solver/solver.h"
 
@@ -116,7 +117,7 @@ struct MomentInverseRow {
 class SolverKernels;
 struct GpuBand;
 
-class GpuSolver final : public SolverWithAllFacets {
+class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
  public:
   static constexpr int64_t kStepsPerSubmit = 256;
   // An advance's first submission: the GPU starts after recording this many substeps, not the
@@ -268,6 +269,10 @@ class GpuSolver final : public SolverWithAllFacets {
   // buffers (20 bytes per phyxel that comes back, one submission).
   NearState read_near(const PhyxelSet& set, const Bounds& box) override;
   void prefetch_near(const Bounds& box) override;
+  // first_non_finite and max_norms at the end of the next advance (gpu_solver_queries.cpp).
+  void prefetch_checks() override { checks_asked_ = true; }
+  // Whether first_non_finite and max_norms now come without a submission (tests).
+  bool checks_prefetched() const { return checks_ready_; }
   // Whether the next read_near of the prefetched box comes without a submission (tests).
   bool near_prefetched() const { return near_ready_; }
   std::vector<Vec3> read_displacements(const std::vector<uint32_t>& ids) override;
@@ -530,6 +535,16 @@ class GpuSolver final : public SolverWithAllFacets {
   // since (settle() clears it: every call that touches the GPU starts with it).
   Bounds near_box_;
   bool near_asked_ = false, near_ready_ = false;
+  // prefetch_checks: the check pass into check_ and the max norms into max_norm_readback_,
+  // recorded after the last substep; valid until settle() (a read of the state keeps them).
+  bool checks_asked_ = false, checks_ready_ = false;
+  void record_checks(Recorder& rec);
+  // Waits for the advance in flight for a read that changes nothing on the device: the
+  // prefetched checks stay, a prefetched read_near does not.
+  void settle_for_read() {
+    near_ready_ = false;
+    wait_in_flight();
+  }
 
   // Graspers (gpu_solver_grasp.cpp); allocated by set_tools only when a tool grasps.
   bool grasping_ = false;             // a tool grasps

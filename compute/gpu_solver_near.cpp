@@ -73,7 +73,7 @@ void GpuSolver::record_near_box(Recorder& rec, const Bounds& box) {
 NearState GpuSolver::read_near(const PhyxelSet& set, const Bounds& box) {
   // Recorded at the end of the last advance for this box, and nothing since (settle()).
   const bool prefetched = near_ready_ && box.min == near_box_.min && box.max == near_box_.max;
-  settle();
+  settle_for_read();  // a read: the prefetched checks stay
   if (set.size() != count_)
     throw std::invalid_argument("GpuSolver::read_near: the set has " + std::to_string(set.size()) +
                                 " phyxels, the solver " + std::to_string(count_));
@@ -104,7 +104,7 @@ NearState GpuSolver::read_near(const PhyxelSet& set, const Bounds& box) {
 }
 
 std::vector<Vec3> GpuSolver::read_displacements(const std::vector<uint32_t>& ids) {
-  settle();
+  settle_for_read();
   std::vector<Vec3> out(ids.size());
   if (ids.empty()) return out;
   for (const uint32_t i : ids)

@@ -10,6 +10,7 @@
 #include "engine/run/long_step.h"
 #include "engine/run/run_schedule.h"
 #include "engine/run/vtp_writer.h"
+#include "engine/solver/check_prefetch.h"
 
 namespace phyxel {
 namespace {
@@ -337,7 +338,11 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
     next = step_ + r.steps;
     records = std::move(r.records);
     within_step_ = r.within_step > 0;
-  } else
+  } else {
+    // The checks of `next` (step()) inside the advance, unless something changes the state
+    // between (the solver then reads again).
+    if (next % check_ == 0 || next == total_)
+      if (auto* checks = dynamic_cast<CheckPrefetch*>(&solver_)) checks->prefetch_checks();
     records = advance_with_tools(
         solver_, tools_, step_, next - step_, result_.plan.substeps, result_.plan.dt_used,
         frame_pauses(next), [this](int64_t substep) { frame_at_pause(substep); },
@@ -345,6 +350,7 @@ std::vector<ToolStepRecord> RunLoop::advance(int64_t& next) {
           if (aspirates_at(next))
             aspirator_.before_advance(solver_, tools_.poses(), double(next) * step_time_);
         });
+  }
   for (size_t r = 0; r < records.size(); ++r) {
     uint32_t& most = contacts_since_check_[r % tools_.size()];
     most = std::max(most, records[r].contacts);

@@ -2,6 +2,8 @@
 // to do for it (compute/gpu_solver.h): every other call waits for that submission first, so a
 // solver called straight after its advances gives the bits of one that finished each advance,
 // and one with tools or tearing finishes its advances itself.
+#include <cmath>
+
 #include "tests/gpu_solver/gpu_solver_fixture.h"
 
 namespace phyxel::gpu::test {
@@ -99,6 +101,66 @@ TEST_F(GpuSolverTest, AdvancesWithWorkLeftForTheHostFinishThemselves) {
     gpu.advance(10, dt);
     EXPECT_FALSE(gpu.advance_in_flight());
   }
+}
+
+// prefetch_checks: the advance records the checks at its end; first_non_finite and max_norms
+// after it give the bits of their own submissions, until a call that may change the state.
+TEST_F(GpuSolverTest, PrefetchedChecksGiveTheBitsOfTheirOwnSubmissions) {
+  const Scene scene = two_material_scene();
+  const PhyxelSet set = sample_scene(scene, SamplingOptions{false});
+  const double dt = plan_time_step(scene, set).dt_used;
+  GpuSolver a(ctx(), set, scene.simulation.gravity);
+  GpuSolver b(ctx(), set, scene.simulation.gravity);
+  auto same = [&] {
+    EXPECT_EQ(a.first_non_finite(), b.first_non_finite());
+    const auto [ua, va] = a.max_norms();
+    const auto [ub, vb] = b.max_norms();
+    EXPECT_EQ(ua, ub);
+    EXPECT_EQ(va, vb);
+    EXPECT_GT(va, 0.0);
+  };
+  a.prefetch_checks();
+  a.advance(30, dt);  // left in flight (no tools): the reads wait for it
+  b.advance(30, dt);
+  EXPECT_TRUE(a.checks_prefetched());
+  EXPECT_FALSE(b.checks_prefetched());
+  same();
+  EXPECT_TRUE(a.checks_prefetched());  // read again, the same
+  same();
+  const Bounds box{Vec3::Constant(-1), Vec3::Constant(1)};  // every phyxel
+  EXPECT_EQ(a.read_near(set, box).ids, b.read_near(set, box).ids);
+  EXPECT_EQ(a.read_displacements({0, 7}), b.read_displacements({0, 7}));
+  EXPECT_TRUE(a.checks_prefetched());  // reads keep them
+
+  // A call that may change the state drops them.
+  const std::vector<Vec3> loads(set.size(), Vec3(0, 0, 1e-4));
+  a.prefetch_checks();
+  a.advance(20, dt);
+  b.advance(20, dt);
+  a.set_external_forces(loads);
+  b.set_external_forces(loads);
+  EXPECT_FALSE(a.checks_prefetched());
+  same();
+
+  // Asked for one advance only.
+  a.prefetch_checks();
+  a.advance(3, dt);
+  a.advance(3, dt);
+  b.advance(6, dt);
+  EXPECT_FALSE(a.checks_prefetched());
+  same();
+
+  // A non-finite velocity: both name the same phyxel.
+  PointState s = a.read_state(false);
+  s.velocity[11] = Vec3(std::nan(""), 0, 0);
+  a.set_state(s.displacement, s.velocity);
+  b.set_state(s.displacement, s.velocity);
+  a.prefetch_checks();
+  a.advance(1, dt);
+  b.advance(1, dt);
+  EXPECT_TRUE(a.checks_prefetched());
+  EXPECT_GE(a.first_non_finite(), 0);
+  EXPECT_EQ(a.first_non_finite(), b.first_non_finite());
 }
 
 }  // namespace
