@@ -124,5 +124,63 @@ TEST_F(GpuSolverTest, PausesMustAscendInsideTheAdvance) {
     EXPECT_THROW(gpu.advance_paused(20, dt, bad, [](int64_t) {}), std::invalid_argument);
 }
 
+// What a pause shows under a blade: u and the pair weights of its substep, whether the pause
+// ends a submission or is copied aside inside one (GpuSolverOptions::snapshot_pauses).
+struct PausedCut {
+  std::vector<std::vector<layout::vec4>> u;
+  std::vector<std::vector<float>> weights;
+  std::vector<float> final_weights;
+  std::vector<Vec3> final_u;
+  int64_t submissions = 0;
+};
+
+PausedCut paused_cut(Context& ctx, const Scene& scene, const PhyxelSet& set, bool snapshots,
+                     const std::vector<int64_t>& pauses, int64_t substeps) {
+  GpuSolverOptions o;
+  o.snapshot_pauses = snapshots;
+  GpuSolver gpu(ctx, set, scene.simulation.gravity, o);
+  const TimeStepPlan plan = plan_time_step(scene, set);
+  ToolTrack track(scene.tools, {});
+  gpu.set_tools(contact_tools(scene.tools));
+  gpu.set_tool_motion(track.motions(0, substeps, plan.dt_used));
+  PausedCut out;
+  gpu.advance_paused(substeps, plan.dt_used, pauses, [&](int64_t) {
+    const SolverBuffers b = gpu.buffers();  // read on the queue, as a frame's deform pass
+    out.u.push_back(download<layout::vec4>(ctx, *b.displacement, b.count));
+    out.weights.push_back(download<float>(ctx, *b.pair_weight, b.pair_weight->size() / 4));
+  });
+  gpu.tool_samples();
+  out.final_weights = gpu.pair_weights();
+  out.final_u = gpu.read_state(false).displacement;
+  out.submissions = gpu.advance_host_times().submissions;
+  return out;
+}
+
+TEST_F(GpuSolverTest, PausesInsideASubmissionShowWhatPausesThatEndOneShow) {
+  Scene scene = phyxel::test::clamped_beam();
+  scene.tools.push_back(phyxel::test::crossing_scalpel(0.009, -0.003, 0.016, 0.002, 0.016));
+  const PhyxelSet set = sample_scene(scene);
+  // Pieces of 8, 8, 8, 12, 18, 27, 40, 60 substeps: 60, 100 and 150 inside them, 151 after 150.
+  const std::vector<int64_t> pauses{60, 100, 150, 151};
+  const PausedCut split = paused_cut(ctx(), scene, set, false, pauses, 220);
+  const PausedCut inside = paused_cut(ctx(), scene, set, true, pauses, 220);
+  EXPECT_LT(inside.submissions, split.submissions);
+  ASSERT_EQ(inside.u.size(), pauses.size());
+  ASSERT_EQ(split.u.size(), pauses.size());
+  for (size_t p = 0; p < pauses.size(); ++p) {
+    SCOPED_TRACE(pauses[p]);
+    EXPECT_EQ(inside.weights[p], split.weights[p]);
+    for (size_t i = 0; i < inside.u[p].size(); ++i) {
+      const layout::vec4 &a = inside.u[p][i], &b = split.u[p][i];
+      ASSERT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z) << "phyxel " << i;
+    }
+  }
+  // The blade cuts between the pauses: a copy taken late would show it.
+  EXPECT_NE(inside.weights[0], inside.weights[1]);
+  EXPECT_NE(inside.weights[1], inside.weights[2]);
+  EXPECT_EQ(inside.final_weights, split.final_weights);
+  EXPECT_EQ(inside.final_u, split.final_u);
+}
+
 }  // namespace
 }  // namespace phyxel::gpu::test
