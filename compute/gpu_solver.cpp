@@ -207,11 +207,6 @@ std::string GpuSolver::device() const {
 }
 
 SolverBuffers GpuSolver::buffers() const {
-  if (shown_ == kShownSnapshot) {
-    const PairBuffer& w = snapshot_weights_ ? snap_weight_ : weight_;
-    return {&rest_, &snap_disp_,    &nbr_offset_,           &nbr_index_.lo_buffer(),
-            count_, &w.lo_buffer(), nbr_index_.hi_buffer(), w.hi_buffer()};
-  }
   return {&rest_, &disp_[shown_],       &nbr_offset_,           &nbr_index_.lo_buffer(),
           count_, &weight_.lo_buffer(), nbr_index_.hi_buffer(), weight_.hi_buffer()};
 }
@@ -418,7 +413,6 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   const bool near = asked && count_ > 0 && !near_box_.empty();
   if (near) ensure_near_buffers();
   const float fdt = static_cast<float>(dt);
-  const bool snapshots = options_.snapshot_pauses && snapshot_pauses_allowed_;
   int cur = 0;
   bool pending[2] = {false, false};
   int which = 0;
@@ -432,24 +426,10 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
     size_t pause = 0;
     for (int64_t done = 0; done < substeps;) {
       int64_t next = std::min(substeps, done + submit_steps(done));
-      // A pause inside the piece: its state copied aside there (snapshot_pauses), the piece
-      // not split; at most one such pause per piece (one snapshot).
-      int64_t inside = -1;
-      if (pause < pauses.size() && snapshots && pauses[pause] < next) {
-        inside = pauses[pause];
-        if (pause + 1 < pauses.size()) next = std::min(next, pauses[pause + 1]);
-      } else if (pause < pauses.size()) {
-        next = std::min(next, pauses[pause]);
-      }
+      if (pause < pauses.size()) next = std::min(next, pauses[pause]);
       Recorder& rec = *rec_[which];
       rec.barrier();  // the previous submission's writes (same queue, submission order)
-      if (inside >= 0) {
-        record_steps(rec, done, inside, substeps, fdt, cur, nullptr);
-        record_pause_snapshot(rec, 1 - cur);  // u where the last fused force pass read it
-        record_steps(rec, inside, next, substeps, fdt, cur, nullptr);
-      } else {
-        record_steps(rec, done, next, substeps, fdt, cur, nullptr);
-      }
+      record_steps(rec, done, next, substeps, fdt, cur, nullptr);
       if (near && next == substeps) record_near_box(rec, near_box_);
       ctx_->test_note_substeps(substeps_run_ + next);
       lap(mark, t.record);
@@ -463,16 +443,18 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
       if (pending[other]) wait_for(other);
       which = other;
       done = next;
-      if (inside >= 0) {  // the snapshot, read on the queue after this piece
-        pause_at(at, inside, kShownSnapshot);
-        ++pause;
-        mark = Clock::now();  // the pause's time is its caller's
-      }
       if (pause < pauses.size() && pauses[pause] == done) {
         // u of this substep: where the last step's fused force pass read it (record_steps).
-        pause_at(at, done, 1 - cur);
+        shown_ = 1 - cur;
+        try {
+          at(done);
+        } catch (...) {
+          shown_ = 0;
+          throw;
+        }
+        shown_ = 0;
         ++pause;
-        mark = Clock::now();
+        mark = Clock::now();  // the pause's time is its caller's
       }
     }
     // The last submission is rec_[1 - which]: left running where the host has nothing to

@@ -105,11 +105,6 @@ struct GpuSolverOptions {
   // empties the dirty list, in place of tool_contact_reduce's dispatch and the list's fill, the
   // same bits. Tests turn it off to compare.
   bool resist_reduce = true;
-  // A pause of advance_paused inside a submission's substeps copies u (and, with cuts or
-  // tearing, the pair weights) aside there and keeps the submission whole; at(k) follows the
-  // submission, buffers() showing the copies. Off (or $PHYXEL_FRAME_PAUSE "split"): each pause
-  // ends a submission. The same frames and the same bits either way.
-  bool snapshot_pauses = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -120,10 +115,6 @@ struct MomentInverseRow {
 
 class SolverKernels;
 struct GpuBand;
-
-// False where $PHYXEL_FRAME_PAUSE is "split" (GpuSolverOptions::snapshot_pauses off, to time
-// the two against each other).
-bool pause_snapshots_allowed();
 
 class GpuSolver final : public SolverWithAllFacets {
  public:
@@ -162,10 +153,8 @@ class GpuSolver final : public SolverWithAllFacets {
   // for it (no tools, cutting or tearing); every other non-const member
   // waits for that submission first (settle()), and so does finish().
   void advance(int64_t substeps, double dt) override;
-  // at(k) runs with buffers() showing u of substep k (which the next submission's opening
-  // barrier keeps until at(k)'s work on the queue has read it): a pause inside a submission's
-  // substeps shows copies made there (GpuSolverOptions::snapshot_pauses), one on its end the
-  // solver's buffers.
+  // Each pause ends a submission; at(k) runs with buffers() showing u of substep k (which the
+  // next submission's opening barrier keeps until at(k)'s work on the queue has read it).
   bool pauses_within_advance() const override { return true; }
   void advance_paused(int64_t substeps, double dt, const std::vector<int64_t>& pauses,
                       const std::function<void(int64_t)>& at) override;
@@ -482,19 +471,7 @@ class GpuSolver final : public SolverWithAllFacets {
   std::vector<uint8_t> in_force_;
   std::vector<uint32_t> stress_refs_;
   AdvanceHostTimes host_times_;
-  // The displacement buffer buffers() shows: 1 at some pauses of an advance, kShownSnapshot
-  // the pause's copies (snap_disp_, and snap_weight_ where snapshot_weights_).
-  static constexpr int kShownSnapshot = 2;
-  int shown_ = 0;
-  const bool snapshot_pauses_allowed_ = pause_snapshots_allowed();  // $PHYXEL_FRAME_PAUSE
-  bool snapshot_weights_ = false;  // the last snapshot copied the pair weights (cuts, tearing)
-  Buffer snap_disp_;               // made on the first pause inside a submission
-  PairBuffer snap_weight_;
-  // The copies of u (buffer `from`) and, with cuts or tearing, the pair weights, between
-  // barriers.
-  void record_pause_snapshot(Recorder& rec, int from);
-  // at(k) with buffers() showing `shown`; the solver's buffers again after it, thrown or not.
-  void pause_at(const std::function<void(int64_t)>& at, int64_t k, int shown);
+  int shown_ = 0;  // the displacement buffer buffers() shows: 1 at some pauses of an advance
   int64_t substeps_run_ = 0;         // by advance(), over the solver's life (the device-loss hook)
   Buffer stress_list_, force_list_;  // uint phyxel indices, ascending, N capacity
   bool principal_ = false;           // set_principal_stress
