@@ -1,5 +1,7 @@
 #include "render/frame_queue.h"
 
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <utility>
 
@@ -26,7 +28,12 @@ struct FrameQueue::SlotLease {
 
 FrameQueue::FrameQueue(gpu::Context& ctx, SplatRenderer& renderer, FrameSink& sink)
     : renderer_(&renderer), sink_(&sink), ctx_(&ctx) {
-  const bool transfer = ctx.transfer_queue() != VK_NULL_HANDLE;
+  const char* draw = std::getenv("PHYXEL_FRAME_DRAW");
+  draws_ = draw == nullptr || std::strcmp(draw, "0") != 0;
+  const char* copy = std::getenv("PHYXEL_FRAME_COPY");
+  reads_back_ = copy == nullptr || std::strcmp(copy, "0") != 0;
+  if (!reads_back_) renderer.set_readback(false);
+  const bool transfer = ctx.transfer_queue() != VK_NULL_HANDLE && reads_back_;
   auto semaphore = [&ctx](VkSemaphore& s) {
     auto info = vk_struct<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
     VK_CHECK(ctx.fn().vkCreateSemaphore(ctx.device(), &info, nullptr, &s));
@@ -78,11 +85,15 @@ void FrameQueue::drain() {
   pending_.reset();
   try {
     deforms_[frame.slot]->wait();
-    recorders_[frame.slot]->wait();
-    if (copies_[frame.slot]) copies_[frame.slot]->wait();
+    if (draws_) recorders_[frame.slot]->wait();
+    if (draws_ && copies_[frame.slot]) copies_[frame.slot]->wait();
   } catch (...) {
     slots_->release(frame.slot);
     throw;
+  }
+  if (!draws_ || !reads_back_) {  // measurement switches: no pixels
+    slots_->release(frame.slot);
+    return;
   }
   auto lease = std::make_shared<SlotLease>(slots_, frame.slot);
   SplatRenderer* renderer = renderer_;
@@ -120,6 +131,11 @@ void FrameQueue::record_and_submit(const RenderInputs& inputs, const FrameSetup&
   gpu::Recorder& deform = *deforms_[slot];
   gpu::Recorder& rec = *recorders_[slot];
   gpu::Recorder* copy = copies_[slot].get();
+  if (!draws_) {
+    renderer_->record_deform(deform, inputs);
+    deform.submit();
+    return;
+  }
   renderer_->record_split(deform, rec, inputs, setup, slot, copy);
   std::vector<gpu::Recorder*> submitted;
   try {

@@ -19,6 +19,10 @@
 // transfer_queue), the copy of the frame into its read-back slot is submitted there, waiting on
 // a semaphore that the frame's drawing signals: the solver's next passes on the compute queue
 // then run while the frame crosses the bus, instead of after it.
+//
+// Measurement switches (docs/performance-log.md, "The breast's frames: the drawing, not the
+// pause"): $PHYXEL_FRAME_DRAW "0" submits the deform pass alone, $PHYXEL_FRAME_COPY "0" draws
+// without the read-back copy; either way no frame reaches the sink.
 #pragma once
 
 #include <array>
@@ -88,6 +92,11 @@ class FrameQueue {
   std::shared_ptr<Slots> slots_ = std::make_shared<Slots>();
   std::optional<Pending> pending_;
   uint32_t next_ = 0;
+  // $PHYXEL_FRAME_DRAW "0": the deform pass alone, nothing drawn or handed to the sink (to
+  // time what the drawing costs a run; docs/performance-log.md).
+  bool draws_ = true;
+  // $PHYXEL_FRAME_COPY "0": drawn but not copied out (no read-back, nothing to the sink).
+  bool reads_back_ = true;
 };
 
 }  // namespace phyxel::render

@@ -256,6 +256,18 @@ void SplatRenderer::record_split(gpu::Recorder& deform, gpu::Recorder& raster,
   record_frame(deform, raster, in, setup, nullptr, slot, copy);
 }
 
+void SplatRenderer::record_deform(gpu::Recorder& rec, const RenderInputs& in) {
+  Impl& m = *impl_;
+  check_render_inputs(in, m.table_phyxels);
+  rec.barrier();
+  if (m.record_surfel_upload(rec)) rec.barrier();
+  m.record_deform(rec, in);
+}
+
+void SplatRenderer::set_readback(bool on) {
+  impl_->reads_back = on;
+}
+
 // `deform` and `rec` may be one recorder (record) or two (record_split; no timer then).
 void SplatRenderer::record_frame(gpu::Recorder& deform, gpu::Recorder& rec, const RenderInputs& in,
                                  const FrameSetup& setup, gpu::PassTimer* timer, uint32_t slot,
@@ -356,6 +368,7 @@ void SplatRenderer::record_frame(gpu::Recorder& deform, gpu::Recorder& rec, cons
                  {"Backdrop", layer ? m.layer_colour : m.depth, 0, eyes * depth_range}},
                 m.out_width * m.out_height);
   end();
+  if (!m.reads_back) return;
   gpu::Buffer& readback = m.readback_buffer(slot);
   if (copy != nullptr) {  // on the transfer queue, after rec's semaphore
     copy->copy(m.frame, readback);

@@ -136,6 +136,12 @@ class SplatRenderer {
   // semaphore; on another queue it runs beside the solver's next passes).
   void record_split(gpu::Recorder& deform, gpu::Recorder& raster, const RenderInputs& inputs,
                     const FrameSetup& setup, uint32_t slot = 0, gpu::Recorder* copy = nullptr);
+  // The table's edits and the deform pass alone (FrameQueue's $PHYXEL_FRAME_DRAW "0": what a
+  // frame costs a run without its drawing).
+  void record_deform(gpu::Recorder& rec, const RenderInputs& inputs);
+  // false: frames end with the shading pass, nothing copied into a read-back slot
+  // (FrameQueue's $PHYXEL_FRAME_COPY "0": what the copy costs a run).
+  void set_readback(bool on);
   RgbaImage read_frame(uint32_t slot = 0) const;
   // The deformed splats of the last frame (surface surfels first, then the cut faces in the
   // order they were added): a blocking download, for tests.

@@ -113,6 +113,7 @@ struct SplatRenderer::Impl {
   // The accumulation buffer needs a fill: new, or not yet zeroed by a shading pass (which
   // zeroes what it read, splat_shade.comp; the backdrop layer's shading pass too).
   bool accum_dirty = true;
+  bool reads_back = true;                                           // set_readback
   std::array<gpu::Buffer, SplatRenderer::kReadbackSlots> readback;  // made on first use
   uint32_t out_width = 0, out_height = 0;
   std::unique_ptr<gpu::Recorder> recorder;

@@ -2,10 +2,12 @@
 // sink's thread are the bytes of frames rendered and waited for; more frames than read-back
 // slots, with the displacement changing between them, keep their order and their own state;
 // a sink that fails reports its error to the next call and never leaves a slot taken (no hang);
-// frames drawn from the GPU solver's buffers while its advance still runs show where it ended.
+// frames drawn from the GPU solver's buffers while its advance still runs show where it ended;
+// the measurement switches ($PHYXEL_FRAME_DRAW, $PHYXEL_FRAME_COPY "0") hand the sink nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "compute/gpu_solver.h"
@@ -75,6 +77,37 @@ TEST_F(FrameQueueTest, QueuedFramesAreTheBytesOfWaitedFramesInTheirOrder) {
     }
     previous = got;
   }
+}
+
+TEST_F(FrameQueueTest, TheMeasurementSwitchesDrawLessAndWriteNothing) {
+  const PhyxelSet set = lattice_sphere(Vec3::Zero(), 0.012, 0.002, 0.006);
+  test::RenderedSet rendered(ctx(), set, procedural_tissue_texture(64));
+  const FrameSetup setup =
+      test::setup_for(test::camera_at(Vec3(0, -0.08, 0.02), Vec3::Zero(), Vec3::UnitZ()), 96, 64);
+  for (const char* name : {"PHYXEL_FRAME_DRAW", "PHYXEL_FRAME_COPY"}) {
+    SCOPED_TRACE(name);
+    const std::filesystem::path dir = test::test_out_dir() / "frame_queue_switch";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    ::setenv(name, "0", 1);
+    {
+      FrameSink sink(dir, true, nullptr);
+      FrameQueue queue(ctx(), *rendered.renderer, sink);
+      ::unsetenv(name);
+      EXPECT_FALSE(queue.copies_on_transfer_queue() && std::string(name) == "PHYXEL_FRAME_COPY");
+      for (int k = 0; k < 3; ++k) {  // more than the read-back slots: none stays taken
+        queue.drain();
+        rendered.inputs->set_displacement(squashed(set, k));
+        queue.submit(rendered.inputs->inputs(), setup, frame_file(k), k);
+      }
+      queue.drain();
+      sink.flush();
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+    rendered.renderer->set_readback(true);
+  }
+  // Without them, the renderer reads back again.
+  EXPECT_EQ(rendered.render(setup, nullptr).width, setup.frame_width());
 }
 
 TEST_F(FrameQueueTest, ASinkThatFailsReportsItAndFreesItsSlots) {
