@@ -68,12 +68,9 @@ nlohmann::json cutting_row(const std::string& device, int threads, int64_t size,
       {"finite", probe.solver->first_non_finite() < 0 && scalpel.solver->first_non_finite() < 0}};
   const std::vector<gpu::PassTime> passes = scalpel.profile(32);
   if (!passes.empty()) {
-    // Below GpuSolverOptions::sever_in_stress_max the cut shares the stress pass's dispatch:
-    // then that pass is the cut's figure.
-    const double fused = pass_ns(passes, "stress+sever");
-    row["gpu_cut_us"] = (fused > 0 ? fused : pass_ns(passes, "cut")) * 1e-3;
+    row["gpu_cut_us"] = pass_ns(passes, "cut") * 1e-3;
     row["gpu_step_us"] = (pass_ns(passes, "stress") + pass_ns(passes, "force") +
-                          pass_ns(passes, "contact") + pass_ns(passes, "cut") + fused) *
+                          pass_ns(passes, "contact") + pass_ns(passes, "cut")) *
                          1e-3;
   }
   return row;
@@ -124,7 +121,7 @@ int bench_cutting(const Args& args) {
   std::printf(
       "(ms per step: wall time, median of %lld repeats of %lld steps, blade body as a probe and "
       "as a scalpel; cut ms: the difference; severed: pairs per step; cut us: the GPU's cut "
-      "pass per step, timestamps, with the stress pass where they share a dispatch)\n",
+      "pass per step, timestamps)\n",
       static_cast<long long>(repeats), static_cast<long long>(steps));
   if (!out_dir.empty())
     write_json_file(std::filesystem::path(out_dir) / "cutting.json", {{"cutting", rows}});

@@ -238,8 +238,7 @@ Scene contact_scene(int64_t size, bool with_tool) {
 
 // GPU time of one step: the per-step passes (kick_drift runs once per submit).
 double gpu_step_ns(const std::vector<gpu::PassTime>& passes) {
-  return pass_ns(passes, "stress") + pass_ns(passes, "stress+sever") + pass_ns(passes, "force") +
-         pass_ns(passes, "contact");
+  return pass_ns(passes, "stress") + pass_ns(passes, "force") + pass_ns(passes, "contact");
 }
 
 // Both boxes are built first and their repeats interleaved, so that a busy machine slows

@@ -303,15 +303,14 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     // With part_timer_ the surgical passes time their parts themselves; the step passes (the
     // fused force and tear test among them) and the tear's reset are one part each.
     const bool whole =
-        timer && !(part_timer_ && std::strncmp(name, "stress", 6) != 0 &&
-                   std::strncmp(name, "force", 5) != 0 && std::strcmp(name, "kick_drift") != 0 &&
-                   std::strcmp(name, "tear: reset") != 0);
+        timer &&
+        !(part_timer_ && std::strcmp(name, "stress") != 0 && std::strncmp(name, "force", 5) != 0 &&
+          std::strcmp(name, "kick_drift") != 0 && std::strcmp(name, "tear: reset") != 0);
     if (whole) timer->begin(rec, name);
     record();
     if (whole) timer->end(rec);
     rec.barrier();
   };
-  const bool fused_cut = contact_recorded() && sever_in_stress();
   for (int64_t step = from; step < to; ++step) {
     if (step == 0) {
       const int target = (total - 1) % 2 == 0 ? 0 : 1;
@@ -331,14 +330,10 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       cur = target;
       if (contact_recorded()) {
         timed("contact", [&] { record_contact(rec, 0, dt, disp_[cur]); });
-        if (cutting_ && !fused_cut) timed("cut", [&] { record_sever(rec, 0, disp_[cur]); });
+        if (cutting_) timed("cut", [&] { record_sever(rec, 0, disp_[cur]); });
       }
     }
-    // Each step's cut, where fused_cut, inside the stress pass that follows it.
-    if (fused_cut)
-      timed("stress+sever", [&] { record_stress_sever(rec, step, disp_[cur]); });
-    else
-      timed("stress", [&] { record_stress(rec, disp_[cur]); });
+    timed("stress", [&] { record_stress(rec, disp_[cur]); });
     // The closing kick, or with the next step's kick and drift into the other buffer (its
     // neighbours still read the current one); while tearing, with the tear test after it.
     const bool last = step == total - 1;
@@ -358,7 +353,7 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       cur = 1 - cur;
       if (contact_recorded() && !contact_in_force_) {
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
-        if (cutting_ && !fused_cut) timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
+        if (cutting_) timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
       }
     }
   }

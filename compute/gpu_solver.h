@@ -105,11 +105,6 @@ struct GpuSolverOptions {
   // empties the dirty list, in place of tool_contact_reduce's dispatch and the list's fill, the
   // same bits. Tests turn it off to compare.
   bool resist_reduce = true;
-  // While a blade cuts: tool_sever and the stress pass after it in one dispatch
-  // (solver_stress_sever), up to this many phyxels in the stress pass (0: never), the same
-  // bits. Where each dispatch is a few workgroups a dispatch fewer pays; past it the last
-  // workgroup's stress of a long dirty list costs more. Tests set it to compare.
-  uint32_t sever_in_stress_max = 65536;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -367,10 +362,6 @@ class GpuSolver final : public SolverWithAllFacets {
   void prepare_cutting();
   void upload_cut_quads(Recorder& rec);
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
-  // Whether this advance's cut passes run inside the stress pass (record_stress_sever).
-  bool sever_in_stress() const;
-  // The sever of `step` and the stress pass after it in one dispatch (solver_stress_sever).
-  void record_stress_sever(Recorder& rec, int64_t step, const Buffer& disp);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
   uint32_t cut_table_row(int64_t step) const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.

@@ -131,69 +131,6 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   part_end(rec);
 }
 
-bool GpuSolver::sever_in_stress() const {
-  return cutting_ && (contact_fused() || resist_fused()) &&
-         stress_count_ <= options_.sever_in_stress_max;
-}
-
-// As record_sever then record_stress (without the band's passes, which follow it): the stress
-// workgroups first, then as many for the candidates as tool_sever gives them lanes, sized from
-// the last advance's candidates (any count gives the same bits; a grid-stride loop past it).
-void GpuSolver::record_stress_sever(Recorder& rec, int64_t step, const Buffer& disp) {
-  const uint32_t n = static_cast<uint32_t>(stress_count_);
-  const uint32_t mode = !principal_ ? kStressOnly
-                        : tearing_  ? kStressWithTensor
-                                    : kStressWithPrincipal;
-  const StepPush sp = push(n, 0.0f, mode, lanes_for(Gather::Stress, n));
-  const uint32_t wg = PHYXEL_WORKGROUP_SIZE;
-  const uint32_t stress_groups = (n * sp.lanes + wg - 1) / wg;
-  const uint64_t sever_threads =
-      std::min<uint64_t>(uint64_t{candidates_} * kSeverMaxLanes, kSeverInvocations);
-  const uint32_t sever_groups = std::max<uint32_t>(uint32_t((sever_threads + wg - 1) / wg), 1);
-  const StressSeverPush push{contact_origin_,
-                             uint32_t(tools_.size()),
-                             cut_table_row(step),
-                             uint32_t(step),
-                             log_capacity_,
-                             n,
-                             mode,
-                             sp.weights,
-                             sp.lanes,
-                             stress_groups,
-                             0u,
-                             0u,
-                             0u};
-  const Buffer& principal = principal_ ? principal_stress_ : von_mises_;
-  rec.barrier();  // the samples of this substep
-  dispatch(rec, kernels_->stress_sever, push,
-           {{"List", candidate_list_},
-            {"Rest", rest_},
-            {"Disp", disp},
-            {"Offset", nbr_offset_},
-            {"IndexLo", nbr_index_.lo()},
-            {"WeightLo", weight_.lo()},
-            {"Flags", flags_},
-            {"Quads", cut_quads_},
-            {"Samples", samples_buffer_},
-            {"Dirty", cut_dirty_},
-            {"Log", cut_log_},
-            {"Count", contact_count_},
-            {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()},
-            {"Local", local_},
-            {"Classes", classes_},
-            {"Ainv", ainv_},
-            {"Resid", resid_},
-            {"Done", cut_done_},
-            {"StressList", stress_list_},
-            {"Stress", stress_},
-            {"Principal", principal},
-            {"Cauchy", tearing_ ? cauchy_ : energy_},
-            {"LocalRest", local_}},
-           (stress_groups + sever_groups) * wg);
-  record_band(rec, disp);  // while the band has cells
-}
-
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
   // Summing the samples itself (resist_fused), and emptying the dirty list as tool_contact would.

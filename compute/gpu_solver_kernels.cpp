@@ -20,7 +20,6 @@
 #include "phyxel_spv/solver_precompute.spv.h"
 #include "phyxel_spv/solver_reduce.spv.h"
 #include "phyxel_spv/solver_stress.spv.h"
-#include "phyxel_spv/solver_stress_sever.spv.h"
 #include "phyxel_spv/solver_von_mises.spv.h"
 #include "phyxel_spv/tool_broad_phase.spv.h"
 #include "phyxel_spv/tool_broad_scan.spv.h"
@@ -75,7 +74,6 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
   sever = make(PHYXEL_SHADER(tool_sever), 19, sizeof(SeverPush));
-  stress_sever = make(PHYXEL_SHADER(solver_stress_sever), 24, sizeof(StressSeverPush));
   resist = make(PHYXEL_SHADER(tool_resist), 17, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }

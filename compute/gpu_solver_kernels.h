@@ -43,7 +43,6 @@ class SolverKernels {
   Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
-  Pipeline stress_sever;    // layout::StressSeverPush; kSever*, kStressSever* bindings
   Pipeline resist;          // layout::ResistPush; kResist* bindings (over the candidates)
   Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
   Pipeline near;            // layout::NearPush; kNear* bindings (aspiration's reads)

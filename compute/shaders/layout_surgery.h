@@ -333,34 +333,6 @@ PHYXEL_CONST uint kSeverBindingAinv = 16;
 PHYXEL_CONST uint kSeverBindingResid = 17;
 PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups done (solver_force_tear's too); 0 between
 
-// solver_stress_sever: the cut pass and the stress pass after it in one dispatch
-// (GpuSolverOptions::sever_in_stress). Workgroups [0, stress_groups) run the stress pass over
-// its list (StepPush's count, mode, weights, lanes), the others tool_sever's tests over the
-// candidates (SeverPush's fields); the last workgroup reruns the precompute and then the stress
-// of the phyxels the cut put in the dirty list (the only ones whose stress the cut changes).
-struct StressSeverPush {
-  vec4 origin;
-  uint tools;
-  uint row;
-  uint sample_row;
-  uint log_capacity;
-  uint count;  // the stress list's length
-  uint mode;   // kStressOnly, kStressWithPrincipal or kStressWithTensor
-  uint weights;
-  uint lanes;          // invocations per stress-list phyxel
-  uint stress_groups;  // workgroups of the stress pass; the rest test the candidates' pairs
-  uint pad0;
-  uint pad1;
-  uint pad2;
-};
-PHYXEL_ASSERT_SIZE(StressSeverPush, 64);
-// kSeverBinding* 0 .. 18, then:
-PHYXEL_CONST uint kStressSeverBindingList = 19;  // the stress pass list
-PHYXEL_CONST uint kStressSeverBindingStress = 20;
-PHYXEL_CONST uint kStressSeverBindingPrincipal = 21;
-PHYXEL_CONST uint kStressSeverBindingCauchy = 22;
-PHYXEL_CONST uint kStressSeverBindingLocalRest = 23;  // Local again: the neighbours' rest positions
-
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
 // removed sums the forces of the pairs each blade's edge holds (canonical order, its share),

@@ -11,6 +11,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
+#include "solver_mls.glsl"
+#include "sym_eigen.glsl"
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
@@ -35,12 +37,65 @@ layout(std430, binding = kStressBindingPrincipal) writeonly buffer Principal {
 };
 layout(std430, binding = kStressBindingCauchy) writeonly buffer Cauchy { vec4 cauchy[]; };
 
-#include "solver_stress.glsl"
+// Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 then adds the
+// lanes' sums in lane order (a fixed order: reruns are bit-identical).
+shared mat3 partial_m[PHYXEL_WORKGROUP_SIZE];
 
 void main() {
   const uint lanes = p.lanes;
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const uint slot = invocation / lanes;
+  const uint lane = invocation % lanes;
   const bool in_pass = slot < p.count;
-  stress_of(in_pass, in_pass ? pass_list[slot] : 0u, invocation % lanes, lanes);
+  uint i = 0u, fl = 0u;
+  SolverClass cls;
+  vec4 li = vec4(0.0);
+  vec3 ui = vec3(0.0);
+  mat3 m = mat3(0.0);
+  if (in_pass) {
+    i = pass_list[slot];
+    fl = flags[i];
+    cls = classes[fl >> kFlagClassShift];
+    li = local_pos[i];
+    ui = disp[i].xyz;
+    const bool stored = stored_weights(p.weights, fl);
+    const uint end = offset[i + 1u];
+    uint k = offset[i] + lane;
+    uint next = k < end ? nbr_index(k) : 0u;
+    for (; k < end; k += lanes) {
+      const uint j = next;
+      if (k + lanes < end) next = nbr_index(k + lanes);  // in flight while j is gathered
+      const vec3 x = local_pos[j].xyz - li.xyz;
+      const float w = stored ? pair_weight(k) : poly6_weight(dot(x, x), cls.kernel);
+      m += outerProduct(w * (disp[j].xyz - ui), x);
+    }
+  }
+  if (lanes > 1u) {  // uniform: every invocation of the workgroup reaches the barrier
+    partial_m[gl_LocalInvocationIndex] = m;
+    barrier();
+    if (lane != 0u || !in_pass) return;
+    for (uint q = 1u; q < lanes; ++q) m += partial_m[gl_LocalInvocationIndex + q];
+  }
+  if (!in_pass) return;
+  const vec4 a0 = ainv[2u * i];
+  const vec4 a1 = ainv[2u * i + 1u];
+  const mat3 a_inv = unpack_sym(a0, a1);
+  const mat3 g = m * a_inv;
+  const Strain s = strain_of(g);
+  const mat3 piola = first_piola(s, cls.elastic.xyz);
+  const float kappa = li.w;
+  mat3 d = (a1.z * piola) * a_inv - kappa * g;
+  if ((fl & kFlagRegularised) != 0u)
+    d += kappa * (m * unpack_sym(resid[2u * i], resid[2u * i + 1u]));
+  stress[3u * i] = vec4(d[0], ui.x);
+  stress[3u * i + 1u] = vec4(d[1], ui.y);
+  stress[3u * i + 2u] = vec4(d[2], ui.z);
+  if (p.mode == kStressOnly) return;
+  const mat3 sigma = cauchy_stress(s, piola);
+  const mat3 sym = 0.5 * (sigma + transpose(sigma));
+  max_principal[i] = sym_eigenvalues(sym).x;
+  if (p.mode == kStressWithTensor) {
+    cauchy[2u * i] = vec4(sym[0][0], sym[1][1], sym[2][2], sym[1][0]);
+    cauchy[2u * i + 1u] = vec4(sym[2][0], sym[2][1], 0.0, 0.0);
+  }
 }

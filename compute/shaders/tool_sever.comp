@@ -46,7 +46,205 @@ layout(std430, binding = kSeverBindingAinv) writeonly buffer Ainv { vec4 ainv[];
 layout(std430, binding = kSeverBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kSeverBindingDone) coherent buffer Done { uint done; };
 
-#include "tool_sever.glsl"
+const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
+
+// segment_crosses_triangle of engine/solver/cutting.cpp, in float.
+bool crosses_triangle(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, out float t) {
+  t = 0.0;
+  const vec3 pa = p - a, qa = q - a, ba = b - a, ca = c - a;
+  const vec3 n = cross(ba, ca);
+  const float sp = dot(n, pa), sq = dot(n, qa);
+  if ((sp >= 0.0) == (sq >= 0.0)) return false;
+  const vec3 d = qa - pa;
+  const vec3 ap = -pa, bp = ba - pa, cp = ca - pa;
+  const float s1 = dot(d, cross(ap, bp));
+  const float s2 = dot(d, cross(bp, cp));
+  const float s3 = dot(d, cross(cp, ap));
+  const bool inside = (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0);
+  if (inside) t = sp / (sp - sq);
+  return inside;
+}
+
+// blade_severs of engine/solver/cutting.cpp: the quad a b c d crossed, but not within the tie
+// tolerance of its front a -> d (the line the blade's tip swept).
+bool severs_quad(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, vec3 d, out float t) {
+  if (!crosses_triangle(p, q, a, b, c, t) && !crosses_triangle(p, q, a, c, d, t)) return false;
+  const vec3 x = p - a + t * (q - p), front = d - a;
+  const float len2 = dot(front, front);
+  const float s = len2 > 0.0 ? clamp(dot(x, front) / len2, 0.0, 1.0) : 0.0;
+  return length(x - s * front) >= kCutTieTolerance;
+}
+
+bool crosses_quad(vec3 p, vec3 q, CutQuad c, out float t) {
+  return severs_quad(p, q, c.p0.xyz, c.p1.xyz, c.p2.xyz, c.p3.xyz, t);
+}
+
+// The blade body's strip (CpuSolver's body_strip): the blade's plane within the body's radius
+// (p0.w) of the blade at the end pose, whose tip and end lie p3.w and p2.w along the edge from
+// p3 and p2. A pair crossing it passes through the body.
+bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
+  t = 0.0;
+  const float radius = c.p0.w;
+  if (radius <= 0.0) return false;
+  const vec3 e = c.edge.xyz;
+  const vec3 tip = c.p3.xyz + c.p3.w * e, end = c.p2.xyz + c.p2.w * e;
+  return severs_quad(p, q, tip - radius * e, end - radius * e, end + radius * e, tip + radius * e, t);
+}
+
+#include "blade_edge.glsl"
+
+// Where the blade cuts in this substep: the quad, the body's strip, or a pair the edge holds
+// (tool_resist); whatever its force: a pair its edge carries past its reach (edge_passes).
+bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
+  t = 0.0;
+  if (cuts && (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t))) return true;
+  if (!(c.resist.x > 0.0)) return false;
+  const EdgeFrame f = edge_frame(c);
+  float behind;
+  float direction;
+  if (cuts && edge_holds(p, q, f, t, behind, direction)) return true;
+  return edge_passes(p, q, f, t);
+}
+
+#include "pair_edit.glsl"
+
+// Whether the tool's blade cuts in this substep: its sample presses the edge in, or the point
+// (a stab), with at least its threshold (cut_force of engine/solver/cutting.cpp).
+bool tool_cuts(CutQuad quad, uint tool) {
+  const float threshold = quad.edge.w;
+  if (threshold < 0.0) return false;  // no blade
+  const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
+  const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
+  return max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) >= threshold;
+}
+
+// Per tool of the first kSeverBallTools, a ball holding everything its blade can sever this
+// substep (the swept quad, the body's strip, the region the edge holds or carries past its
+// reach: each the convex hull of corners in it), widened for float round-off: centre, radius
+// squared; w < 0 where the blade severs nothing. A pair whose segment misses the ball is left
+// untested (it cannot cross), so the same pairs are severed as when testing all of them.
+// blade_cutting: whether its force reached the threshold (else only edge_passes severs).
+const uint kSeverBallTools = 8u;
+shared vec4 blade_ball[kSeverBallTools];
+shared bool blade_cutting[kSeverBallTools];
+
+void hold_in_ball(inout float r2, vec3 centre, vec3 x) {
+  r2 = max(r2, dot(x - centre, x - centre));
+}
+
+// The corners of the region the edge holds or carries past its reach: tip + along axis + across
+// edge, along in [0, span], |across . edge| <= front + depth + the faster end's motion
+// (edge_holds' and edge_passes' bounds), in the axis-edge plane.
+void hold_edge_region(inout float r2, vec3 centre, CutQuad c) {
+  const EdgeFrame f = edge_frame(c);
+  const float g = dot(f.axis, f.edge), det = 1.0 - g * g;
+  if (!(det > 1e-6)) {
+    r2 = 1e30;  // axis along the edge: no ball
+    return;
+  }
+  const float across =
+      abs(f.front) + abs(f.depth) + max(abs(f.tip_motion), abs(f.end_motion));
+  for (uint corner = 0u; corner < 4u; ++corner) {
+    const float along = (corner & 1u) != 0u ? f.span : 0.0;
+    const float side = (corner & 2u) != 0u ? across : -across;
+    // c . axis = along, c . edge = side, c in the plane of axis and edge.
+    const float a = (along - g * side) / det, e = (side - g * along) / det;
+    hold_in_ball(r2, centre, f.tip + a * f.axis + e * f.edge);
+  }
+}
+
+// Whether the blade may sever anything this substep: it cuts, or its edge holds pairs.
+bool tool_severs(CutQuad c, bool cuts) {
+  return cuts || (c.edge.w >= 0.0 && c.resist.x > 0.0);
+}
+
+vec4 blade_ball_of(uint tool, bool cuts) {
+  const CutQuad c = quads[p.row * p.tools + tool];
+  if (!tool_severs(c, cuts)) return vec4(0.0, 0.0, 0.0, -1.0);
+  const vec3 centre = 0.25 * (c.p0.xyz + c.p1.xyz + c.p2.xyz + c.p3.xyz);
+  float r2 = 0.0;
+  hold_in_ball(r2, centre, c.p0.xyz);
+  hold_in_ball(r2, centre, c.p1.xyz);
+  hold_in_ball(r2, centre, c.p2.xyz);
+  hold_in_ball(r2, centre, c.p3.xyz);
+  const float radius = c.p0.w;
+  const vec3 e = c.edge.xyz;
+  const vec3 tip = c.p3.xyz + c.p3.w * e, end = c.p2.xyz + c.p2.w * e;
+  if (radius > 0.0)
+    for (uint corner = 0u; corner < 4u; ++corner)
+      hold_in_ball(
+          r2, centre,
+          ((corner & 1u) != 0u ? end : tip) + ((corner & 2u) != 0u ? radius : -radius) * e);
+  if (c.resist.x > 0.0) hold_edge_region(r2, centre, c);
+  const float r = sqrt(r2) * 1.01 + 1e-5;  // m: far above float round-off at these sizes
+  return vec4(centre, r * r);
+}
+
+// Whether the segment a -> b comes within the ball s (centre, radius squared).
+bool segment_meets_ball(vec3 a, vec3 b, vec4 s) {
+  const vec3 d = b - a, w = s.xyz - a;
+  const float dd = dot(d, d);
+  const float u = dd > 0.0 ? clamp(dot(w, d) / dd, 0.0, 1.0) : 0.0;
+  const vec3 x = w - u * d;
+  return dot(x, x) <= s.w;
+}
+
+// Whether the tool's blade may sever the pair xi -> xj this substep (tools past
+// kSeverBallTools: whether it severs at all).
+bool blade_may_sever(uint tool, CutQuad quad, vec3 xi, vec3 xj) {
+  if (tool >= kSeverBallTools) return tool_severs(quad, tool_cuts(quad, tool));
+  const vec4 ball = blade_ball[tool];
+  return ball.w >= 0.0 && segment_meets_ball(xi, xj, ball);
+}
+
+bool blade_cuts(uint tool, CutQuad quad) {
+  return tool < kSeverBallTools ? blade_cutting[tool] : tool_cuts(quad, tool);
+}
+
+// Fills blade_ball and blade_cutting (every invocation calls it); whether any blade may sever
+// this substep.
+bool any_tool_severs() {
+  const uint t = gl_LocalInvocationIndex;
+  if (t < min(p.tools, kSeverBallTools)) {
+    const bool cuts = tool_cuts(quads[p.row * p.tools + t], t);
+    blade_cutting[t] = cuts;
+    blade_ball[t] = blade_ball_of(t, cuts);
+  }
+  barrier();
+  for (uint tool = 0u; tool < p.tools; ++tool) {
+    const CutQuad quad = quads[p.row * p.tools + tool];
+    if (tool < kSeverBallTools ? blade_ball[tool].w >= 0.0
+                               : tool_severs(quad, tool_cuts(quad, tool)))
+      return true;
+  }
+  return false;
+}
+
+// Pair slot k of candidate i (at xi): severed by the first tool whose blade crosses it, unless
+// the invocation of its other side claimed it first (the atomic exchange of the lower index's
+// slot), which severs it alike.
+void sever_pair(uint i, vec3 xi, uint k) {
+  if (pair_weight_bits(k) == 0u) return;
+  const uint j = nbr_index(k);
+  const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
+  for (uint tool = 0u; tool < p.tools; ++tool) {
+    const CutQuad quad = quads[p.row * p.tools + tool];
+    if (!blade_may_sever(tool, quad, xi, xj)) continue;
+    const bool cuts = blade_cuts(tool, quad);
+    float t;
+    const bool crosses =
+        i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
+    if (!crosses) continue;
+    const uint lo = min(i, j), hi = max(i, j);
+    const uint lo_slot = i < j ? k : find_slot(j, i);
+    if (sever_pair_weight(lo_slot) == 0u) return;  // another invocation has it
+    clear_pair_weight(i < j ? find_slot(j, i) : k);
+    mark_dirty(lo);
+    mark_dirty(hi);
+    log_severed(lo, hi, t, 0u);
+    return;
+  }
+}
 
 void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
