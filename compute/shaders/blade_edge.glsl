@@ -34,15 +34,12 @@ EdgeFrame edge_frame(CutQuad c) {
 
 // Where the pair p -> q crosses the blade's plane within its span (edge_crossing of
 // engine/solver/cutting.cpp): t its fraction, behind how far behind the body's front against
-// the motion there (m), moved that motion along the edge, depth the held band's depth there
-// (f.depth times that motion over the faster end's); false where it does not cross or the
+// the motion there (m), moved that motion along the edge; false where it does not cross or the
 // blade does not move there.
-bool edge_crossing(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float moved,
-                   out float depth) {
+bool edge_crossing(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float moved) {
   t = 0.0;
   behind = 0.0;
   moved = 0.0;
-  depth = 0.0;
   const vec3 pt = p - f.tip;
   const float dp = dot(f.normal, pt), dq = dot(f.normal, q - f.tip);
   if ((dp >= 0.0) == (dq >= 0.0)) return false;
@@ -53,7 +50,6 @@ bool edge_crossing(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, o
   moved = f.tip_motion + along / f.span * (f.end_motion - f.tip_motion);
   if (moved == 0.0) return false;
   behind = f.front - (moved > 0.0 ? 1.0 : -1.0) * dot(c, f.edge);
-  depth = f.depth * abs(moved) / max(abs(f.tip_motion), abs(f.end_motion));
   return true;
 }
 
@@ -61,20 +57,18 @@ bool edge_crossing(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, o
 // how far behind the body's front it lies (m), against the motion there (direction +-1).
 bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float direction) {
   float moved;
-  float depth;
-  const bool crosses = edge_crossing(p, q, f, t, behind, moved, depth);
+  const bool crosses = edge_crossing(p, q, f, t, behind, moved);
   direction = moved > 0.0 ? 1.0 : -1.0;
-  return crosses && behind > 0.0 && behind <= depth;
+  return crosses && behind > 0.0 && behind <= f.depth;
 }
 
 // Whether the edge carries the pair p -> q (canonical order) past its reach in this substep
-// (edge_passes of cutting.cpp): more than the depth there, at most it plus the motion, behind.
+// (edge_passes of cutting.cpp): more than depth, at most depth plus the motion there, behind.
 bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {
   float behind;
   float moved;
-  float depth;
-  return edge_crossing(p, q, f, t, behind, moved, depth) && behind > depth &&
-         behind <= depth + abs(moved);
+  return edge_crossing(p, q, f, t, behind, moved) && behind > f.depth &&
+         behind <= f.depth + abs(moved);
 }
 
 #endif

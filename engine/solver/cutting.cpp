@@ -74,7 +74,7 @@ namespace {
 // motion (m along the edge; linear from the tip's to the end's). False where the segment does
 // not cross, or the blade does not move there.
 struct EdgeCrossing {
-  double t = 0, behind = 0, moved = 0, depth = 0;
+  double t = 0, behind = 0, moved = 0;
 };
 
 bool edge_crossing(const Vec3& p, const Vec3& q, const EdgeFrame& f, EdgeCrossing* x) {
@@ -90,10 +90,6 @@ bool edge_crossing(const Vec3& p, const Vec3& q, const EdgeFrame& f, EdgeCrossin
   x->t = at;
   x->behind = f.front - (moved > 0 ? 1.0 : -1.0) * c.dot(f.edge);
   x->moved = moved;
-  // The held band's depth there, as the quad's reach ahead: in proportion to that point's motion
-  // over the faster end's (a turned blade holds nothing at its pivot, where it passes nothing).
-  const double fastest = std::max(std::abs(f.tip_motion), std::abs(f.end_motion));
-  x->depth = f.depth * std::abs(moved) / fastest;
   return true;
 }
 
@@ -102,7 +98,7 @@ bool edge_crossing(const Vec3& p, const Vec3& q, const EdgeFrame& f, EdgeCrossin
 bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
                 double* direction) {
   EdgeCrossing x;
-  if (!edge_crossing(p, q, f, &x) || !(x.behind > 0 && x.behind <= x.depth)) return false;
+  if (!edge_crossing(p, q, f, &x) || !(x.behind > 0 && x.behind <= f.depth)) return false;
   *t = x.t;
   *delta = x.behind;
   *direction = x.moved > 0 ? 1.0 : -1.0;
@@ -112,7 +108,7 @@ bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, dou
 bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
   EdgeCrossing x;
   if (!edge_crossing(p, q, f, &x) ||
-      !(x.behind > x.depth && x.behind <= x.depth + std::abs(x.moved)))
+      !(x.behind > f.depth && x.behind <= f.depth + std::abs(x.moved)))
     return false;
   *t = x.t;
   return true;
