@@ -62,6 +62,16 @@ bool edge_holds(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out 
   return crosses && behind > 0.0 && behind <= f.depth;
 }
 
+// Whether the edge pushes the held pair p -> q (edge_pushes of cutting.cpp): as edge_holds,
+// within f.depth times the motion there over the faster end's (nothing at a turned blade's pivot).
+bool edge_pushes(vec3 p, vec3 q, EdgeFrame f, out float t, out float behind, out float direction) {
+  float moved;
+  const bool crosses = edge_crossing(p, q, f, t, behind, moved);
+  direction = moved > 0.0 ? 1.0 : -1.0;
+  return crosses && behind > 0.0 &&
+         behind <= f.depth * abs(moved) / max(abs(f.tip_motion), abs(f.end_motion));
+}
+
 // Whether the edge carries the pair p -> q (canonical order) past its reach in this substep
 // (edge_passes of cutting.cpp): more than depth, at most depth plus the motion there, behind.
 bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {

@@ -1,6 +1,6 @@
 // The edge's resistance after a substep's contacts (ResistPush in layout.h; the CPU twin is
 // CpuSolver::apply_edge_resistance in engine/solver/cpu_solver_cutting.cpp): each candidate
-// sums, per blade, the forces stiffness * a_ij * behind of the pairs the edge holds (canonical
+// sums, per blade, the forces stiffness * a_ij * behind of the pairs the edge pushes (canonical
 // order, its share (1 - t) or t), a_ij = (V_i + V_j) / (S_i + S_j) (pair_area_share), bounds
 // the sum by the threshold (bounded_edge_push), adds
 // dt / m times them to its velocity, and each workgroup adds its sums to tool_contact's partials
@@ -64,8 +64,8 @@ vec3 held_pairs_force(uint i, EdgeFrame f) {
     float t;
     float behind;
     float direction;
-    if (!(i < j ? edge_holds(xi, xj, f, t, behind, direction)
-                : edge_holds(xj, xi, f, t, behind, direction)))
+    if (!(i < j ? edge_pushes(xi, xj, f, t, behind, direction)
+                : edge_pushes(xj, xi, f, t, behind, direction)))
       continue;
     if (s_i < 0.0) s_i = plane_crossings(i, f.normal);
     const float s_j = plane_crossings(j, f.normal);

@@ -123,8 +123,8 @@ Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge) const 
     const uint32_t j = nbr_.index[k];
     const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
     double t = 0, behind = 0, direction = 0;  // in the canonical order, as apply_cuts
-    if (!(i < j ? edge_holds(xi, xj, edge, &t, &behind, &direction)
-                : edge_holds(xj, xi, edge, &t, &behind, &direction)))
+    if (!(i < j ? edge_pushes(xi, xj, edge, &t, &behind, &direction)
+                : edge_pushes(xj, xi, edge, &t, &behind, &direction)))
       continue;
     if (s_i < 0) s_i = plane_crossings(i, edge.normal);
     const double s_j = plane_crossings(j, edge.normal);

@@ -77,6 +77,13 @@ struct EdgeCrossing {
   double t = 0, behind = 0, moved = 0;
 };
 
+// The depth of the band that pushes at that point: depth times that point's motion along the
+// edge over the faster end's, as the quad's reach ahead (a turned blade pushes nothing at its
+// pivot, where it passes nothing).
+double push_depth(const EdgeFrame& f, double moved) {
+  return f.depth * std::abs(moved) / std::max(std::abs(f.tip_motion), std::abs(f.end_motion));
+}
+
 bool edge_crossing(const Vec3& p, const Vec3& q, const EdgeFrame& f, EdgeCrossing* x) {
   const Vec3 pt = p - f.tip;
   const double dp = f.normal.dot(pt), dq = f.normal.dot(q - f.tip);
@@ -99,6 +106,17 @@ bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, dou
                 double* direction) {
   EdgeCrossing x;
   if (!edge_crossing(p, q, f, &x) || !(x.behind > 0 && x.behind <= f.depth)) return false;
+  *t = x.t;
+  *delta = x.behind;
+  *direction = x.moved > 0 ? 1.0 : -1.0;
+  return true;
+}
+
+bool edge_pushes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
+                 double* direction) {
+  EdgeCrossing x;
+  if (!edge_crossing(p, q, f, &x) || !(x.behind > 0 && x.behind <= push_depth(f, x.moved)))
+    return false;
   *t = x.t;
   *delta = x.behind;
   *direction = x.moved > 0 ? 1.0 : -1.0;

@@ -121,6 +121,14 @@ EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to
 bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
                 double* direction);
 
+// Whether the edge pushes the held pair p -> q (canonical order), as edge_holds within a band
+// depth * |m| / max(|m_tip|, |m_end|) deep, m the blade's motion along the edge where the pair
+// crosses: a turned blade pushes nothing at its pivot, which passes nothing (there the full
+// k a delta, one way on each side of the pivot, was a field with a curl that threw a phyxel
+// beside it; docs/cutting.md, "Nothing pushed at a pivot"). Severing still takes edge_holds.
+bool edge_pushes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
+                 double* direction);
+
 // Whether the edge carries the pair p -> q (canonical order) past its reach in this substep: it
 // crosses the blade's plane as for edge_holds, more than depth and at most depth plus the
 // blade's motion there behind the front (held at the substep's start, let go at its end). Such a
