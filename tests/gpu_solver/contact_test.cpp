@@ -57,15 +57,16 @@ Probe capsule_probe(const Scene& scene, double t1, double t2) {
   return p;
 }
 
-// A blade with a threshold stabbed point-first (axis +z, r 1 mm) 3 mm into the top face, its
-// axis 0.05 mm from the column of lattice sites under the face's middle, then moved 2 mm along
+// A blade with a threshold stabbed point-first (axis +z, r 3 mm) 3 mm into the top face, its
+// axis 0.4 mm from the column of lattice sites under the face's middle (inside the friction
+// cone of a blunt cap, 0.86 mm), then moved 2 mm along
 // x: its point's cap takes no friction (on_sharp_point), its body keeps it. The threshold (10 N)
 // is never reached and the edge has no stiffness: contact only, nothing cut or held.
 Probe sharp_point_probe(const Scene& scene, double t1, double t2) {
   const Vec3 lo = scene.objects[0].shape.min, hi = scene.objects[0].shape.max;
-  const Vec3 tip(0.5 * (lo.x() + hi.x()) + 0.00005, 0.5 * (lo.y() + hi.y()), hi.z() + 0.0005);
+  const Vec3 tip(0.5 * (lo.x() + hi.x()) + 0.0004, 0.5 * (lo.y() + hi.y()), hi.z() + 0.0005);
   Probe p;
-  p.tool.shape = {ToolShape::Type::Capsule, 0.001, 0.02};
+  p.tool.shape = {ToolShape::Type::Capsule, 0.003, 0.02};
   p.tool.friction = 0.3;
   p.tool.blade.length = 0.015;
   p.tool.blade.threshold = 10;
