@@ -57,10 +57,11 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
       throw std::invalid_argument(
           "GpuSolver::set_tools: a tool needs a radius > 0, a length "
           ">= 0 and a friction >= 0");
-    const float band = t.blade.cuts() ? float(contact_spacing_) : 0.0f;  // ToolContactSample
+    const float band = t.blade.cuts() ? float(contact_spacing_) : 0.0f;     // ToolContactSample
+    const bool sharp = capsule && t.blade.cuts() && t.blade.threshold > 0;  // on_sharp_point
     shapes.push_back(
         {{float(t.shape.radius), capsule ? float(t.shape.length) : 0.0f, float(t.friction), band},
-         {capsule ? kToolCapsule : kToolSphere, 0u, 0u, 0u},
+         {capsule ? kToolCapsule : kToolSphere, sharp ? 1u : 0u, 0u, 0u},
          {float(suction_pull_density(t)), float(t.suction.reach), float(t.suction.flow_speed),
           0.0f}});
   }

@@ -21,7 +21,8 @@ PHYXEL_CONST uint kToolCapsule = 1u;
 struct ContactToolShape {
   vec4 shape;    // radius (m), length (m; 0 for a sphere), Coulomb friction mu, and for a blade
                  // the band around it whose phyxels span its axial range (m; 0: contacts only)
-  uvec4 kind;    // kToolSphere or kToolCapsule, 0, 0, 0
+  uvec4 kind;    // kToolSphere or kToolCapsule; 1 for a blade with a threshold (its point's cap
+                 // takes no friction: on_sharp_point), else 0; 0, 0
   vec4 suction;  // an aspirator's pull per unit volume in reach 2 F / V_reach (N/m^3; 0: none),
                  // its reach (m), its flow speed (m/s), 0 (engine/solver/suction.h)
 };

@@ -91,7 +91,8 @@ bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool h
   const ToolHit hit = tool_distance(tool, to_p, to_a, x_new);
   if (!(hit.distance < 0.0)) return false;
   const vec3 n = hit.normal;
-  const float mu = tool.shape.z;
+  // A blade's sharp point (on_sharp_point): its cap ahead of the tip takes no friction.
+  const float mu = (tool.kind.y != 0u && dot(x_new - to_p, to_a) < 0.0) ? 0.0 : tool.shape.z;
   const vec3 dn = -hit.distance * n;
   const vec3 step = dt * v;
   const vec3 x_prev = x_new - step;

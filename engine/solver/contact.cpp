@@ -13,6 +13,11 @@ std::vector<ContactTool> contact_tools(const std::vector<ToolDesc>& tools) {
   return out;
 }
 
+bool on_sharp_point(const ContactTool& tool, const ToolPose& pose, const Vec3& x) {
+  return tool.blade.cuts() && tool.blade.threshold > 0 &&
+         tool.shape.type == ToolShape::Type::Capsule && (x - pose.position).dot(pose.axis) < 0;
+}
+
 template <class Real>
 bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real dt,
                         const Eigen::Matrix<Real, 3, 1>& x_prev,
@@ -23,7 +28,7 @@ bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real 
   const ToolDistance d = tool_distance(tool.shape, motion.to, xn);
   if (!(d.distance < 0)) return false;
   const Vec3& n = d.normal;
-  const double mu = tool.friction;
+  const double mu = on_sharp_point(tool, motion.to, xn) ? 0.0 : tool.friction;
   // Position: out along the normal; the tangential slip relative to the tool surface (which
   // carried the point from x_prev) removed within the friction cone of the normal correction.
   const Vec3 dn = -d.distance * n;

@@ -15,7 +15,8 @@
 // the phyxel is m dv / dt, and the tool feels the negative sum. A phyxel pushed deep into a
 // tool (squeezed by its neighbours) is put back on the surface without being thrown: its
 // speed after contact never exceeds the tool surface's by more than it had. Fixed and removed
-// phyxels take no contact.
+// phyxels take no contact. A blade's point is sharp: with a threshold, the cap ahead of its tip
+// holds nothing by friction (on_sharp_point).
 #pragma once
 
 #include <Eigen/Core>
@@ -64,6 +65,14 @@ struct ToolContactSample {
     axial_max = std::max(axial_max, s);
   }
 };
+
+// Whether x lies on a blade's point (docs/cutting.md, "The point"): a scalpel with a threshold,
+// x ahead of its tip along the axis at the pose (the capsule's cap there). The cap stands in
+// for a sharp point, which parts what it meets to either side: there contact takes no friction,
+// so a phyxel met head-on slides off the cap within about a radius of advance instead of riding
+// on it inside the friction cone. At threshold 0 the point cuts ahead in every substep; the
+// cap keeps its friction.
+bool on_sharp_point(const ContactTool& tool, const ToolPose& pose, const Vec3& x);
 
 // The correction of one phyxel over a substep of dt: x_new is its position after the drift,
 // x_prev before it, v its velocity. Returns false (dx, dv untouched) outside the tool.

@@ -57,6 +57,26 @@ Probe capsule_probe(const Scene& scene, double t1, double t2) {
   return p;
 }
 
+// A blade with a threshold stabbed point-first (axis +z, r 3 mm) 3 mm into the top face, its
+// axis 0.4 mm from the column of lattice sites under the face's middle (inside the friction
+// cone of a blunt cap, 0.86 mm), then moved 2 mm along
+// x: its point's cap takes no friction (on_sharp_point), its body keeps it. The threshold (10 N)
+// is never reached and the edge has no stiffness: contact only, nothing cut or held.
+Probe sharp_point_probe(const Scene& scene, double t1, double t2) {
+  const Vec3 lo = scene.objects[0].shape.min, hi = scene.objects[0].shape.max;
+  const Vec3 tip(0.5 * (lo.x() + hi.x()) + 0.0004, 0.5 * (lo.y() + hi.y()), hi.z() + 0.0005);
+  Probe p;
+  p.tool.shape = {ToolShape::Type::Capsule, 0.003, 0.02};
+  p.tool.friction = 0.3;
+  p.tool.blade.length = 0.015;
+  p.tool.blade.threshold = 10;
+  p.tool.blade.stiffness = 0;
+  p.path = {{0.0, tip, Vec3::UnitZ()},
+            {t1, tip - Vec3(0, 0, 0.003), Vec3::UnitZ()},
+            {t2, tip + Vec3(0.002, 0, -0.003), Vec3::UnitZ()}};
+  return p;
+}
+
 Probe shifted(Probe p, const Vec3& by) {
   for (ToolKey& k : p.path) k.position += by;
   return p;
@@ -266,6 +286,24 @@ TEST_F(GpuSolverTest, ContactSphereProbePressAndSlideMatchesTheCpu) {
 
 TEST_F(GpuSolverTest, ContactTurningCapsuleMatchesTheCpu) {
   expect_parity(ctx(), {capsule_probe(block_scene(), 0.025, 0.05)}, 0.05);
+}
+
+// The sharp point (on_sharp_point, tool_contact.glsl's kind.y): the same contacts on both
+// solvers, and on the CPU other than the same capsule's without a blade (friction on its cap).
+TEST_F(GpuSolverTest, ContactSharpPointMatchesTheCpu) {
+  const Scene scene = block_scene();
+  const Probe sharp = sharp_point_probe(scene, 0.03, 0.05);
+  expect_parity(ctx(), {sharp}, 0.05);
+  Probe blunt = sharp;
+  blunt.tool.blade = Blade{};
+  const PhyxelSet set = sample_scene(scene);
+  const double dt = plan_time_step(scene, set).dt_stable;
+  const int64_t steps = static_cast<int64_t>(std::ceil(0.05 / dt));
+  const Trace a = run_cpu(set, scene.simulation.gravity, {sharp}, dt, steps);
+  const Trace b = run_cpu(set, scene.simulation.gravity, {blunt}, dt, steps);
+  const double differ = max_difference(a.u, b.u);
+  std::printf("[ contact  ] sharp against blunt point: max |du| %.3g m\n", differ);
+  EXPECT_GT(differ, 1e-6);
 }
 
 // Two tools at once (the per-tool reduction and sample layout): the sphere 7 mm to the side of
