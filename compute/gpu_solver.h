@@ -538,7 +538,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // prefetch_checks: the check pass into check_ and the max norms into max_norm_readback_,
   // recorded after the last substep; valid until settle() (a read of the state keeps them).
   bool checks_asked_ = false, checks_ready_ = false;
-  void record_checks(Recorder& rec);
+  void record_check(Recorder& rec);   // first_non_finite's pass alone
+  void record_checks(Recorder& rec);  // record_check, then record_max_norms
   // Waits for the advance in flight for a read that changes nothing on the device: the
   // prefetched checks stay, a prefetched read_near does not.
   void settle_for_read() {

@@ -127,14 +127,19 @@ std::vector<ObjectMotion> GpuSolver::object_motion(const PhyxelSet& set) {
   return out;
 }
 
-// The check pass into check_, then the max norms (what the run loop's checks read).
-void GpuSolver::record_checks(Recorder& rec) {
-  if (count_ == 0) return;
-  rec.barrier();  // the last substep wrote u and v
+// The first phyxel with a non-finite u or v into check_ (all ones: none).
+void GpuSolver::record_check(Recorder& rec) {
   rec.fill(check_, 0xffffffffu);
   rec.barrier();
   dispatch(rec, kernels_->check, CheckPush{count_, 0},
            {{"Disp", disp_[0]}, {"Vel", vel_}, {"Result", check_}}, count_);
+}
+
+// The check pass, then the max norms (what the run loop's checks read).
+void GpuSolver::record_checks(Recorder& rec) {
+  if (count_ == 0) return;
+  rec.barrier();  // the last substep wrote u and v
+  record_check(rec);
   record_max_norms(rec);
 }
 
@@ -143,12 +148,8 @@ long GpuSolver::first_non_finite() {
     settle_for_read();
   } else {
     settle();
-    Recorder& rec = *rec_[0];
-    rec.fill(check_, 0xffffffffu);
-    rec.barrier();
-    dispatch(rec, kernels_->check, CheckPush{count_, 0},
-             {{"Disp", disp_[0]}, {"Vel", vel_}, {"Result", check_}}, count_);
-    rec.submit_and_wait();
+    record_check(*rec_[0]);
+    rec_[0]->submit_and_wait();
   }
   const uint32_t first = download<uint32_t>(*ctx_, check_, 1)[0];
   return first == 0xffffffffu ? -1 : static_cast<long>(first);
