@@ -4,12 +4,9 @@
 //     void splat_pixel(EyeSplat s, uint x, uint y);
 // for each of them (the pass intersects the pixel's ray with the disc). A splat with up to
 // kOwnPixels pixels is drawn by its own invocation; larger ones (close to the eye) are queued
-// in shared memory, and the pixels of all the workgroup's queued splats, one after the other,
-// are dealt out in runs of the workgroup size to its p.target.w workgroups (slices), so that
-// every slice's invocations draw a pixel each whatever the splats' sizes. A splat whose box
-// holds more than kFlatPixels pixels (one crossing the near plane, whose box is the eye) is
-// drawn by itself instead, pixel i by invocation i mod the workgroup size of slice i / that
-// size mod the slices (the flat count would overflow).
+// in shared memory and drawn by the whole workgroup, pixel i by invocation i mod the
+// workgroup size, so that one large splat does not hold up its neighbours; and by
+// p.target.w workgroups (slices) when there are few splats.
 #ifndef PHYXEL_SPLAT_RASTER_GLSL
 #define PHYXEL_SPLAT_RASTER_GLSL
 
@@ -82,40 +79,18 @@ bool pixel_bounds(EyeSplat s, out uvec4 box) {
 
 void splat_pixel(EyeSplat s, uint x, uint y);
 
-// Boxes of more pixels are not dealt out with the others (256 of them sum below 2^32).
-const uint kFlatPixels = 1u << 16;
-
-// The queue: the splats dealt out from slot 0 up (big_end: the running sum of their pixel
-// counts), those of more than kFlatPixels from the last slot down.
-shared uint big_count, huge_count;
+shared uint big_count;
 shared uint big_splat[PHYXEL_WORKGROUP_SIZE];
 shared uvec4 big_box[PHYXEL_WORKGROUP_SIZE];
-shared uint big_end[PHYXEL_WORKGROUP_SIZE];
-
-uint box_pixels(uvec4 box) {
-  return (box.z - box.x + 1) * (box.w - box.y + 1);
-}
-
-// Pixel `i` of queued splat `b`.
-void queued_pixel(uint b, uint i) {
-  const uvec4 box = big_box[b];
-  const uint w = box.z - box.x + 1;
-  const uint row = i / w;
-  splat_pixel(eye_splat(big_splat[b]), box.x + (i - row * w), box.y + row);
-}
 
 void main() {
-  const uint lid = gl_LocalInvocationIndex;
-  if (lid == 0) {
-    big_count = 0;
-    huge_count = 0;
-  }
+  if (gl_LocalInvocationIndex == 0) big_count = 0;
   barrier();
   // p.target.w slices of the splats, each rounded up to whole workgroups (so a workgroup lies
-  // in one slice): slice 0 draws the small splats, and every slice a share of the queued
-  // ones' pixels, so that a few thousand large splats (a backdrop, tissue close to the eye)
-  // still fill the GPU. The sums are of integers: the image does not depend on who drew which
-  // pixel.
+  // in one slice): slice 0 draws the small splats, and slice j the pixels j, j + S, ... (in
+  // units of the workgroup) of the large ones, so that a few thousand large splats (a backdrop,
+  // tissue close to the eye) still fill the GPU. The sums are of integers: the image does not
+  // depend on who drew which pixel.
   const uint slices = max(p.target.w, 1u);
   const uint padded = (p.target.z + PHYXEL_WORKGROUP_SIZE - 1) / PHYXEL_WORKGROUP_SIZE *
                       PHYXEL_WORKGROUP_SIZE;
@@ -126,48 +101,29 @@ void main() {
     const EyeSplat s = eye_splat(k);
     uvec4 box;
     if (pixel_bounds(s, box)) {
-      const uint pixels = box_pixels(box);
-      if (pixels <= kOwnPixels) {
+      if ((box.z - box.x + 1) * (box.w - box.y + 1) <= kOwnPixels) {
         if (slice == 0) {
           for (uint y = box.y; y <= box.w; ++y)
             for (uint x = box.x; x <= box.z; ++x) splat_pixel(s, x, y);
         }
       } else {
-        const bool huge = pixels > kFlatPixels;
-        const uint slot = huge ? PHYXEL_WORKGROUP_SIZE - 1 - atomicAdd(huge_count, 1u)
-                               : atomicAdd(big_count, 1u);
+        const uint slot = atomicAdd(big_count, 1u);
         big_splat[slot] = k;
         big_box[slot] = box;
-        big_end[slot] = pixels;
       }
     }
   }
   barrier();
-  // The running sum of the dealt-out splats' pixels (Hillis-Steele, in place).
   const uint queued = big_count;
-  for (uint step = 1; step < queued; step <<= 1) {
-    const uint add = lid >= step && lid < queued ? big_end[lid - step] : 0u;
-    barrier();
-    big_end[lid] += add;
-    barrier();
-  }
-  const uint total = queued > 0 ? big_end[queued - 1] : 0u;
-  for (uint i = lid + slice * PHYXEL_WORKGROUP_SIZE; i < total;
-       i += PHYXEL_WORKGROUP_SIZE * slices) {
-    uint lo = 0, hi = queued - 1;  // the first splat whose running sum passes i
-    while (lo < hi) {
-      const uint mid = (lo + hi) / 2;
-      if (big_end[mid] > i) hi = mid;
-      else lo = mid + 1;
-    }
-    queued_pixel(lo, i - (lo > 0 ? big_end[lo - 1] : 0u));
-  }
-  const uint huge = huge_count;
-  for (uint b = PHYXEL_WORKGROUP_SIZE - huge; b < PHYXEL_WORKGROUP_SIZE; ++b) {
-    const uint pixels = box_pixels(big_box[b]);
-    for (uint i = lid + slice * PHYXEL_WORKGROUP_SIZE; i < pixels;
+  for (uint b = 0; b < queued; ++b) {
+    const EyeSplat s = eye_splat(big_splat[b]);
+    const uvec4 box = big_box[b];
+    const uint w = box.z - box.x + 1;
+    const uint pixels = w * (box.w - box.y + 1);
+    for (uint i = gl_LocalInvocationIndex + slice * PHYXEL_WORKGROUP_SIZE; i < pixels;
          i += PHYXEL_WORKGROUP_SIZE * slices) {
-      queued_pixel(b, i);
+      const uint row = i / w;
+      splat_pixel(s, box.x + (i - row * w), box.y + row);
     }
   }
 }
