@@ -50,6 +50,25 @@ int64_t hook_from_env(const char* name) {
   return (*end == '\0' && n >= 0) ? n : -1;
 }
 
+// How long a submission may run: $PHYXEL_GPU_TIMEOUT_S seconds where set, else the option's
+// wait, at least 10 min on a CPU driver (lavapipe on a loaded machine is slow, not hung).
+uint32_t fence_timeout_ms_for(const ContextOptions& options, const DeviceInfo& info) {
+  const char* text = std::getenv("PHYXEL_GPU_TIMEOUT_S");
+  if (text != nullptr && *text != '\0') {
+    char* end = nullptr;
+    const long long seconds = std::strtoll(text, &end, 10);
+    if (*end != '\0' || seconds < 1 || seconds > 86400)
+      throw VulkanError(std::string("PHYXEL_GPU_TIMEOUT_S='") + text +
+                        "' is not a whole number of seconds from 1 to 86400; unset it for the "
+                        "default (120 on a GPU, 600 on a CPU driver)");
+    return static_cast<uint32_t>(seconds * 1000);
+  }
+  constexpr uint32_t kCpuDriverMs = 600000;
+  if (info.type == VK_PHYSICAL_DEVICE_TYPE_CPU)
+    return std::max(options.fence_timeout_ms, kCpuDriverMs);
+  return options.fence_timeout_ms;
+}
+
 }  // namespace
 
 void Context::set_test_fail_allocation_after(int64_t n) {
@@ -64,6 +83,7 @@ Context::Context(const ContextOptions& options)
   const uint32_t index = select_device(instance_->devices(), options.device);
   info_ = instance_->devices()[index];
   physical_ = instance_->physical_device(index);
+  options_.fence_timeout_ms = fence_timeout_ms_for(options, info_);
 
   push_descriptors_ = info_.push_descriptor && options.push_descriptors;
   memory_budget_ = info_.memory_budget;

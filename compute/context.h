@@ -31,7 +31,8 @@ struct ContextOptions {
   // written on the first dispatch of that list and only bound after (compute/descriptor_cache.h),
   // instead of pushing or writing the descriptors at every dispatch.
   bool descriptor_cache = descriptor_cache_default();
-  // How long Recorder::submit_and_wait waits for the GPU before giving up with an error.
+  // How long Recorder::submit_and_wait waits for the GPU before giving up with an error; at
+  // least 10 min on a CPU driver; $PHYXEL_GPU_TIMEOUT_S (seconds) overrides both (README).
   uint32_t fence_timeout_ms = 120000;
   // Open a queue of the device's transfer-only family where it has one (DeviceInfo), for
   // copies that may run beside the compute queue's work (a frame's read-back: FrameQueue).

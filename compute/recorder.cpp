@@ -168,7 +168,8 @@ void Recorder::wait() {
     throw VulkanError("the GPU did not finish '" + name_ + "' within " +
                           std::to_string(ctx_->options().fence_timeout_ms) +
                           " ms (hung or far too much work per submit); try a smaller scene, "
-                          "fewer steps per submit, or --device cpu",
+                          "fewer steps per submit, --device cpu, or a longer wait "
+                          "(PHYXEL_GPU_TIMEOUT_S)",
                       VK_TIMEOUT);
   }
   VK_CHECK(waited);

@@ -195,10 +195,38 @@ TEST(GpuFailureCli, WorkNotFinishedInTimeIsOneLineAndNoCrash) {
   const auto [code, err] = phyxel_run(dir, "PHYXEL_TEST_FENCE_TIMEOUT_MS=0", "0.00025");
   EXPECT_EQ(code, 1) << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-  for (const char* part :
-       {"block.json while setting up: ", "the GPU did not finish '", "within 0 ms", "--device cpu"})
+  for (const char* part : {"block.json while setting up: ", "the GPU did not finish '",
+                           "within 0 ms", "--device cpu", "PHYXEL_GPU_TIMEOUT_S"})
     EXPECT_NE(err.find(part), std::string::npos) << "no \"" << part << "\" in: " << err;
   expect_no_temporary_files(dir);
+}
+
+TEST(GpuFailureCli, AMalformedTimeoutIsOneLineNamingTheVariable) {
+  const fs::path dir = phyxel::test::test_output_dir("gpu_failure_cli_bad_timeout");
+  const auto [code, err] = phyxel_run(dir, "PHYXEL_GPU_TIMEOUT_S=2m");
+  EXPECT_EQ(code, 1) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("PHYXEL_GPU_TIMEOUT_S='2m' is not a whole number of seconds"),
+            std::string::npos)
+      << err;
+}
+
+// A CPU driver waits at least 10 min for a submission, a GPU 120 s; the variable sets both.
+TEST(GpuTimeout, ACpuDriverWaitsLongerAndTheVariableSetsTheWait) {
+  const ContextOptions options = test_context_options();
+  {
+    const Context plain(options);
+    const bool cpu = plain.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    EXPECT_EQ(plain.options().fence_timeout_ms, cpu ? 600000u : 120000u);
+  }
+  {
+    const phyxel::test::ScopedEnv env("PHYXEL_GPU_TIMEOUT_S", "7");
+    EXPECT_EQ(Context(options).options().fence_timeout_ms, 7000u);
+  }
+  for (const char* bad : {"0", "-5", "2m", "86401"}) {
+    const phyxel::test::ScopedEnv env("PHYXEL_GPU_TIMEOUT_S", bad);
+    EXPECT_THROW(Context{options}, VulkanError) << bad;
+  }
 }
 
 }  // namespace
