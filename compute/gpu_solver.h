@@ -560,7 +560,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   bool resisting_ = false;              // a blade has a threshold and an edge stiffness
   double max_support_ = 0;              // the largest support radius (the broad phase's margin)
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
-  std::vector<EdgeFrame> held_frame_;   // per tool: its last sideways substep's (drawn_frame)
   Buffer cut_dirty_;                    // uint: count, phyxels
   Buffer cut_done_;  // uint: finished workgroups of tool_sever or solver_force_tear; 0 between
   Buffer cut_log_;   // Readback: uvec4 count, then (i, j, t bits, 0)

@@ -73,7 +73,6 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     resisting_ = resisting_ || (t.blade.cuts() && t.blade.threshold > 0 && t.blade.stiffness > 0);
   pending_motion_.clear();
   motion_.clear();
-  held_frame_.assign(tools_.size(), EdgeFrame{});
   motion_steps_ = motion_step_ = 0;
   samples_.clear();
   candidates_ = 0;

@@ -53,7 +53,6 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
   const size_t nt = tools_.size();
   const Vec3 origin(contact_origin_.x, contact_origin_.y, contact_origin_.z);
   std::vector<CutQuad> table((motion_steps_ + 1) * nt);
-  if (held_frame_.size() != nt) held_frame_.assign(nt, EdgeFrame{});
   for (size_t row = 0; row <= motion_steps_; ++row) {
     for (size_t t = 0; t < nt; ++t) {
       const Blade& blade = tools_[t].blade;
@@ -71,12 +70,6 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       const ToolShape& body = tools_[t].shape;
       const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
       const EdgeFrame held = edge_frame(blade, quad, m.to, radius, reach);
-      // The substeps of the chunk in order (the held row moves nothing): the CPU's apply_cuts.
-      const EdgeFrame drawn = drawn_frame(&held_frame_[t], held, blade, m.from, m.to);
-      if (drawn.stiffness > 0) {
-        q.drawn = to_vec4(drawn.edge, 1.0f);
-        q.drawn_motion = {float(drawn.tip_motion), float(drawn.end_motion), 0.0f, 0.0f};
-      }
       q.axis = to_vec4(held.axis, float(held.length));
       q.resist = {float(held.stiffness), float(held.depth), float(held.tip_motion),
                   float(held.end_motion)};

@@ -32,18 +32,6 @@ EdgeFrame edge_frame(CutQuad c) {
   return f;
 }
 
-// The frame whose held pairs a blade drawn along its axis severs (engine drawn_frame): its last
-// sideways substep's edge and motion, at this row's pose; stiffness 0 where none.
-EdgeFrame drawn_frame(CutQuad c) {
-  EdgeFrame f = edge_frame(c);
-  f.edge = c.drawn.xyz;
-  f.normal = normalize(cross(f.axis, f.edge));
-  f.stiffness = c.drawn.w;
-  f.tip_motion = c.drawn_motion.x;
-  f.end_motion = c.drawn_motion.y;
-  return f;
-}
-
 // Where the pair p -> q crosses the blade's plane within its span (edge_crossing of
 // engine/solver/cutting.cpp): t its fraction, behind how far behind the body's front against
 // the motion there (m), moved that motion along the edge; false where it does not cross or the

@@ -276,10 +276,7 @@ PHYXEL_CONST uint kGraspBindingGripOf = 13;
 // pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
 // resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
 // radius p0.w): the axis at the end pose (w: the blade's length, m) and (stiffness N/m^3, 0 where
-// nothing is held; depth m; the tip's and the end's motion along the edge, m). drawn and
-// drawn_motion: the frame whose held pairs a blade drawn along its axis severs (engine
-// drawn_frame; its tip, axis, front and depth this row's): (edge, 1; 0 where none) and (the
-// tip's and the end's motion along that edge in its last sideways substep, m; 0, 0).
+// nothing is held; depth m; the tip's and the end's motion along the edge, m).
 struct CutQuad {
   vec4 p0;
   vec4 p1;
@@ -288,10 +285,8 @@ struct CutQuad {
   vec4 edge;
   vec4 axis;
   vec4 resist;
-  vec4 drawn;
-  vec4 drawn_motion;
 };
-PHYXEL_ASSERT_SIZE(CutQuad, 144);
+PHYXEL_ASSERT_SIZE(CutQuad, 112);
 
 // tool_sever: SeverGroups.lanes invocations per candidate, after tool_contact_reduce: for every
 // tool whose sample of this substep presses its edge with at least its threshold, each

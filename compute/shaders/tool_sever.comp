@@ -94,20 +94,16 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
 #include "blade_edge.glsl"
 
 // Where the blade cuts in this substep: the quad, the body's strip, or a pair the edge holds
-// (tool_resist); whatever its force: a pair its edge carries past its reach (edge_passes), or
-// held in its last sideways substep when it is drawn along its axis.
+// (tool_resist); whatever its force: a pair its edge carries past its reach (edge_passes).
 bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
   t = 0.0;
   if (cuts && (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t))) return true;
+  if (!(c.resist.x > 0.0)) return false;
+  const EdgeFrame f = edge_frame(c);
   float behind;
   float direction;
-  if (c.resist.x > 0.0) {
-    const EdgeFrame f = edge_frame(c);
-    if (cuts && edge_holds(p, q, f, t, behind, direction)) return true;
-    if (edge_passes(p, q, f, t)) return true;
-  }
-  // Drawn along its axis: what it held in its last sideways substep (drawn_frame).
-  return c.drawn.w > 0.0 && edge_holds(p, q, drawn_frame(c), t, behind, direction);
+  if (cuts && edge_holds(p, q, f, t, behind, direction)) return true;
+  return edge_passes(p, q, f, t);
 }
 
 #include "pair_edit.glsl"
@@ -139,7 +135,8 @@ void hold_in_ball(inout float r2, vec3 centre, vec3 x) {
 // The corners of the region the edge holds or carries past its reach: tip + along axis + across
 // edge, along in [0, span], |across . edge| <= front + depth + the faster end's motion
 // (edge_holds' and edge_passes' bounds), in the axis-edge plane.
-void hold_edge_region(inout float r2, vec3 centre, EdgeFrame f) {
+void hold_edge_region(inout float r2, vec3 centre, CutQuad c) {
+  const EdgeFrame f = edge_frame(c);
   const float g = dot(f.axis, f.edge), det = 1.0 - g * g;
   if (!(det > 1e-6)) {
     r2 = 1e30;  // axis along the edge: no ball
@@ -156,10 +153,9 @@ void hold_edge_region(inout float r2, vec3 centre, EdgeFrame f) {
   }
 }
 
-// Whether the blade may sever anything this substep: it cuts, its edge holds pairs, or it is
-// drawn along its axis after holding them.
+// Whether the blade may sever anything this substep: it cuts, or its edge holds pairs.
 bool tool_severs(CutQuad c, bool cuts) {
-  return cuts || (c.edge.w >= 0.0 && (c.resist.x > 0.0 || c.drawn.w > 0.0));
+  return cuts || (c.edge.w >= 0.0 && c.resist.x > 0.0);
 }
 
 vec4 blade_ball_of(uint tool, bool cuts) {
@@ -179,8 +175,7 @@ vec4 blade_ball_of(uint tool, bool cuts) {
       hold_in_ball(
           r2, centre,
           ((corner & 1u) != 0u ? end : tip) + ((corner & 2u) != 0u ? radius : -radius) * e);
-  if (c.resist.x > 0.0) hold_edge_region(r2, centre, edge_frame(c));
-  if (c.drawn.w > 0.0) hold_edge_region(r2, centre, drawn_frame(c));
+  if (c.resist.x > 0.0) hold_edge_region(r2, centre, c);
   const float r = sqrt(r2) * 1.01 + 1e-5;  // m: far above float round-off at these sizes
   return vec4(centre, r * r);
 }

@@ -326,7 +326,6 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   grasping_ = false;
   for (const ContactTool& t : tools_) grasping_ = grasping_ || t.grasp.grasps();
   grips_.assign(tools_.size(), Grip{});
-  held_frame_.assign(tools_.size(), EdgeFrame{});
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();

@@ -222,10 +222,9 @@ class CpuSolver {
   std::vector<ToolContactSample> samples_;
   std::vector<uint8_t> contact_;
   std::vector<V3> contact_force_;
-  std::vector<ToolMotion> now_;        // this substep's motion of each tool (apply_contacts)
-  std::vector<EdgeFrame> held_frame_;  // per tool: its last sideways substep's (drawn_frame)
-  bool grasping_ = false;              // a tool grasps
-  std::vector<Grip> grips_;            // per tool
+  std::vector<ToolMotion> now_;  // this substep's motion of each tool (apply_contacts)
+  bool grasping_ = false;        // a tool grasps
+  std::vector<Grip> grips_;      // per tool
 
   // Cutting.
   bool cutting_ = false;              // a tool has a blade

@@ -1,8 +1,7 @@
 // CpuSolver: cutting (engine/solver/cutting.h; the GPU twin is compute/shaders/tool_sever.comp).
 // After the contacts of a step, each blade whose edge force reached its threshold tests the
 // rows of the broad phase's candidates against the quad it swept in the step (and a blade with
-// a threshold, whatever its force, against the pairs its edge carries past its reach or held
-// when it is drawn along its axis); a pair
+// a threshold, whatever its force, against the pairs its edge carries past its reach); a pair
 // gets weight 0 on both sides, and the precompute reruns for the phyxels whose rows changed.
 #include <algorithm>
 #include <array>
@@ -58,13 +57,9 @@ void CpuSolver<Real>::apply_cuts() {
     const double body = blade_body_radius(tools_[tool]);
     const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
     // Below the threshold a blade whose edge holds pairs still severs those it carries past
-    // its reach (edge_passes), and those it held when drawn along its axis (drawn_frame);
-    // threshold 0 always cuts and holds nothing.
+    // its reach (edge_passes); threshold 0 always cuts and holds nothing.
     const bool resists = edge.stiffness > 0;
-    if (held_frame_.size() != nt) held_frame_.assign(nt, EdgeFrame{});
-    const EdgeFrame drawn = drawn_frame(&held_frame_[tool], edge, blade, m.from, m.to);
-    const bool draws = drawn.stiffness > 0;
-    if (!cuts && !resists && !draws) continue;
+    if (!cuts && !resists) continue;
     const std::array<Vec3, 4>& c = quad.corner;
     const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
     auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
@@ -73,8 +68,7 @@ void CpuSolver<Real>::apply_cuts() {
           (blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t)) ||
            (resists && edge_holds(p, q, edge, t, &behind, &direction))))
         return true;
-      if (resists && edge_passes(p, q, edge, t)) return true;
-      return draws && edge_holds(p, q, drawn, t, &behind, &direction);
+      return resists && edge_passes(p, q, edge, t);
     };
     for (const uint32_t i : candidates_) {
       const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();

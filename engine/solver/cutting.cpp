@@ -132,26 +132,6 @@ bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
   return true;
 }
 
-EdgeFrame drawn_frame(EdgeFrame* last, const EdgeFrame& now, const Blade& blade,
-                      const ToolPose& from, const ToolPose& to) {
-  if (now.stiffness > 0) {  // moving sideways: it holds what it passes
-    *last = now;
-    return {};
-  }
-  if (!(last->stiffness > 0)) return {};
-  const double along = std::abs((to.position - from.position).dot(to.axis));
-  if (!(along > 1e-9 * std::max(blade.length, 1e-12))) return {};  // at rest: still holds them
-  EdgeFrame f = *last;
-  f.tip = to.position;
-  f.axis = to.axis;
-  const Vec3 edge = f.edge - f.edge.dot(to.axis) * to.axis;
-  *last = {};
-  if (!(edge.norm() > 0)) return {};
-  f.edge = edge.normalized();
-  f.normal = to.axis.cross(f.edge).normalized();
-  return f;
-}
-
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support) {
   bool cuts = false;
   double reach = spacing;

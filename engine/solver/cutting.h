@@ -136,16 +136,6 @@ bool edge_pushes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, do
 // edge is not a hook that drags a strand along. t: where it crosses the blade's plane.
 bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t);
 
-// Drawn out along its axis (docs/cutting.md, "The edge's resistance", "Drawn along its axis"):
-// a blade with a threshold that moves along its axis without moving sideways (drawn out of its
-// cut, or on along it) slides its edge along the pairs it held in its last sideways substep, which
-// cuts them whatever the force; held pairs are never let go whole. `last` is that substep's frame
-// per blade (stiffness 0: none), updated here; the result is the frame whose held pairs
-// (edge_holds) this substep severs: `last` moved to the end pose (stiffness 0: none). A blade at
-// rest keeps what it holds.
-EdgeFrame drawn_frame(EdgeFrame* last, const EdgeFrame& now, const Blade& blade,
-                      const ToolPose& from, const ToolPose& to);
-
 // The edge's push on one phyxel, bounded by the blade's threshold (docs/cutting.md, "The edge's
 // resistance"): pairs that alone would push a phyxel harder than the whole blade's threshold
 // fail in this substep, so they carry at most that force while they do (a blade that meets

@@ -142,46 +142,6 @@ TEST(EdgeResistance, APairCarriedPastTheReachIsSeveredWhateverTheForce) {
   EXPECT_GE(solver.severed_count(), across);
 }
 
-// A blade drawn out along its axis after moving sideways (drawn_frame) severs the pairs its edge
-// held, whatever the force (100 N, never reached): the scalpel crossing the beam stops 1.5 mm in
-// and is withdrawn 30 mm up its axis. Before, nothing is severed (the held pairs are not carried
-// past the reach); after, every severed pair crosses the blade's plane at rest, every crossing
-// pair of the first row (y = 0) among them. Until this rule the held pairs were let go whole
-// (the strand the breast's cone kept at the turn's end: docs/cutting.md, "Resection").
-TEST(EdgeResistance, ABladeDrawnAlongItsAxisSeversWhatItHeld) {
-  Scene scene = test::clamped_beam(5e4, 5);
-  scene.simulation.gravity = Vec3::Zero();
-  const double x_cut = 0.021, threshold = 100.0;
-  ToolDesc blade = test::crossing_scalpel(x_cut, -0.003, 0.016, 0.0, 0.016, threshold);
-  blade.path = {{0.0, Vec3(x_cut, -0.003, -0.003), Vec3::UnitZ()},
-                {0.0045, Vec3(x_cut, 0.0015, -0.003), Vec3::UnitZ()},
-                {0.0145, Vec3(x_cut, 0.0015, 0.027), Vec3::UnitZ()}};
-  scene.tools.push_back(blade);
-  const PhyxelSet set = sample_scene(scene);
-  CpuSolver<double> solver(set, scene.simulation.gravity);
-  ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
-  run.run(45);
-  EXPECT_EQ(solver.severed_count(), 0u);
-  run.run(110);
-  std::printf("[ resist   ] %zu pairs severed by the draw\n", solver.severed_count());
-  std::vector<bool> severed(solver.pair_weights().size(), false);
-  const NeighbourLists& nbr = solver.neighbours();
-  for (const SeveredPair& p : solver.severed_log()) {
-    EXPECT_LT((set.rest[p.i].x() - x_cut) * (set.rest[p.j].x() - x_cut), 0) << p.i << " " << p.j;
-    severed[nbr.slot(p.i, p.j)] = true;
-  }
-  size_t first_row = 0;
-  for (uint32_t i = 0; i < set.size(); ++i)
-    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
-      const uint32_t j = nbr.index[k];
-      if (j < i || (set.rest[i].x() - x_cut) * (set.rest[j].x() - x_cut) > 0) continue;
-      if (std::max(set.rest[i].y(), set.rest[j].y()) > 1e-4) continue;
-      ++first_row;
-      EXPECT_TRUE(severed[k]) << i << " " << j;
-    }
-  EXPECT_GT(first_row, 10u);
-}
-
 // The law: pairs crossing the blade's plane behind its front, each pushed with k a_ij delta,
 // add up to k L D^2 / 2 for a band of depth D along a blade of length L inside the tissue,
 // whatever the spacing (a_ij: the pair's share of the plane's area). Averaged over four
