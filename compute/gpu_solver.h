@@ -106,6 +106,10 @@ struct GpuSolverOptions {
   // empties the dirty list, in place of tool_contact_reduce's dispatch and the list's fill, the
   // same bits. Tests turn it off to compare.
   bool resist_reduce = true;
+  // Where tool_contact would sum the samples and a sever follows that does not read them (no
+  // blade with a threshold > 0): tool_contact_reduce sums them beside the sever, off the
+  // substep's chain of dependent passes; the same bits. Tests turn it off to compare.
+  bool sums_apart = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -416,6 +420,12 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   uint32_t sample_fuse(bool sums) const;
   // This advance's contact after substep 0 is in solver_force_tear (begin_contact decides).
   bool contact_in_force_ = false;
+  // The substep whose samples tool_contact left to record_sever's tool_contact_reduce (-1: none),
+  // and the grasper whose grip's forces that pass subtracts (kContactNoGrasp: none).
+  int64_t sums_pending_ = -1;
+  uint32_t sums_grasp_ = 0xFFFFFFFFu;
+  bool sample_in_sever_ = false;  // a blade with a threshold > 0: tool_sever reads the sample
+  void record_sums_apart(Recorder& rec);
 
   std::unique_ptr<Context> owned_ctx_;
   Context* ctx_;

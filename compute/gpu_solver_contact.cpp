@@ -69,8 +69,11 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   cutting_ = false;
   for (const ContactTool& t : tools_) cutting_ = cutting_ || t.blade.cuts();
   resisting_ = false;
-  for (const ContactTool& t : tools_)
+  sample_in_sever_ = false;
+  for (const ContactTool& t : tools_) {
     resisting_ = resisting_ || (t.blade.cuts() && t.blade.threshold > 0 && t.blade.stiffness > 0);
+    sample_in_sever_ = sample_in_sever_ || (t.blade.cuts() && t.blade.threshold != 0);
+  }
   pending_motion_.clear();
   motion_.clear();
   motion_steps_ = motion_step_ = 0;
@@ -279,7 +282,7 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
   const uint32_t rows = static_cast<uint32_t>(end - first);
   const uint32_t cap = partial_capacity();
   const uint32_t wg = kernels_->contact_reduce.workgroup_size()[0];
-  ContactReducePush push{rows, nt, cap, static_cast<uint32_t>(first), 0u};
+  ContactReducePush push{rows, nt, cap, static_cast<uint32_t>(first), 0u, kContactNoGrasp, 0u};
   part_begin(rec, "contact: rows");
   // Every (row, tool, 64 candidates) partial at once, then the samples from them.
   dispatch(rec, kernels_->contact_reduce, push,
@@ -288,7 +291,9 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
             {"Count", contact_count_},
             {"List", candidate_list_},
             {"Flags", flags_},
-            {"Partials", row_partials_}},
+            {"Partials", row_partials_},
+            {"Held", contact_count_},  // unread without a grasp
+            {"GripForce", candidate_force_}},
            rows * nt * cap * wg);
   rec.barrier();
   push.sums = 1u;
@@ -298,7 +303,9 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
             {"Count", contact_count_},
             {"List", candidate_list_},
             {"Flags", flags_},
-            {"Partials", contact_rows_}},  // unwritten with sums 1
+            {"Partials", contact_rows_},  // unwritten with sums 1
+            {"Held", contact_count_},
+            {"GripForce", candidate_force_}},
            rows * nt * wg);
   part_end(rec);
 }
@@ -306,8 +313,15 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
 void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buffer& disp) {
   const uint32_t nt = static_cast<uint32_t>(tools_.size());
   const bool fused = contact_fused();
-  const uint32_t fuse = sample_fuse(fused);
   const uint32_t grasp = grasp_in_contact(step);
+  // Its own grasp passes read the sample: tool_contact writes it then (before grasp_passes_left's
+  // update of grip_closed_, which only record_grasp reads after).
+  const bool grasp_passes = grasping_ && grasp_passes_left(step, grasp);
+  // The samples apart: tool_contact only empties the dirty list; record_sever sums them.
+  const bool apart = options_.sums_apart && fused && cutting_ && !sample_in_sever_ && !grasp_passes;
+  const uint32_t fuse = apart ? (cut_dirty_ ? kContactFuseDirtyReset : 0u) : sample_fuse(fused);
+  sums_pending_ = apart ? step : -1;
+  sums_grasp_ = grasp;
   const ContactPush push{contact_origin_,
                          static_cast<uint32_t>(step),
                          dt,
@@ -355,17 +369,20 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
     rec.barrier();
     part_begin(rec, "contact: reduce");
     dispatch(rec, kernels_->contact_reduce,
-             ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step), 0u},
+             ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(step), 0u,
+                               kContactNoGrasp, 0u},
              {{"Force", candidate_force_},
               {"Samples", samples_buffer_},
               {"Count", contact_count_},
               {"List", candidate_list_},
               {"Flags", flags_},
-              {"Partials", candidate_force_}},  // unwritten with rows 0
+              {"Partials", candidate_force_},  // unwritten with rows 0
+              {"Held", contact_count_},        // unread without a grasp
+              {"GripForce", candidate_force_}},
              nt * kernels_->contact_reduce.workgroup_size()[0]);
     part_end(rec);
   }
-  if (grasping_ && grasp_passes_left(step, grasp)) {
+  if (grasp_passes) {
     rec.barrier();
     part_begin(rec, "contact: grasp");
     record_grasp(rec, step, dt, disp, grasp);

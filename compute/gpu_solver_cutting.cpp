@@ -98,13 +98,16 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
 
 void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   const uint32_t row = cut_table_row(step);
-  rec.barrier();                              // the samples of this substep
+  // record_steps put a barrier after the contact: the samples of this substep are written.
   if (!contact_fused() && !resist_fused()) {  // else tool_contact or tool_resist emptied it
     part_begin(rec, "cut: reset");
     record_dirty_reset(rec);
     part_end(rec);
   }
   part_begin(rec, "cut: sever");
+  // tool_contact left the samples: summed beside the sever (which does not read them), no barrier.
+  const bool apart = sums_pending_ == step;
+  if (apart) record_sums_apart(rec);
   const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
                        log_capacity_};
   dispatch_indirect(rec, kernels_->sever, push,
@@ -116,7 +119,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"WeightLo", weight_.lo()},
                      {"Flags", flags_},
                      {"Quads", cut_quads_},
-                     {"Samples", samples_buffer_},
+                     {"Samples", apart ? cut_quads_ : samples_buffer_},  // unread apart
                      {"Dirty", cut_dirty_},
                      {"Log", cut_log_},
                      {"Count", contact_count_},
@@ -129,6 +132,25 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"Done", cut_done_}},
                     contact_count_, sizeof(ContactCount));
   part_end(rec);
+}
+
+void GpuSolver::record_sums_apart(Recorder& rec) {
+  const uint32_t nt = static_cast<uint32_t>(tools_.size());
+  const bool grip = sums_grasp_ != kContactNoGrasp;
+  // Only buffers the sever neither writes nor reads beside it (Flags: a stand-in, unread).
+  dispatch(rec, kernels_->contact_reduce,
+           ContactReducePush{0u, nt, partial_capacity(), static_cast<uint32_t>(sums_pending_), 0u,
+                             sums_grasp_, count_},
+           {{"Force", candidate_force_},
+            {"Samples", samples_buffer_},
+            {"Count", contact_count_},
+            {"List", candidate_list_},
+            {"Flags", candidate_list_},
+            {"Partials", candidate_force_},  // unwritten with rows 0
+            {"Held", grip ? grip_count_ : contact_count_},
+            {"GripForce", grip ? grip_force_ : candidate_force_}},
+           nt * kernels_->contact_reduce.workgroup_size()[0]);
+  sums_pending_ = -1;
 }
 
 void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp) {

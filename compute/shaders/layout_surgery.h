@@ -52,7 +52,9 @@ PHYXEL_ASSERT_SIZE(ContactMotion, 64);
 // does that grasper's hold (tool_grasp's kGraspHoldReduce, in the same order per phyxel): each
 // candidate's invocation holds its own phyxel after its contact, the others (grid-stride) the
 // held phyxels that no candidate is, and the last workgroup subtracts the grip's force from the
-// sample after writing it: the same bits, one dispatch and barrier less per substep.
+// sample after writing it: the same bits, one dispatch and barrier less per substep. Without
+// kContactFuseReduce (the samples apart, GpuSolver::sums_apart) tool_contact_reduce does both
+// beside the sever, off the substep's chain.
 struct ContactPush {
   vec4 origin;         // xyz: the frame of the motion table (world, m), w unused
   uint substep;        // of the advance: the row of the samples (kContactFuseReduce)
@@ -70,7 +72,7 @@ struct ContactPush {
 PHYXEL_ASSERT_SIZE(ContactPush, 64);
 PHYXEL_CONST uint kContactNoGrasp = 0xFFFFFFFFu;
 PHYXEL_CONST uint kContactFuseReduce = 1;      // the samples, by the last workgroup
-PHYXEL_CONST uint kContactFuseDirtyReset = 2;  // and the dirty list's count 0
+PHYXEL_CONST uint kContactFuseDirtyReset = 2;  // the dirty list's count 0 (alone: by one lane)
 // tool_contact: {list, rest, disp, vel, ext, flags, tools, motion, force, contact, count,
 // samples, dirty, done, grip, held, grip force, grip of, slot}
 PHYXEL_CONST uint kContactBindingList = 0;  // candidate phyxels, ascending
@@ -109,14 +111,18 @@ struct ContactReducePush {
   uint capacity;  // tool_contact's workgroups: partials per tool (and row)
   uint substep;   // of the advance: the row of the samples (the first, rows > 0)
   uint sums;      // rows > 0: 0 the rows' partials, 1 the samples from them
+  uint grasp;     // rows 0: the grasper whose grip's forces leave its sample, or kContactNoGrasp
+  uint grip_capacity;  // entries per tool of the grip buffers (ContactPush.grip_capacity)
 };
-PHYXEL_ASSERT_SIZE(ContactReducePush, 20);
+PHYXEL_ASSERT_SIZE(ContactReducePush, 28);
 PHYXEL_CONST uint kContactReduceBindingForce = 0;
 PHYXEL_CONST uint kContactReduceBindingSamples = 1;
 PHYXEL_CONST uint kContactReduceBindingCount = 2;
 PHYXEL_CONST uint kContactReduceBindingList = 3;      // candidate phyxels (rows > 0)
 PHYXEL_CONST uint kContactReduceBindingFlags = 4;     // (rows > 0)
 PHYXEL_CONST uint kContactReduceBindingPartials = 5;  // written with rows > 0, sums 0
+PHYXEL_CONST uint kContactReduceBindingHeld = 6;       // the grip's count per tool (grasp)
+PHYXEL_CONST uint kContactReduceBindingGripForce = 7;  // the grip's forces (grasp)
 
 // The broad phase of a chunk, on the GPU (CpuSolver::set_tool_motion is its twin): the entries
 // of the force list (moving phyxels of awake objects) that are not fixed or removed and whose

@@ -137,5 +137,9 @@ void main() {
     contact[i] = touched;
   }
   if (p.grasp < p.tools) hold_others();
-  if ((p.fuse & kContactFuseReduce) != 0u) fused_reduce();
+  if ((p.fuse & kContactFuseReduce) != 0u) {
+    fused_reduce();
+  } else if ((p.fuse & kContactFuseDirtyReset) != 0u && PHYXEL_GLOBAL_INDEX == 0u) {
+    dirty[0] = 0u;  // the samples apart (tool_contact_reduce beside the sever): no one reads it here
+  }
 }

@@ -1,6 +1,8 @@
 // The contact forces of one substep per tool (tool_contact_sum.glsl), one workgroup per tool:
 // where tool_resist adds to tool_contact's partials between the two (tool_contact sums them
-// itself otherwise, kContactFuseReduce). With p.rows > 0, solver_force_tear's per-candidate
+// itself otherwise, kContactFuseReduce), or beside the next pass where nothing in the substep
+// reads the sample (GpuSolver::sums_apart), then with p.grasp a tool, that grasper's grip
+// forces subtracted after (grip_reduce.glsl, as tool_contact's last workgroup). With p.rows > 0, solver_force_tear's per-candidate
 // rows (kForceContact) in two dispatches, all rows at once: p.sums 0, one workgroup per (row,
 // tool, 64 candidates) writes that partial by tool_contact's tree, as tool_contact writes its
 // own; p.sums 1, one workgroup per (row, tool) adds them as tool_contact does. The same bits.
@@ -16,7 +18,7 @@ layout(push_constant) uniform Push {
 layout(std430, binding = kContactReduceBindingForce) readonly buffer Force {
   vec4 contact_force[];
 };
-layout(std430, binding = kContactReduceBindingSamples) writeonly buffer Samples {
+layout(std430, binding = kContactReduceBindingSamples) buffer Samples {
   vec4 samples[];
 };
 layout(std430, binding = kContactReduceBindingCount) readonly buffer Count {
@@ -32,7 +34,15 @@ layout(std430, binding = kContactReduceBindingPartials) writeonly buffer Partial
   vec4 partials[];
 };
 
+layout(std430, binding = kContactReduceBindingHeld) readonly buffer Held {
+  ContactCount held[];
+};
+layout(std430, binding = kContactReduceBindingGripForce) readonly buffer GripForce {
+  vec4 grip_force[];
+};
+
 #include "tool_contact_sum.glsl"
+#include "grip_reduce.glsl"
 
 // Row `row`'s partials: 2 tools of p.capacity each (force, then range), as tool_contact's.
 uint partials_base(uint row) {
@@ -64,6 +74,7 @@ void main() {
   if (p.rows == 0u) {
     if (g >= p.tools) return;
     write_tool_sample(g, p.tools, p.capacity, p.substep, count.total);
+    if (g == p.grasp) grip_reduce(g, p.tools, p.grip_capacity, p.substep);
     return;
   }
   if (p.sums == 0u) {  // one workgroup per partial slot; those past the candidates write none

@@ -5,9 +5,9 @@
 #ifndef PHYXEL_TOOL_GRASP_GLSL
 #define PHYXEL_TOOL_GRASP_GLSL
 
-const vec3 kToolFrameAxis = vec3(0.0, 0.0, 1.0);
+#include "grip_reduce.glsl"
 
-shared vec4 grip_partial[PHYXEL_WORKGROUP_SIZE];
+const vec3 kToolFrameAxis = vec3(0.0, 0.0, 1.0);
 
 // The held phyxel of grip entry `slot` (its rest position x0 relative to the origin, its mass,
 // its velocity v_now) put where the tool carries its offset: u and v out, and its force
@@ -24,27 +24,6 @@ void grip_hold(ContactMotion m, bool hold, float dt, uint slot, vec3 x0, float m
   const vec3 f = mass * (v - v_now) / dt;
   u = x - x0;
   grip_force[slot] = vec4(f, 1.0);
-}
-
-// By a whole workgroup: the tool's grip forces summed in a fixed order (tool_contact_reduce's),
-// subtracted from its sample of the substep, and the held count into the second row's z.
-void grip_reduce(uint tool, uint tools, uint capacity, uint substep) {
-  const uint t = gl_LocalInvocationIndex;
-  const uint region = tool * capacity;
-  vec4 sum = vec4(0.0);
-  for (uint k = t; k < held[tool].total; k += PHYXEL_WORKGROUP_SIZE)
-    sum += grip_force[region + k];
-  grip_partial[t] = sum;
-  barrier();
-  for (uint half_size = PHYXEL_WORKGROUP_SIZE / 2u; half_size > 0u; half_size >>= 1u) {
-    if (t < half_size) grip_partial[t] += grip_partial[t + half_size];
-    barrier();
-  }
-  if (t == 0u) {
-    const uint row = 2u * (substep * tools + tool);
-    samples[row].xyz -= grip_partial[0].xyz;
-    samples[row + 1u].z = grip_partial[0].w;
-  }
 }
 
 #endif  // PHYXEL_TOOL_GRASP_GLSL

@@ -113,6 +113,7 @@ bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
 bool tool_cuts(CutQuad quad, uint tool) {
   const float threshold = quad.edge.w;
   if (threshold < 0.0) return false;  // no blade
+  if (threshold == 0.0) return true;   // cut_force >= 0 always: the sample is not read
   const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
   const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
   return max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) >= threshold;

@@ -3,8 +3,8 @@
 // given chunk by chunk as the run loop does; two blades severing the same pairs in the same
 // substeps give each pair once, to the CPU's tool; two GPU runs give the same bits; a cut along
 // a lattice plane and a second crossing cut leave every value finite; blades past the first 8
-// (no ball around them) sever as the CPU; tool_resist summing its own samples gives the bits
-// of tool_contact_reduce after it.
+// (no ball around them) sever as the CPU; tool_resist summing its own samples, and
+// tool_contact_reduce summing them beside the sever, give the bits of the passes they replace.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -317,13 +317,12 @@ TEST_F(GpuSolverTest, CutsAlongALatticePlaneAndAcrossEachOtherStayFinite) {
   EXPECT_TRUE(std::isfinite(gpu.energies().total()));
 }
 
-// tool_resist summing the samples itself (GpuSolverOptions::resist_reduce) against
-// tool_contact_reduce after it: the same bits, while a threshold blade cuts the beam and a
-// grasper holds and pulls its free end (its hold after the edge's resistance, in its own pass).
-TEST_F(GpuSolverTest, ResistSummingItsOwnSamplesGivesTheBitsOfTheReducePass) {
+// The clamped beam without gravity, a blade with `threshold` crossing it and jaws (tool 1)
+// that close on its free end at 3 ms and pull it 1 mm.
+Scene cut_and_pull(double threshold) {
   Scene scene = clamped_beam(5e4, 5);
   scene.simulation.gravity = Vec3::Zero();
-  scene.tools.push_back(crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016, 100.0));
+  scene.tools.push_back(crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016, threshold));
   ToolDesc jaws;
   jaws.name = "jaws";
   jaws.type = ToolDesc::Type::Grasper;
@@ -334,23 +333,21 @@ TEST_F(GpuSolverTest, ResistSummingItsOwnSamplesGivesTheBitsOfTheReducePass) {
                {0.003, Vec3(0.039, 0.005, 0.005), Vec3::UnitZ()},
                {0.0096, Vec3(0.040, 0.005, 0.005), Vec3::UnitZ()}};
   scene.tools.push_back(jaws);
+  return scene;
+}
+
+// 96 steps of `scene` with the default options and with `other`: the same severed pairs, u,
+// grip and samples, to the bit.
+void expect_the_same_bits(Context& ctx, const Scene& scene, const GpuSolverOptions& other,
+                          const char* tag) {
   const PhyxelSet set = sample_scene(scene);
-  double peak = 0;  // the blade's largest force below the threshold, as the parity test's
-  {
-    GpuSolver gpu(ctx(), set, scene.simulation.gravity);
-    for (const ToolContactSample& s : run(gpu, scene, 96).samples)
-      peak = std::max(peak, s.force.norm());
-  }
-  scene.tools[0].blade.threshold = 0.05 * peak;
-  GpuSolverOptions own;
-  own.resist_reduce = false;
-  GpuSolver fused(ctx(), set, scene.simulation.gravity);
-  GpuSolver separate(ctx(), set, scene.simulation.gravity, own);
-  const CutRun f = run(fused, scene, 96);
-  const CutRun s = run(separate, scene, 96);
+  GpuSolver a(ctx, set, scene.simulation.gravity);
+  GpuSolver b(ctx, set, scene.simulation.gravity, other);
+  const CutRun f = run(a, scene, 96);
+  const CutRun s = run(b, scene, 96);
   EXPECT_GT(f.severed.size(), 20u);
-  EXPECT_GT(fused.held_phyxels(1).size(), 4u);
-  EXPECT_EQ(fused.held_phyxels(1), separate.held_phyxels(1));
+  EXPECT_GT(a.held_phyxels(1).size(), 4u);
+  EXPECT_EQ(a.held_phyxels(1), b.held_phyxels(1));
   EXPECT_EQ(pair_set(f.severed), pair_set(s.severed));
   EXPECT_EQ(f.alive, s.alive);
   ASSERT_EQ(f.u.size(), s.u.size());
@@ -361,11 +358,40 @@ TEST_F(GpuSolverTest, ResistSummingItsOwnSamplesGivesTheBitsOfTheReducePass) {
     EXPECT_EQ(f.samples[k].force, s.samples[k].force) << k;
     EXPECT_EQ(f.samples[k].contacts, s.samples[k].contacts) << k;
     EXPECT_EQ(f.samples[k].held, s.samples[k].held) << k;
+    EXPECT_EQ(f.samples[k].axial_min, s.samples[k].axial_min) << k;
+    EXPECT_EQ(f.samples[k].axial_max, s.samples[k].axial_max) << k;
     largest = std::max(largest, f.samples[k].force.norm());
   }
   EXPECT_GT(largest, 0.01);
-  std::printf("[ resist   ] %zu pairs severed, %zu held, force up to %.4g N: the same bits\n",
-              f.severed.size(), fused.held_phyxels(1).size(), largest);
+  std::printf("[ %-8s ] %zu pairs severed, %zu held, force up to %.4g N: the same bits\n", tag,
+              f.severed.size(), a.held_phyxels(1).size(), largest);
+}
+
+// tool_resist summing the samples itself (GpuSolverOptions::resist_reduce) against
+// tool_contact_reduce after it: the same bits, while a threshold blade cuts the beam and a
+// grasper holds and pulls its free end (its hold after the edge's resistance, in its own pass).
+TEST_F(GpuSolverTest, ResistSummingItsOwnSamplesGivesTheBitsOfTheReducePass) {
+  Scene scene = cut_and_pull(100.0);
+  double peak = 0;  // the blade's largest force below the threshold, as the parity test's
+  {
+    GpuSolver gpu(ctx(), sample_scene(scene), scene.simulation.gravity);
+    for (const ToolContactSample& s : run(gpu, scene, 96).samples)
+      peak = std::max(peak, s.force.norm());
+  }
+  scene.tools[0].blade.threshold = 0.05 * peak;
+  GpuSolverOptions own;
+  own.resist_reduce = false;
+  expect_the_same_bits(ctx(), scene, own, "resist");
+}
+
+// The samples summed beside the sever (GpuSolverOptions::sums_apart: tool_contact_reduce, with
+// the grip's forces) against tool_contact's last workgroup: the same bits, while a blade
+// without a threshold cuts the beam and the jaws (their hold inside tool_contact, their own
+// passes on the substep they close) pull its free end.
+TEST_F(GpuSolverTest, SamplesSummedBesideTheSeverGiveTheBitsOfTheLastWorkgroup) {
+  GpuSolverOptions last;
+  last.sums_apart = false;
+  expect_the_same_bits(ctx(), cut_and_pull(0.0), last, "apart");
 }
 
 }  // namespace
