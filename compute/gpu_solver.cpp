@@ -407,6 +407,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
       rec_[0]->submit_and_wait();
       finish_contact(substeps, false);
     }
+    cut_pass_ += uint32_t(substeps);
     lap(mark, t.rest);
     for (const int64_t k : pauses) at(k);
     return;
@@ -485,6 +486,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
     throw;
   }
   substeps_run_ += substeps;
+  cut_pass_ += uint32_t(substeps);  // the passes record_sever numbered from it
   if (cur != 0)
     throw std::logic_error("GpuSolver::advance: displacement ended in the wrong buffer");
   if (!tools_.empty()) finish_contact(substeps, true);

@@ -244,6 +244,10 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   const std::vector<std::array<Vec3, 4>>& cut_quads() const;
   size_t band_size() const;
   bool in_band(size_t i) const;
+  // The blades' side entries (engine cutting.h side_entry) live on the device, written by
+  // tool_sever; read back and written only for checkpoints.
+  std::vector<std::vector<BladeSide>> blade_sides() override;
+  void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override;
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -369,6 +373,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // Cutting (gpu_solver_cutting.cpp): buffers for set_tools, the cut table of a new chunk,
   // the sever and precompute passes of a substep, the log after an advance.
   void prepare_cutting();
+  void prepare_blade_sides();             // set_tools: every blade's side entries, none kept
+  uint32_t cut_pass(int64_t step) const;  // SeverPush.pass of a substep of the advance
   void upload_cut_quads(Recorder& rec);
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
@@ -571,8 +577,10 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   double max_support_ = 0;              // the largest support radius (the broad phase's margin)
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
   Buffer cut_dirty_;                    // uint: count, phyxels
-  Buffer cut_done_;  // uint: finished workgroups of tool_sever or solver_force_tear; 0 between
-  Buffer cut_log_;   // Readback: uvec4 count, then (i, j, t bits, 0)
+  Buffer cut_done_;   // uint: finished workgroups of tool_sever or solver_force_tear; 0 between
+  Buffer cut_log_;    // Readback: uvec4 count, then (i, j, t bits, 0)
+  Buffer cut_sides_;  // uint [tool][phyxel]: side entries (tool_sever)
+  uint32_t cut_pass_ = 0;  // substeps counted for them (SeverPush.pass)
   uint32_t log_capacity_ = 0;
   // The smallest tear strength of any class that tears (+inf if none): ForceTearPush.weakest.
   float weakest_tear_ = std::numeric_limits<float>::infinity();

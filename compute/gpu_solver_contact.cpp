@@ -100,6 +100,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
           Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "contact workgroups done");
   }
   if (cutting_) prepare_cutting();
+  if (cutting_) prepare_blade_sides();
   prepare_grasping();
   if (contact_flag_) {  // no flag and no candidate survives a change of tools
     rec_[0]->fill(contact_flag_, 0);
@@ -332,8 +333,8 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                          fuse,
                          grasp,
                          count_,
-                         0u,
-                         0u};
+                         cutting_ ? cut_pass(step) : 0u,
+                         cutting_ ? count_ : 0u};
   // Stand-ins of the grip's buffers where no grasper's hold is in this pass.
   const bool grip = grasp != kContactNoGrasp;
   part_begin(rec, "contact: tool");
@@ -356,7 +357,9 @@ void GpuSolver::record_contact(Recorder& rec, int64_t step, float dt, const Buff
                      {"Held", grip ? grip_count_ : contact_count_},
                      {"GripForce", grip ? grip_force_ : candidate_force_},
                      {"GripOf", grip ? grip_of_ : contact_done_},
-                     {"Slot", candidate_slot_}},
+                     {"Slot", candidate_slot_},
+                     {"Sides", cutting_ ? cut_sides_ : contact_done_},  // unread without
+                     {"Quads", cutting_ ? cut_quads_ : contact_done_}},
                     contact_count_, offsetof(ContactCount, groups_x));
   part_end(rec);
   if (!fused) {  // tool_resist adds to the partials and sums them, or tool_contact_reduce after it

@@ -48,6 +48,52 @@ void GpuSolver::prepare_cutting() {
   if (alive_.empty()) alive_.assign(pairs_, 1);
 }
 
+void GpuSolver::prepare_blade_sides() {
+  const uint64_t entries = std::max<uint64_t>(1, uint64_t{count_} * tools_.size());
+  cut_sides_ =
+      Buffer(*ctx_, entries * sizeof(uint32_t), MemoryIntent::Device, "blade side entries");
+  upload(*ctx_, cut_sides_, std::vector<uint32_t>(entries, 0u));
+}
+
+// The side entries' pass of a substep of the advance (CpuSolver::apply_cuts counts one per
+// substep; the entries of the last substep have cut_pass_ after it).
+uint32_t GpuSolver::cut_pass(int64_t step) const {
+  return cut_pass_ + uint32_t(step) + 1u;
+}
+
+std::vector<std::vector<BladeSide>> GpuSolver::blade_sides() {
+  settle();
+  std::vector<std::vector<BladeSide>> kept(tools_.size());
+  if (!cutting_) return kept;
+  const std::vector<uint32_t> entries =
+      download<uint32_t>(*ctx_, cut_sides_, uint64_t{count_} * tools_.size());
+  for (size_t t = 0; t < tools_.size(); ++t)
+    for (uint32_t i = 0; i < count_ && tools_[t].blade.cuts(); ++i)
+      if (const uint32_t side = side_at_start(entries[t * count_ + i], cut_pass_ + 1);
+          side != kSideNone)
+        kept[t].push_back({i, side});
+  return kept;
+}
+
+void GpuSolver::restore_blade_sides(const std::vector<std::vector<BladeSide>>& kept) {
+  settle();
+  if (kept.size() > tools_.size())
+    throw std::invalid_argument("GpuSolver::restore_blade_sides: sides for " +
+                                std::to_string(kept.size()) + " tools, the scene has " +
+                                std::to_string(tools_.size()));
+  if (!cutting_) return;
+  std::vector<uint32_t> entries(uint64_t{count_} * tools_.size(), 0u);
+  for (size_t t = 0; t < kept.size(); ++t)
+    for (const BladeSide& b : kept[t]) {
+      if (!tools_[t].blade.cuts() || b.phyxel >= count_ ||
+          (b.side != kSidePlus && b.side != kSideMinus))
+        throw std::invalid_argument("GpuSolver::restore_blade_sides: bad side for phyxel " +
+                                    std::to_string(b.phyxel) + " of tool " + std::to_string(t));
+      entries[t * count_ + b.phyxel] = side_entry(cut_pass_, kSideNone, b.side);
+    }
+  upload(*ctx_, cut_sides_, entries);
+}
+
 void GpuSolver::upload_cut_quads(Recorder& rec) {
   // Rows: the chunk's substeps, then the last end pose held (CpuSolver: from = to).
   const size_t nt = tools_.size();
@@ -108,8 +154,15 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
   // tool_contact left the samples: summed beside the sever (which does not read them), no barrier.
   const bool apart = sums_pending_ == step;
   if (apart) record_sums_apart(rec);
-  const SeverPush push{contact_origin_, uint32_t(tools_.size()), row, uint32_t(step),
-                       log_capacity_};
+  const SeverPush push{contact_origin_,
+                       uint32_t(tools_.size()),
+                       row,
+                       uint32_t(step),
+                       log_capacity_,
+                       cut_pass(step),
+                       count_,
+                       0u,
+                       0u};
   dispatch_indirect(rec, kernels_->sever, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
@@ -129,7 +182,8 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"Classes", classes_},
                      {"Ainv", ainv_},
                      {"Resid", resid_},
-                     {"Done", cut_done_}},
+                     {"Done", cut_done_},
+                     {"Sides", cut_sides_}},
                     contact_count_, sizeof(ContactCount));
   part_end(rec);
 }
@@ -157,15 +211,8 @@ void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffe
   const uint32_t row = cut_table_row(step);
   // Summing the samples itself (resist_fused), and emptying the dirty list as tool_contact would.
   const uint32_t fuse = sample_fuse(resist_fused());
-  const ResistPush push{contact_origin_,
-                        dt,
-                        uint32_t(tools_.size()),
-                        row,
-                        partial_capacity(),
-                        uint32_t(step),
-                        fuse,
-                        0u,
-                        0u};
+  const ResistPush push{contact_origin_, dt,   uint32_t(tools_.size()), row,   partial_capacity(),
+                        uint32_t(step),  fuse, cut_pass(step),          count_};
   dispatch_indirect(rec, kernels_->resist, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
@@ -183,7 +230,8 @@ void GpuSolver::record_resist(Recorder& rec, int64_t step, float dt, const Buffe
                      {"WeightHi", weight_.hi()},
                      {"Samples", samples_buffer_},
                      {"Done", contact_done_},
-                     {"Dirty", cut_dirty_ ? cut_dirty_ : contact_done_}},  // unwritten without
+                     {"Dirty", cut_dirty_ ? cut_dirty_ : contact_done_},  // unwritten without
+                     {"Sides", cut_sides_}},
                     contact_count_, offsetof(ContactCount, groups_x));
 }
 

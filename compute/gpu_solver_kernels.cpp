@@ -43,7 +43,7 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
       check(ctx, PHYXEL_SHADER(solver_check), 3, sizeof(CheckPush)),
       max_norm(ctx, PHYXEL_SHADER(solver_max_norm), 4, sizeof(MaxNormPush)),
       motion(ctx, PHYXEL_SHADER(solver_motion), 4, sizeof(MotionPush)),
-      contact(ctx, PHYXEL_SHADER(tool_contact), 19, sizeof(ContactPush)),
+      contact(ctx, PHYXEL_SHADER(tool_contact), 21, sizeof(ContactPush)),
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 8, sizeof(ContactReducePush)),
       broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 8, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
@@ -73,8 +73,8 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
-  sever = make(PHYXEL_SHADER(tool_sever), 19, sizeof(SeverPush));
-  resist = make(PHYXEL_SHADER(tool_resist), 17, sizeof(ResistPush));
+  sever = make(PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush));
+  resist = make(PHYXEL_SHADER(tool_resist), 18, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }
 

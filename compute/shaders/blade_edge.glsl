@@ -81,4 +81,35 @@ bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {
          behind <= f.depth + abs(moved);
 }
 
+// One side per phyxel while a blade passes (engine/solver/cutting.h side_entry, sides_allow):
+// entry = pass << 4 | side at the pass's start << 2 | side after it.
+const uint kSideNone = 0u, kSidePlus = 1u, kSideMinus = 2u;
+const uint kSidePassMask = (1u << 28) - 1u;
+
+uint side_at_start(uint entry, uint pass) {
+  const uint stamp = entry >> 4;
+  if (stamp == (pass & kSidePassMask)) return (entry >> 2) & 3u;
+  if (stamp == ((pass - 1u) & kSidePassMask)) return (entry & 3u) == 3u ? kSideNone : entry & 3u;
+  return kSideNone;
+}
+
+uint side_entry(uint pass, uint start, uint after) {
+  return (pass & kSidePassMask) << 4 | start << 2 | after;
+}
+
+uint side_after(uint start, uint cut) {
+  if (start != kSideNone) return start;
+  return cut == kSidePlus || cut == kSideMinus ? cut : kSideNone;
+}
+
+uint side_from(vec3 n, vec3 xi, vec3 xj) {
+  return dot(n, xi - xj) >= 0.0 ? kSidePlus : kSideMinus;
+}
+
+bool sides_allow(uint side_i, uint side_j, vec3 n, vec3 xi, vec3 xj) {
+  const uint i_from_j = side_from(n, xi, xj);
+  if (side_i != kSideNone && side_i != i_from_j) return false;
+  return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
+}
+
 #endif

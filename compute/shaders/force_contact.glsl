@@ -45,7 +45,7 @@ void force_contact(uint k, uint fl, float mass, inout vec3 u, inout vec3 v) {
     vec4 felt;
     vec2 along;
     contact_tool(tools[t], motion[p.contact_motion * tool_count + t], p.contact_hold != 0u, p.dt,
-                 takes, mass, volume, x0, u, v, touched, moved, felt, along);
+                 takes, mass, volume, x0, vec3(0.0), u, v, touched, moved, felt, along);  // no blade
     rows[(2u * p.contact_row * tool_count + t) * p.contact_stride + slot] = felt;
     rows[((2u * p.contact_row + 1u) * tool_count + t) * p.contact_stride + slot] =
         vec4(along, 0.0, 0.0);

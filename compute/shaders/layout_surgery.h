@@ -66,8 +66,8 @@ struct ContactPush {
   uint fuse;           // kContactFuse* bits
   uint grasp;          // the grasper whose hold this pass does, or kContactNoGrasp
   uint grip_capacity;  // entries per tool of the grip buffers (GraspPush.capacity)
-  uint pad1;
-  uint pad2;
+  uint pass;           // SeverPush.pass of this substep (the blades' kept sides)
+  uint phyxels;        // SeverPush.phyxels; 0: no side kept (Sides and Quads unread)
 };
 PHYXEL_ASSERT_SIZE(ContactPush, 64);
 PHYXEL_CONST uint kContactNoGrasp = 0xFFFFFFFFu;
@@ -93,7 +93,9 @@ PHYXEL_CONST uint kContactBindingGrip = 14;       // as kGraspBindingGrip (grasp
 PHYXEL_CONST uint kContactBindingHeld = 15;       // as kGraspBindingCount
 PHYXEL_CONST uint kContactBindingGripForce = 16;  // as kGraspBindingForce
 PHYXEL_CONST uint kContactBindingGripOf = 17;     // as kGraspBindingGripOf
-PHYXEL_CONST uint kContactBindingSlot = 18;  // uint per phyxel: its candidate slot (broad phase)
+PHYXEL_CONST uint kContactBindingSlot = 18;   // uint per phyxel: its candidate slot (broad phase)
+PHYXEL_CONST uint kContactBindingSides = 19;  // SeverPush's side entries, read
+PHYXEL_CONST uint kContactBindingQuads = 20;  // CutQuad [row][tool] (the blades' planes)
 
 // tool_contact_reduce: one workgroup per tool sums force[tool * capacity + k] over
 // tool_contact's workgroups k, in a fixed order (thread t takes k = t, t + workgroup, ...; then a
@@ -318,8 +320,11 @@ struct SeverPush {
   uint row;         // row of the cut table
   uint sample_row;  // substep of the advance (its sample is rows 2 (substep tools + tool), +1)
   uint log_capacity;
+  uint pass;     // the substep's count for the side entries (engine cutting.h side_entry)
+  uint phyxels;  // the stride of the side entries [tool][phyxel]
+  uint pad0, pad1;
 };
-PHYXEL_ASSERT_SIZE(SeverPush, 32);
+PHYXEL_ASSERT_SIZE(SeverPush, 48);
 PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
 PHYXEL_CONST uint kSeverBindingRest = 1;
 PHYXEL_CONST uint kSeverBindingDisp = 2;
@@ -338,7 +343,8 @@ PHYXEL_CONST uint kSeverBindingLocal = 14;  // the precompute's (kPrecomputeBind
 PHYXEL_CONST uint kSeverBindingClasses = 15;
 PHYXEL_CONST uint kSeverBindingAinv = 16;
 PHYXEL_CONST uint kSeverBindingResid = 17;
-PHYXEL_CONST uint kSeverBindingDone = 18;  // workgroups done (solver_force_tear's too); 0 between
+PHYXEL_CONST uint kSeverBindingDone = 18;   // workgroups done (solver_force_tear's too); 0 between
+PHYXEL_CONST uint kSeverBindingSides = 19;  // uint [tool][phyxel]: side entries (blade_edge.glsl)
 
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
@@ -355,8 +361,8 @@ struct ResistPush {
   uint capacity;  // stride of the partial force buffer (ContactPush.capacity)
   uint substep;   // of the advance: the row of the samples (kContactFuseReduce)
   uint fuse;      // kContactFuse* bits (kContactFuseReduce, kContactFuseDirtyReset)
-  uint pad0;
-  uint pad1;
+  uint pass;      // SeverPush.pass of this substep
+  uint phyxels;   // SeverPush.phyxels
 };
 PHYXEL_ASSERT_SIZE(ResistPush, 48);
 PHYXEL_CONST uint kResistBindingList = 0;  // candidates
@@ -376,6 +382,7 @@ PHYXEL_CONST uint kResistBindingWeightHi = 13;
 PHYXEL_CONST uint kResistBindingSamples = 14;  // written with kContactFuseReduce
 PHYXEL_CONST uint kResistBindingDone = 15;     // workgroups done (tool_contact's); 0 between
 PHYXEL_CONST uint kResistBindingDirty = 16;    // the dirty list (kContactFuseDirtyReset)
+PHYXEL_CONST uint kResistBindingSides = 17;    // SeverPush's side entries, read
 
 // solver_max_norm: out[g] = (max |u|, max |v|, 0, 0) over elements [g * kScanBlock, +kScanBlock)
 // of level 0 (u and v per phyxel) or of the previous level's partials (src.xy).

@@ -40,6 +40,22 @@ layout(std430, binding = kContactBindingHeld) readonly buffer Held { ContactCoun
 layout(std430, binding = kContactBindingGripForce) coherent buffer GripForce { vec4 grip_force[]; };
 layout(std430, binding = kContactBindingGripOf) readonly buffer GripOf { uint grip_of[]; };
 layout(std430, binding = kContactBindingSlot) readonly buffer Slot { uint candidate_slot[]; };
+layout(std430, binding = kContactBindingSides) readonly buffer Sides { uint sides[]; };
+layout(std430, binding = kContactBindingQuads) readonly buffer Quads { CutQuad quads[]; };
+
+#include "blade_edge.glsl"
+
+// CpuSolver::kept_side: the normal of tool t's blade toward the side it keeps phyxel i on,
+// else zero (the cut table's row: past the chunk, the held end pose).
+vec3 kept_side(uint t, uint i) {
+  if (p.phyxels == 0u) return vec3(0.0);
+  const CutQuad quad = quads[(p.motion + p.hold) * p.tools + t];
+  if (!(quad.edge.w > 0.0)) return vec3(0.0);  // no blade, or one without a threshold
+  const uint side = side_at_start(sides[t * p.phyxels + i], p.pass);
+  if (side == kSideNone) return vec3(0.0);
+  const vec3 n = normalize(cross(quad.axis.xyz, quad.edge.xyz));
+  return side == kSidePlus ? n : -n;
+}
 
 #include "tool_contact_sum.glsl"
 
@@ -117,8 +133,9 @@ void main() {
   for (uint t = 0u; t < p.tools; ++t) {
     vec4 felt;
     vec2 along;
+    const vec3 keep = takes ? kept_side(t, i) : vec3(0.0);
     contact_tool(tools[t], motion[p.motion * p.tools + t], p.hold != 0u, p.dt, takes, mass, volume,
-                 x0, u, v, touched, moved, felt, along);
+                 x0, keep, u, v, touched, moved, felt, along);
     sum_workgroup(felt, along);
     // p.capacity: the partials' stride; a workgroup past the candidates (a dispatch spread
     // over y) writes none.

@@ -74,6 +74,23 @@ ToolHit tool_distance(ContactToolShape tool, vec3 position, vec3 axis, vec3 x) {
   return hit;
 }
 
+// kept_side_exit of engine/solver/contact.cpp: a phyxel kept on one side (keep: the unit normal
+// toward it, else zero) inside the capsule beside its segment leaves it along keep.
+bool kept_side_exit(ContactToolShape tool, vec3 position, vec3 axis, vec3 x, vec3 keep,
+                    inout ToolHit hit) {
+  if (keep == vec3(0.0) || tool.kind.x != kToolCapsule) return false;
+  const vec3 r = x - position;
+  const float along = dot(r, axis);
+  if (!(along > 0.0 && along < tool.shape.y)) return false;  // the caps keep their normal
+  const vec3 off = r - along * axis;
+  const float b = dot(off, keep), a2 = dot(off, off) - b * b;
+  const float exit = sqrt(max(0.0, tool.shape.x * tool.shape.x - a2)) - b;
+  if (!(exit > 0.0)) return false;
+  hit.distance = -exit;
+  hit.normal = keep;
+  return true;
+}
+
 // contact_correction over a substep of dt: x_new is the phyxel's position after the drift
 // (relative to the origin), v its velocity, so x_new - x_prev = dt v. Returns false (dx, dv
 // untouched) when the phyxel is outside the tool at the end pose; `hold`: the tool rests at
@@ -81,18 +98,20 @@ ToolHit tool_distance(ContactToolShape tool, vec3 position, vec3 axis, vec3 x) {
 // tool surface removed within the friction cone of that; velocity: relative to the surface's,
 // the normal part into the tool removed and the tangential part within mu of that change.
 bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool hold, float dt,
-                             vec3 x_new, vec3 v, out vec3 dx, out vec3 dv) {
+                             vec3 x_new, vec3 v, vec3 keep, out vec3 dx, out vec3 dv) {
   dx = vec3(0.0);
   dv = vec3(0.0);
   const vec3 to_p = motion.to_position.xyz;
   const vec3 to_a = motion.to_axis.xyz;
   const vec3 from_p = hold ? to_p : motion.from_position.xyz;
   const vec3 from_a = hold ? to_a : motion.from_axis.xyz;
-  const ToolHit hit = tool_distance(tool, to_p, to_a, x_new);
+  ToolHit hit = tool_distance(tool, to_p, to_a, x_new);
   if (!(hit.distance < 0.0)) return false;
+  const bool parted = kept_side_exit(tool, to_p, to_a, x_new, keep, hit);
   const vec3 n = hit.normal;
   // A blade's sharp point (on_sharp_point): its cap ahead of the tip takes no friction.
-  const float mu = (tool.kind.y != 0u && dot(x_new - to_p, to_a) < 0.0) ? 0.0 : tool.shape.z;
+  const float mu =
+      (parted || (tool.kind.y != 0u && dot(x_new - to_p, to_a) < 0.0)) ? 0.0 : tool.shape.z;
   const vec3 dn = -hit.distance * n;
   const vec3 step = dt * v;
   const vec3 x_prev = x_new - step;
@@ -121,16 +140,17 @@ bool tool_contact_correction(ContactToolShape tool, ContactMotion motion, bool h
 // both give the same bits): the contact correction of u and v, then the aspirator's pull
 // (engine/solver/suction.h suction_pull). felt: the force on the phyxel and 1 where in contact;
 // along: the axial range of a contact or of a phyxel in a blade's band. `takes`: not fixed or
-// removed; x0: the rest position relative to the origin; volume: the rest volume.
+// removed; x0: the rest position relative to the origin; volume: the rest volume; keep: the
+// blade's side for the phyxel (kept_side_exit).
 void contact_tool(ContactToolShape tool, ContactMotion m, bool hold, float dt, bool takes,
-                  float mass, float volume, vec3 x0, inout vec3 u, inout vec3 v, inout uint touched,
-                  inout bool moved, out vec4 felt, out vec2 along) {
+                  float mass, float volume, vec3 x0, vec3 keep, inout vec3 u, inout vec3 v,
+                  inout uint touched, inout bool moved, out vec4 felt, out vec2 along) {
   felt = vec4(0.0);
   along = vec2(kNoContactAxial, -kNoContactAxial);
   vec3 dx;
   vec3 dv;
   bool around = false;
-  if (takes && tool_contact_correction(tool, m, hold, dt, x0 + u, v, dx, dv)) {
+  if (takes && tool_contact_correction(tool, m, hold, dt, x0 + u, v, keep, dx, dv)) {
     u += dx;
     v += dv;
     felt = vec4(mass * dv / dt, 1.0);

@@ -6,7 +6,8 @@
 // dt / m times them to its velocity, and each workgroup adds its sums to tool_contact's partials
 // (tool_contact_reduce turns them into the force on the tool; with kContactFuseReduce this
 // dispatch's last workgroup does, in the same order: the same bits, one dispatch and barrier
-// less per substep). Reads positions, writes only its own velocity: no atomics.
+// less per substep). A pair that would cut a phyxel from the side its blade keeps it on is not
+// held (blade_edge.glsl, sides_allow). Reads positions, writes only its own velocity: no atomics.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -33,6 +34,7 @@ layout(std430, binding = kResistBindingCount) readonly buffer Count { ContactCou
 layout(std430, binding = kResistBindingSamples) writeonly buffer Samples { vec4 samples[]; };
 layout(std430, binding = kResistBindingDone) coherent buffer Done { uint done; };
 layout(std430, binding = kResistBindingDirty) writeonly buffer Dirty { uint dirty[]; };
+layout(std430, binding = kResistBindingSides) readonly buffer Sides { uint sides[]; };
 
 #include "last_workgroup.glsl"
 #include "tool_contact_sum.glsl"
@@ -53,8 +55,9 @@ float plane_crossings(uint i, vec3 n) {
   return 0.5 * sum;
 }
 
-vec3 held_pairs_force(uint i, EdgeFrame f) {
+vec3 held_pairs_force(uint i, EdgeFrame f, uint tool) {
   const vec3 xi = position(i);
+  const uint side_i = side_at_start(sides[tool * p.phyxels + i], p.pass);
   vec3 total = vec3(0.0);
   float s_i = -1.0;
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
@@ -65,7 +68,8 @@ vec3 held_pairs_force(uint i, EdgeFrame f) {
     float behind;
     float direction;
     if (!(i < j ? edge_pushes(xi, xj, f, t, behind, direction)
-                : edge_pushes(xj, xi, f, t, behind, direction)))
+                : edge_pushes(xj, xi, f, t, behind, direction)) ||
+        !sides_allow(side_i, side_at_start(sides[tool * p.phyxels + j], p.pass), f.normal, xi, xj))
       continue;
     if (s_i < 0.0) s_i = plane_crossings(i, f.normal);
     const float s_j = plane_crossings(j, f.normal);
@@ -89,7 +93,7 @@ void main() {
     const CutQuad quad = quads[p.row * p.tools + tool];
     vec3 force = vec3(0.0);
     if (takes && quad.edge.w >= 0.0 && quad.resist.x > 0.0) {
-      force = held_pairs_force(i, edge_frame(quad));
+      force = held_pairs_force(i, edge_frame(quad), tool);
       // bounded_edge_push: at most the blade's threshold (quad.edge.w) on one phyxel.
       const float size = length(force);
       if (size > quad.edge.w) force *= quad.edge.w / size;

@@ -4,14 +4,16 @@
 // each cutting blade swept, in the canonical order (lower index first) with the tie rule of
 // engine/solver/cutting.cpp (an endpoint on the plane is on the positive side; a segment through
 // an edge crosses, except through the front), and the pairs its edge holds (blade_edge.glsl);
-// whatever the force, the pairs a blade's edge carries past its reach (edge_passes).
-// A pair goes to the first tool that crosses it (the CPU's tool by tool: a later tool finds it
-// severed); no pair's test reads another's outcome, so the same pairs are severed with the same
-// t in any order. A pair is tested against a blade only where its segment meets the ball around
-// all that blade can sever this substep (blade_ball). Then the workgroup that finishes last
-// reruns the precompute of the phyxels put in the dirty list (none most substeps: no dependent
-// dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). Positions relative
-// to the motion table's origin.
+// whatever the force, the pairs a blade's edge carries past its reach (edge_passes); a blade
+// with a threshold severs none that would cut a phyxel from the side it keeps it on
+// (sides_allow; each lane merges what it cut into the candidate's side entry with a
+// compare-and-swap). A pair goes to the first tool that takes it (the CPU's tool by tool: a
+// later tool finds it severed); no pair's test reads another's outcome, so the same pairs are
+// severed with the same t in any order. A pair is tested against a blade only where its segment
+// meets the ball around all that blade can sever this substep (blade_ball). Then the workgroup
+// that finishes last reruns the precompute of the phyxels put in the dirty list (none most
+// substeps: no dependent dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short
+// list). Positions relative to the motion table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -45,6 +47,7 @@ layout(std430, binding = kSeverBindingClasses) readonly buffer Classes { SolverC
 layout(std430, binding = kSeverBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
 layout(std430, binding = kSeverBindingResid) writeonly buffer Resid { vec4 resid[]; };
 layout(std430, binding = kSeverBindingDone) coherent buffer Done { uint done; };
+layout(std430, binding = kSeverBindingSides) buffer Sides { uint sides[]; };
 
 const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
 
@@ -221,29 +224,86 @@ bool any_tool_severs() {
   return false;
 }
 
-// Pair slot k of candidate i (at xi): severed by the first tool whose blade crosses it, unless
-// the invocation of its other side claimed it first (the atomic exchange of the lower index's
-// slot), which severs it alike.
-void sever_pair(uint i, vec3 xi, uint k) {
-  if (pair_weight_bits(k) == 0u) return;
+uint side_of(uint tool, uint x) {
+  return side_at_start(sides[tool * p.phyxels + x], p.pass);
+}
+
+// Whether the tool's blade severs pair (i, j) at t: it may (its ball), it crosses the pair and,
+// for a blade with a threshold (sided), leaves both phyxels on the sides it keeps them on.
+bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out float t) {
+  t = 0.0;
+  if (!blade_may_sever(tool, quad, xi, xj)) return false;
+  const bool cuts = blade_cuts(tool, quad);
+  const bool crosses =
+      i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
+  if (!crosses || !(quad.edge.w > 0.0)) return crosses;
+  const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
+  return sides_allow(side_of(tool, i), side_of(tool, j), normal, xi, xj);
+}
+
+// Whether a tool before this one severs the pair in this substep (the CPU's tool by tool).
+bool earlier_tool_takes(uint tool, uint i, vec3 xi, uint j, vec3 xj) {
+  for (uint before = 0u; before < tool; ++before) {
+    float t;
+    if (blade_takes(quads[p.row * p.tools + before], before, i, xi, j, xj, t)) return true;
+  }
+  return false;
+}
+
+// Pair slot k of candidate i (at xi) against one tool: severed unless a tool before it takes
+// it or the invocation of its other side claimed it first (the atomic exchange of the lower
+// index's slot). Returns the side it cuts i to (kSideNone if the blade does not take it); a
+// pair severed before counts, so the side does not depend on which invocation ran first.
+uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
+  const bool sided = quad.edge.w > 0.0;
+  if (!sided && pair_weight_bits(k) == 0u) return kSideNone;
   const uint j = nbr_index(k);
   const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
+  float t;
+  if (!blade_takes(quad, tool, i, xi, j, xj, t)) return kSideNone;
+  const uint side =
+      sided ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj) : kSideNone;
+  if (pair_weight_bits(k) == 0u || earlier_tool_takes(tool, i, xi, j, xj)) return side;
+  const uint lo = min(i, j), hi = max(i, j);
+  const uint lo_slot = i < j ? k : find_slot(j, i);
+  if (sever_pair_weight(lo_slot) == 0u) return side;  // another invocation has it
+  clear_pair_weight(i < j ? find_slot(j, i) : k);
+  mark_dirty(lo);
+  mark_dirty(hi);
+  log_severed(lo, hi, t, 0u);
+  return side;
+}
+
+// Merges one lane's sides into candidate i's entry for the tool (side_entry, side_after): the
+// kept side, or what this lane cut i to; both sides (3) read as none in the next substep.
+void merge_side(uint tool, uint i, uint side_i, uint cut_to) {
+  const uint index = tool * p.phyxels + i;
+  const uint share = side_i != kSideNone ? side_i : cut_to;
+  uint old = sides[index];
+  for (;;) {
+    const bool stamped = (old >> 4) == (p.pass & kSidePassMask);
+    const uint want = (stamped ? old : side_entry(p.pass, side_i, kSideNone)) | share;
+    if (want == old) return;
+    const uint seen = atomicCompSwap(sides[index], old, want);
+    if (seen == old) return;
+    old = seen;
+  }
+}
+
+// Candidate i's pairs (every lanes-th from `lane`) against each blade; its side entries.
+void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
+  const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
+  const uint end = offset[i + 1u];
   for (uint tool = 0u; tool < p.tools; ++tool) {
     const CutQuad quad = quads[p.row * p.tools + tool];
-    if (!blade_may_sever(tool, quad, xi, xj)) continue;
-    const bool cuts = blade_cuts(tool, quad);
-    float t;
-    const bool crosses =
-        i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
-    if (!crosses) continue;
-    const uint lo = min(i, j), hi = max(i, j);
-    const uint lo_slot = i < j ? k : find_slot(j, i);
-    if (sever_pair_weight(lo_slot) == 0u) return;  // another invocation has it
-    clear_pair_weight(i < j ? find_slot(j, i) : k);
-    mark_dirty(lo);
-    mark_dirty(hi);
-    log_severed(lo, hi, t, 0u);
-    return;
+    if (quad.edge.w < 0.0) continue;  // no blade
+    const bool sided = quad.edge.w > 0.0;
+    const uint side_i = sided ? side_of(tool, i) : kSideNone;
+    uint cut_to = kSideNone;
+    if (severing && tool_severs(quad, blade_cuts(tool, quad)))
+      for (uint k = offset[i] + lane; k < end; k += lanes)
+        cut_to |= sever_pair(tool, quad, i, xi, k);
+    if (sided) merge_side(tool, i, side_i, cut_to);  // every substep: the side stays kept
   }
 }
 
@@ -251,12 +311,7 @@ void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const uint lanes = sever.lanes;
   const uint slot = invocation / lanes;
-  if (any_tool_severs() && slot < count.total) {
-    const uint i = list[slot];
-    const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
-    const uint end = offset[i + 1u];
-    for (uint k = offset[i] + invocation % lanes; k < end; k += lanes)
-      sever_pair(i, xi, k);
-  }
+  const bool severing = any_tool_severs();  // every invocation: it fills blade_ball
+  if (slot < count.total) sever_candidate(list[slot], invocation % lanes, lanes, severing);
   precompute_dirty_list();
 }

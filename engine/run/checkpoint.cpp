@@ -32,6 +32,7 @@ enum Section : uint32_t {
   kGrips = 12,        // per tool: the grasper's jaws closed and what they hold
   kAspiration = 13,   // the aspirator: removed phyxels, surface, severed log read, totals
   kCutBand = 14,      // the SCNI band: its quads, counts and cells (CutBandState)
+  kBladeSides = 15,   // per tool: the phyxels its blade keeps on one side, and the side
 };
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 constexpr size_t kChecksumBytes = 8;
@@ -162,6 +163,17 @@ void write_surgery_sections(Writer& w, const Checkpoint& c) {
   w.put_array(band.dirty);
   w.put_array(band.built_with);
   w.end_section();
+
+  w.begin_section(kBladeSides);
+  w.put<uint64_t>(c.blade_sides.size());
+  for (const std::vector<BladeSide>& tool : c.blade_sides) {
+    w.put<uint64_t>(tool.size());
+    for (const BladeSide& b : tool) {
+      w.put<uint32_t>(b.phyxel);
+      w.put<uint8_t>(uint8_t(b.side));
+    }
+  }
+  w.end_section();
 }
 
 void write_sections(Writer& w, const Checkpoint& c) {
@@ -279,6 +291,21 @@ void read_cut_band(Reader& r, CutBandState& band) {
   band.phyxel = r.get_array<uint32_t>();
   band.dirty = r.get_array<uint8_t>();
   band.built_with = r.get_array<uint64_t>();
+}
+
+void read_blade_sides(Reader& r, Checkpoint& c) {
+  const uint64_t tools = r.get<uint64_t>();
+  for (uint64_t t = 0; t < tools; ++t) {
+    std::vector<BladeSide> kept(r.get<uint64_t>());
+    for (BladeSide& b : kept) {
+      b.phyxel = r.get<uint32_t>();
+      b.side = r.get<uint8_t>();
+      if (b.side != kSidePlus && b.side != kSideMinus)
+        throw CheckpointError("corrupt checkpoint: blade side " + std::to_string(b.side) +
+                              " for phyxel " + std::to_string(b.phyxel));
+    }
+    c.blade_sides.push_back(std::move(kept));
+  }
 }
 
 void read_grips(Reader& r, Checkpoint& c) {
@@ -413,6 +440,9 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
       break;
     case kCutBand:
       read_cut_band(r, c.band);
+      break;
+    case kBladeSides:
+      read_blade_sides(r, c);
       break;
     default:  // a section this version does not know: skipped
       break;

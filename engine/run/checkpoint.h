@@ -71,6 +71,9 @@ struct Checkpoint {
   AspiratorState aspiration;
   // The SCNI band round the cuts (objects with cut_band; empty without one).
   CutBandState band;
+  // Per tool, the sides its blade keeps (engine/solver/cutting.h, BladeSide; empty without a
+  // blade or in a checkpoint written before them: none kept).
+  std::vector<std::vector<BladeSide>> blade_sides;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

@@ -232,6 +232,8 @@ void RunLoop::resume(const Checkpoint& c) {
   if (!c.severed.empty())  // the cuts, before the state's forces
     need(solver_.cutting(), solver_, "sever pairs").sever_pairs(c.severed);
   try {
+    if (!c.blade_sides.empty())  // the sides the blades keep (after set_tools)
+      need(solver_.cutting(), solver_, "keep a blade's sides").restore_blade_sides(c.blade_sides);
     aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
     if (!c.band.phyxel.empty() || !c.band.quads.empty())   // after the cuts and removals
       need(solver_.cutting(), solver_, "restore the SCNI band").restore_cut_band(c.band);
@@ -474,6 +476,7 @@ Checkpoint RunLoop::checkpoint() {
   if (Cutting* cut = solver_.cutting()) {
     c.severed = cut->severed_since(0);
     c.band = cut->cut_band_state();
+    if (!tools_.empty()) c.blade_sides = cut->blade_sides();
   }
   if (has_grasper(scene_))
     c.grips = need(solver_.tools(), solver_, "hold a grasper's grip").grips();

@@ -18,17 +18,34 @@ bool on_sharp_point(const ContactTool& tool, const ToolPose& pose, const Vec3& x
          tool.shape.type == ToolShape::Type::Capsule && (x - pose.position).dot(pose.axis) < 0;
 }
 
+bool kept_side_exit(const ContactTool& tool, const ToolPose& pose, const Vec3& x, const Vec3& keep,
+                    ToolDistance& d) {
+  if (keep.isZero(0) || tool.shape.type != ToolShape::Type::Capsule) return false;
+  const Vec3 r = x - pose.position;
+  const double along = r.dot(pose.axis);
+  if (!(along > 0 && along < tool.shape.length)) return false;  // the caps keep their normal
+  const Vec3 off = r - along * pose.axis;
+  const double b = off.dot(keep), a2 = off.squaredNorm() - b * b;
+  const double exit = std::sqrt(std::max(0.0, tool.shape.radius * tool.shape.radius - a2)) - b;
+  if (!(exit > 0)) return false;
+  d.distance = -exit;
+  d.normal = keep;
+  return true;
+}
+
 template <class Real>
 bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real dt,
                         const Eigen::Matrix<Real, 3, 1>& x_prev,
                         const Eigen::Matrix<Real, 3, 1>& x_new, const Eigen::Matrix<Real, 3, 1>& v,
-                        Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv) {
+                        Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv,
+                        const Vec3& keep) {
   // The geometry in double from the Real inputs (exact), the corrections rounded to Real.
   const Vec3 xn = x_new.template cast<double>();
-  const ToolDistance d = tool_distance(tool.shape, motion.to, xn);
+  ToolDistance d = tool_distance(tool.shape, motion.to, xn);
   if (!(d.distance < 0)) return false;
+  const bool parted = kept_side_exit(tool, motion.to, xn, keep, d);
   const Vec3& n = d.normal;
-  const double mu = on_sharp_point(tool, motion.to, xn) ? 0.0 : tool.friction;
+  const double mu = parted || on_sharp_point(tool, motion.to, xn) ? 0.0 : tool.friction;
   // Position: out along the normal; the tangential slip relative to the tool surface (which
   // carried the point from x_prev) removed within the friction cone of the normal correction.
   const Vec3 dn = -d.distance * n;
@@ -56,11 +73,12 @@ bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real 
 
 template bool contact_correction<double>(const ContactTool&, const ToolMotion&, double,
                                          const Eigen::Vector3d&, const Eigen::Vector3d&,
-                                         const Eigen::Vector3d&, Eigen::Vector3d&,
-                                         Eigen::Vector3d&);
+                                         const Eigen::Vector3d&, Eigen::Vector3d&, Eigen::Vector3d&,
+                                         const Vec3&);
 template bool contact_correction<float>(const ContactTool&, const ToolMotion&, float,
                                         const Eigen::Vector3f&, const Eigen::Vector3f&,
-                                        const Eigen::Vector3f&, Eigen::Vector3f&, Eigen::Vector3f&);
+                                        const Eigen::Vector3f&, Eigen::Vector3f&, Eigen::Vector3f&,
+                                        const Vec3&);
 
 template <class Real>
 std::vector<uint32_t> contact_candidates(const std::vector<uint32_t>& list,

@@ -16,7 +16,8 @@
 // tool (squeezed by its neighbours) is put back on the surface without being thrown: its
 // speed after contact never exceeds the tool surface's by more than it had. Fixed and removed
 // phyxels take no contact. A blade's point is sharp: with a threshold, the cap ahead of its tip
-// holds nothing by friction (on_sharp_point).
+// holds nothing by friction (on_sharp_point); a phyxel the blade keeps on one side leaves its
+// body toward that side (kept_side_exit).
 #pragma once
 
 #include <Eigen/Core>
@@ -76,11 +77,23 @@ bool on_sharp_point(const ContactTool& tool, const ToolPose& pose, const Vec3& x
 
 // The correction of one phyxel over a substep of dt: x_new is its position after the drift,
 // x_prev before it, v its velocity. Returns false (dx, dv untouched) outside the tool.
+// `keep`: for a phyxel a blade keeps on one side (cutting.h, side_entry), the blade's plane
+// normal toward that side, else zero (kept_side_exit).
 template <class Real>
 bool contact_correction(const ContactTool& tool, const ToolMotion& motion, Real dt,
                         const Eigen::Matrix<Real, 3, 1>& x_prev,
                         const Eigen::Matrix<Real, 3, 1>& x_new, const Eigen::Matrix<Real, 3, 1>& v,
-                        Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv);
+                        Eigen::Matrix<Real, 3, 1>& dx, Eigen::Matrix<Real, 3, 1>& dv,
+                        const Vec3& keep = Vec3::Zero());
+
+// A phyxel kept on one side (keep: the unit normal toward it) inside the blade's body beside
+// its segment leaves the body toward that side, not radially: out along keep to the capsule's
+// surface, without friction (the edge parts it, as the point does). Radially, a phyxel on the
+// blade's plane ahead of it was pushed ahead of the body while its pairs held it to its side,
+// until it snapped back (docs/cutting.md, "One side per phyxel"). Whether it applies; then
+// `d` is that exit (distance < 0, normal keep).
+bool kept_side_exit(const ContactTool& tool, const ToolPose& pose, const Vec3& x, const Vec3& keep,
+                    ToolDistance& d);
 
 // Broad phase of a chunk of substeps (CpuSolver::set_tool_motion; its GPU twin is
 // compute/shaders/tool_broad_phase.comp): the entries of `list` (ascending phyxel indices: the

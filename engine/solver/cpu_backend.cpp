@@ -108,6 +108,14 @@ class CpuBackend final : public SolverWithAllFacets {
   }
   CutBandState cut_band_state() override { return solver_->cut_band_state(); }
   void restore_cut_band(const CutBandState& state) override { solver_->restore_cut_band(state); }
+  std::vector<std::vector<BladeSide>> blade_sides() override {
+    std::vector<std::vector<BladeSide>> sides(solver_->tool_count());
+    for (size_t t = 0; t < sides.size(); ++t) sides[t] = solver_->blade_sides(t);
+    return sides;
+  }
+  void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override {
+    for (size_t t = 0; t < sides.size(); ++t) solver_->restore_blade_sides(t, sides[t]);
+  }
 
  private:
   int threads_;

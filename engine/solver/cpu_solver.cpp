@@ -326,6 +326,7 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   grasping_ = false;
   for (const ContactTool& t : tools_) grasping_ = grasping_ || t.grasp.grasps();
   grips_.assign(tools_.size(), Grip{});
+  blade_side_.assign(cutting_ ? tools_.size() * size() : 0, 0u);
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();
@@ -381,14 +382,15 @@ void CpuSolver<Real>::apply_contacts(Real dt) {
   }
   // In ascending phyxel order, tool by tool: the sums are the same on every run.
   std::vector<ToolContactSample> felt(nt);
+  const std::vector<Vec3> side_normals = blade_side_normals();
   for (const uint32_t i : candidates_) {
     if (flags_[i] & kRemoved) continue;  // aspirated during the chunk
     for (size_t t = 0; t < nt; ++t) {
       const V3 x_new = rest_[i] + u_[i];
       const V3 x_prev = x_new - dt * v_[i];
       V3 dx, dv;
-      const bool touches =
-          contact_correction<Real>(tools_[t], now[t], dt, x_prev, x_new, v_[i], dx, dv);
+      const bool touches = contact_correction<Real>(tools_[t], now[t], dt, x_prev, x_new, v_[i], dx,
+                                                    dv, kept_side(t, i, side_normals[t]));
       if (touches) {
         u_[i] += dx;
         v_[i] += dv;

@@ -103,6 +103,11 @@ class CpuSolver {
   // Severs the pairs (i, j) given (both sides; a pair not in the lists is refused) and
   // recomputes what they touch, as a cut would (checkpoint resume, tests).
   void sever_pairs(const std::vector<SeveredPair>& pairs);
+  // The sides each blade keeps after the last substep (cutting.h, BladeSide); restore puts
+  // them back (after set_tools).
+  size_t tool_count() const { return tools_.size(); }
+  std::vector<BladeSide> blade_sides(size_t tool) const;
+  void restore_blade_sides(size_t tool, const std::vector<BladeSide>& sides);
 
   // Takes the phyxels out of the physics (Solver::remove_phyxels): flags them kRemoved, sets
   // the weight of every pair touching them to 0 on both sides, reruns the precompute of their
@@ -170,8 +175,14 @@ class CpuSolver {
   // (cutting.h, EdgeFrame), into v and `felt` (cpu_solver_cutting.cpp).
   void apply_edge_resistance(Real dt, std::vector<ToolContactSample>& felt);
   EdgeFrame substep_edge(size_t tool) const;  // this substep's (stiffness 0: holds nothing)
-  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge) const;  // on phyxel i
-  double plane_crossings(uint32_t i, const Vec3& normal) const;    // S_i (pair_area_share)
+  // On phyxel i; `sides`: the blade's side entries (cutting.h, side_entry).
+  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge, const uint32_t* sides) const;
+  void cut_with_blade(size_t tool, std::vector<uint32_t>& touched);  // apply_cuts, one blade
+  // Per tool, this substep's blade plane normal where it keeps sides (else zero); phyxel i's
+  // side of it for the contact (contact_correction's keep).
+  std::vector<Vec3> blade_side_normals() const;
+  Vec3 kept_side(size_t tool, uint32_t i, const Vec3& normal) const;
+  double plane_crossings(uint32_t i, const Vec3& normal) const;  // S_i (pair_area_share)
   // In apply_contacts, after the contacts: the graspers' capture, hold and release, their
   // forces and held counts into `felt` (cpu_solver_grasp.cpp).
   void apply_grasps(Real dt, const std::vector<ToolMotion>& now,
@@ -234,6 +245,8 @@ class CpuSolver {
   std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)
   std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
   std::vector<SeveredPair> severed_;  // the log
+  std::vector<uint32_t> blade_side_;  // [tool][phyxel] side entries (cutting.h, side_entry)
+  uint32_t cut_pass_ = 0;             // substeps counted for the side entries
 
   // The SCNI band: its cells and quads (double), and the boxes in Real with their stress.
   struct BandBox {

@@ -42,54 +42,69 @@ bool CpuSolver<Real>::sever(uint32_t i, uint32_t k, float t) {
 
 template <class Real>
 void CpuSolver<Real>::apply_cuts() {
+  ++cut_pass_;  // every substep: a side not renewed in the last one has lapsed
   const size_t nt = tools_.size();
   if (now_.size() != nt || samples_.size() < nt) return;  // no motion yet: nothing cuts
   const size_t first = severed_.size();
   std::vector<uint32_t> touched;
-  for (size_t tool = 0; tool < nt; ++tool) {
-    const Blade& blade = tools_[tool].blade;
-    if (!blade.cuts()) continue;
-    const ToolMotion& m = now_[tool];
-    const double reach = blade_reach(blade, contact_spacing_);
-    const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
-    const Vec3 felt = samples_[samples_.size() - nt + tool].force;
-    const bool cuts = cut_force(felt, quad) >= blade.threshold;
-    const double body = blade_body_radius(tools_[tool]);
-    const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
-    // Below the threshold a blade whose edge holds pairs still severs those it carries past
-    // its reach (edge_passes); threshold 0 always cuts and holds nothing.
-    const bool resists = edge.stiffness > 0;
-    if (!cuts && !resists) continue;
-    const std::array<Vec3, 4>& c = quad.corner;
-    const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
-    auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
-      double behind = 0, direction = 0;
-      if (cuts &&
-          (blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t)) ||
-           (resists && edge_holds(p, q, edge, t, &behind, &direction))))
-        return true;
-      return resists && edge_passes(p, q, edge, t);
-    };
-    for (const uint32_t i : candidates_) {
-      const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
-      for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
-        if (w_[k] == Real(0)) continue;
-        const uint32_t j = nbr_.index[k];
-        const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
-        // The canonical order (lower index first): both sides of a pair decide alike.
-        double t = 0;
-        const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-        if (!crosses) continue;
-        sever(i, k, float(i < j ? t : 1 - t));
-        touched.push_back(i);
-        touched.push_back(j);
-      }
-    }
-    // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
-    // not at pairs only carried past the reach.
-    if (cuts && band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
-  }
+  for (size_t tool = 0; tool < nt; ++tool)
+    if (tools_[tool].blade.cuts()) cut_with_blade(tool, touched);
   if (severed_.size() != first) precompute_touched(touched);
+}
+
+template <class Real>
+void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched) {
+  const Blade& blade = tools_[tool].blade;
+  const ToolMotion& m = now_[tool];
+  const double reach = blade_reach(blade, contact_spacing_);
+  const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
+  const size_t nt = tools_.size();
+  const bool cuts = cut_force(samples_[samples_.size() - nt + tool].force, quad) >= blade.threshold;
+  const double body = blade_body_radius(tools_[tool]);
+  const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
+  // Below the threshold a blade whose edge holds pairs still severs those it carries past
+  // its reach (edge_passes); threshold 0 always cuts and holds nothing.
+  const bool resists = edge.stiffness > 0;
+  // One side per phyxel for blades with a threshold only (docs/cutting.md: at 0 it kept
+  // breast_resection's cone joined at its apex, where the blade's plane turns about phyxels).
+  const bool sided = blade.threshold > 0;
+  if (!cuts && !resists && !sided) return;
+  const std::array<Vec3, 4>& c = quad.corner;
+  const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
+  uint32_t* sides = blade_side_.data() + tool * size();
+  auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
+    double behind = 0, direction = 0;
+    if (cuts &&
+        (blade_severs<double>(p, q, c, t) || (body > 0 && blade_severs<double>(p, q, strip, t)) ||
+         (resists && edge_holds(p, q, edge, t, &behind, &direction))))
+      return true;
+    return resists && edge_passes(p, q, edge, t);
+  };
+  for (const uint32_t i : candidates_) {
+    const uint32_t side_i = sided ? side_at_start(sides[i], cut_pass_) : kSideNone;
+    uint32_t cut_to = kSideNone;  // the sides of i's pairs this blade crosses (severed or not)
+    const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
+    for (uint32_t k = nbr_.offset[i]; (cuts || resists) && k < nbr_.offset[i + 1]; ++k) {
+      if (!sided && w_[k] == Real(0)) continue;  // no side to learn from a severed pair
+      const uint32_t j = nbr_.index[k];
+      const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
+      // The canonical order (lower index first): both sides of a pair decide alike.
+      double t = 0;
+      const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
+      if (!crosses ||
+          (sided && !sides_allow(side_i, side_at_start(sides[j], cut_pass_), edge.normal, xi, xj)))
+        continue;
+      cut_to |= side_from(edge.normal, xi, xj);
+      if (w_[k] == Real(0)) continue;
+      sever(i, k, float(i < j ? t : 1 - t));
+      touched.push_back(i);
+      touched.push_back(j);
+    }
+    if (sided) sides[i] = side_entry(cut_pass_, side_i, side_after(side_i, cut_to));
+  }
+  // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
+  // not at pairs only carried past the reach.
+  if (cuts && band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
 }
 
 template <class Real>
@@ -100,6 +115,24 @@ EdgeFrame CpuSolver<Real>::substep_edge(size_t tool) const {
   const double reach = blade_reach(blade, contact_spacing_);
   const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
   return edge_frame(blade, quad, m.to, blade_body_radius(tools_[tool]), reach);
+}
+
+template <class Real>
+std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const {
+  std::vector<Vec3> normals(tools_.size(), Vec3::Zero());
+  if (blade_side_.empty()) return normals;
+  for (size_t tool = 0; tool < tools_.size(); ++tool)
+    if (tools_[tool].blade.cuts() && tools_[tool].blade.threshold > 0)
+      normals[tool] = substep_edge(tool).normal;
+  return normals;
+}
+
+template <class Real>
+Vec3 CpuSolver<Real>::kept_side(size_t tool, uint32_t i, const Vec3& normal) const {
+  if (normal.isZero(0)) return Vec3::Zero();
+  // apply_cuts counts this substep after the contacts.
+  const uint32_t side = side_at_start(blade_side_[tool * size() + i], cut_pass_ + 1);
+  return side == kSidePlus ? normal : side == kSideMinus ? Vec3(-normal) : Vec3::Zero();
 }
 
 template <class Real>
@@ -114,8 +147,11 @@ double CpuSolver<Real>::plane_crossings(uint32_t i, const Vec3& normal) const {
 }
 
 template <class Real>
-Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge) const {
+Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge,
+                                       const uint32_t* sides) const {
   const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
+  const uint32_t pass = cut_pass_ + 1;  // apply_cuts counts this substep after the contacts
+  const uint32_t side_i = side_at_start(sides[i], pass);
   Vec3 total = Vec3::Zero();
   double s_i = -1;
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
@@ -124,7 +160,8 @@ Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge) const 
     const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
     double t = 0, behind = 0, direction = 0;  // in the canonical order, as apply_cuts
     if (!(i < j ? edge_pushes(xi, xj, edge, &t, &behind, &direction)
-                : edge_pushes(xj, xi, edge, &t, &behind, &direction)))
+                : edge_pushes(xj, xi, edge, &t, &behind, &direction)) ||
+        !sides_allow(side_i, side_at_start(sides[j], pass), edge.normal, xi, xj))
       continue;
     if (s_i < 0) s_i = plane_crossings(i, edge.normal);
     const double s_j = plane_crossings(j, edge.normal);
@@ -140,9 +177,11 @@ void CpuSolver<Real>::apply_edge_resistance(Real dt, std::vector<ToolContactSamp
   for (size_t tool = 0; tool < tools_.size(); ++tool) {
     const EdgeFrame edge = substep_edge(tool);
     if (!(edge.stiffness > 0)) continue;
+    const uint32_t* sides = blade_side_.data() + tool * size();
     for (const uint32_t i : candidates_) {
       if (flags_[i] & (kFixed | kRemoved)) continue;
-      const Vec3 force = bounded_edge_push(held_pairs_force(i, edge), tools_[tool].blade.threshold);
+      const Vec3 force =
+          bounded_edge_push(held_pairs_force(i, edge, sides), tools_[tool].blade.threshold);
       if (force.isZero(0)) continue;
       v_[i] += dt / mass_[i] * force.template cast<Real>();
       felt[tool].force -= force;
@@ -190,6 +229,31 @@ void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>& pairs) {
 }
 
 template <class Real>
+std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t tool) const {
+  std::vector<BladeSide> kept;
+  if (!tools_.at(tool).blade.cuts()) return kept;
+  const uint32_t* sides = blade_side_.data() + tool * size();
+  for (uint32_t i = 0; i < size(); ++i)
+    if (const uint32_t side = side_at_start(sides[i], cut_pass_ + 1); side != kSideNone)
+      kept.push_back({i, side});
+  return kept;
+}
+
+template <class Real>
+void CpuSolver<Real>::restore_blade_sides(size_t tool, const std::vector<BladeSide>& kept) {
+  if (tool >= tools_.size() || (!kept.empty() && !tools_[tool].blade.cuts()))
+    throw std::invalid_argument("restore_blade_sides: tool " + std::to_string(tool) +
+                                " has no blade");
+  uint32_t* sides = blade_side_.data() + tool * size();
+  for (const BladeSide& b : kept) {
+    if (b.phyxel >= size() || (b.side != kSidePlus && b.side != kSideMinus))
+      throw std::invalid_argument("restore_blade_sides: bad side for phyxel " +
+                                  std::to_string(b.phyxel));
+    sides[b.phyxel] = side_entry(cut_pass_, kSideNone, b.side);
+  }
+}
+
+template <class Real>
 void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
   std::vector<uint32_t> touched;
   for (const uint32_t i : ids) {
@@ -215,9 +279,15 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
 #define PHYXEL_CUTTING_MEMBERS(Real)                                                           \
   template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);                             \
   template void CpuSolver<Real>::apply_cuts();                                                 \
+  template void CpuSolver<Real>::cut_with_blade(size_t, std::vector<uint32_t>&);               \
+  template std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t) const;                  \
+  template void CpuSolver<Real>::restore_blade_sides(size_t, const std::vector<BladeSide>&);   \
   template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                              \
+  template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                      \
+  template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;               \
   template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;               \
-  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&) const;           \
+  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, const uint32_t*) \
+      const;                                                                                   \
   template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&); \
   template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                   \
   template void CpuSolver<Real>::sort_severed_from(size_t);                                    \

@@ -132,6 +132,34 @@ bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
   return true;
 }
 
+uint32_t side_at_start(uint32_t entry, uint32_t pass) {
+  const uint32_t stamp = entry >> 4;
+  if (stamp == (pass & kSidePassMask)) return (entry >> 2) & 3u;
+  // After: both sides (3, the GPU's lanes merged) keep none.
+  if (stamp == ((pass - 1) & kSidePassMask)) return (entry & 3u) == 3u ? kSideNone : entry & 3u;
+  return kSideNone;  // not a candidate in the previous substep: the blade has passed
+}
+
+uint32_t side_entry(uint32_t pass, uint32_t start, uint32_t after) {
+  return (pass & kSidePassMask) << 4 | start << 2 | after;
+}
+
+uint32_t side_after(uint32_t start, uint32_t cut) {
+  if (start != kSideNone) return start;
+  return cut == kSidePlus || cut == kSideMinus ? cut : kSideNone;
+}
+
+uint32_t side_from(const Vec3& normal, const Vec3& xi, const Vec3& xj) {
+  return normal.dot(xi - xj) >= 0 ? kSidePlus : kSideMinus;
+}
+
+bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec3& xi,
+                 const Vec3& xj) {
+  const uint32_t i_from_j = side_from(normal, xi, xj);
+  if (side_i != kSideNone && side_i != i_from_j) return false;
+  return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
+}
+
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support) {
   bool cuts = false;
   double reach = spacing;

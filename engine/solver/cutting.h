@@ -153,6 +153,38 @@ double pair_area_share(double volume_sum, double s_sum);
 // it and the blades' reach (the pairs a blade's quad or edge reaches, both ends).
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support);
 
+// One side per phyxel while a blade passes (docs/cutting.md, "One side per phyxel"). Each blade
+// with a threshold above 0 keeps, per phyxel, the side of its plane (n = axis x edge at the
+// substep's end pose) the phyxel was first cut to: kSidePlus where the partner it was cut from lay
+// at -n (n . (x_i - x_j) >= 0), kSideMinus the other way. A pair is neither held nor severed when
+// it would cut a phyxel from the side it was kept on (a phyxel on the blade's plane, pushed across
+// it, would otherwise lose its pairs to both sides). A side is kept while the phyxel stays a
+// candidate of the broad phase in every substep; a phyxel cut to both sides in one substep gets
+// none.
+//
+// Entry per blade and phyxel: pass << 4 | side at the pass's start << 2 | side after it, `pass`
+// the substep's count (modulo 2^28; CpuSolver::cut_pass_, the GPU's pass). Written by the
+// phyxel's own candidate during its pass; read by any, which gives the side at the pass's start
+// whether the writer has run yet or not (the GPU's threads need no order).
+inline constexpr uint32_t kSideNone = 0, kSidePlus = 1, kSideMinus = 2;
+inline constexpr uint32_t kSidePassMask = (1u << 28) - 1;
+uint32_t side_at_start(uint32_t entry, uint32_t pass);  // a side entry's side for pass `pass`
+uint32_t side_entry(uint32_t pass, uint32_t start, uint32_t after);
+// The side the pass leaves: the one kept, else the one the pass cut to (`cut`: the kSidePlus and
+// kSideMinus bits of the pairs it cut), else none.
+uint32_t side_after(uint32_t start, uint32_t cut);
+// The side of x_i from x_j across the plane with normal n (n . (x_i - x_j) >= 0: plus).
+uint32_t side_from(const Vec3& normal, const Vec3& xi, const Vec3& xj);
+// Whether a pair crossing the blade may be cut (or held) given its phyxels' kept sides.
+bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec3& xi,
+                 const Vec3& xj);
+
+// A phyxel's kept side for one blade (checkpoints, tests): kSidePlus or kSideMinus.
+struct BladeSide {
+  uint32_t phyxel = 0;
+  uint32_t side = kSideNone;
+};
+
 // One severed pair (i < j): where the blade crossed it, as the fraction t along x_i -> x_j.
 // A pair torn apart by its stress (engine/solver/tearing.h) has t = 0.5 and `torn` set.
 struct SeveredPair {

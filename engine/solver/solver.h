@@ -162,6 +162,10 @@ class Cutting {
     if (!state.phyxel.empty() || !state.quads.empty())
       throw std::invalid_argument("this solver keeps no SCNI band (cut_band)");
   }
+  // Per tool, the sides its blade keeps (cutting.h, BladeSide; empty for a tool without a
+  // blade), for checkpoints; restore_blade_sides puts them back after set_tools.
+  virtual std::vector<std::vector<BladeSide>> blade_sides() = 0;
+  virtual void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) = 0;
 
  protected:
   ~Cutting() = default;

@@ -300,6 +300,56 @@ TEST_F(GpuSolverTest, ACutThroughTheBeamInOneSubstepMatchesTheCpu) {
   EXPECT_LT(max_difference(c.u, g.u), 1e-4 * scale);
 }
 
+// A phyxel on the blade's plane keeps one side (docs/cutting.md, "One side per phyxel"): a cut
+// along the lattice plane y = 0 of a scalpel_cut-like block severs the same pairs on both
+// solvers, keeps the same sides, frees no phyxel, and the sides come back as they were put.
+TEST_F(GpuSolverTest, ABladeKeepsEachPhyxelOnOneSideAsTheCpuDoes) {
+  // The lattice 20 um off the blade's plane (outside the float-double tie band, which the
+  // plane itself would be): the body pushes the phyxels there across it.
+  Scene scene = phyxel::test::box_scene(Vec3(-0.008, -0.00398, 0), Vec3(0.008, 0.00402, 0.008),
+                                        0.002, phyxel::test::tissue(5000, 0.45, 20));
+  scene.objects[0].fixed.push_back(phyxel::test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.0015)));
+  scene.simulation.dt = 2.4e-4;
+  ToolDesc blade = crossing_scalpel(0, 0.003, 0.02, 0.0, 0.1, 0.02);
+  blade.shape.radius = 0.0004;
+  blade.path = {{0.0, Vec3(-0.012, 0, 0.003), Vec3::UnitZ()},
+                {0.1, Vec3(0.004, 0, 0.003), Vec3::UnitZ()}};
+  blade.blade.edge = Vec3::UnitX();
+  scene.tools.push_back(blade);
+  const PhyxelSet set = sample_scene(scene);
+  auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+  GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+  const CutRun c = run(*cpu, scene, 300, 50);
+  const CutRun g = run(gpu, scene, 300, 50);
+  EXPECT_GT(c.severed.size(), 60u);
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+  // The contact moves the kept phyxels out of the body toward their sides alike (kept_side_exit).
+  EXPECT_LT(max_difference(c.u, g.u), 1e-3 * max_norm(c.u));
+  const auto sides_c = cpu->cutting()->blade_sides(), sides_g = gpu.blade_sides();
+  ASSERT_EQ(sides_g.size(), 1u);
+  ASSERT_EQ(sides_c.size(), 1u);
+  EXPECT_GT(sides_c[0].size(), 20u);
+  ASSERT_EQ(sides_g[0].size(), sides_c[0].size());
+  for (size_t k = 0; k < sides_c[0].size(); ++k) {
+    EXPECT_EQ(sides_g[0][k].phyxel, sides_c[0][k].phyxel);
+    EXPECT_EQ(sides_g[0][k].side, sides_c[0][k].side) << "phyxel " << sides_c[0][k].phyxel;
+  }
+  const NeighbourLists& nbr = gpu.neighbours();
+  for (uint32_t i = 0; i < set.size(); ++i) {
+    bool live = false;
+    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) live = live || g.alive[k];
+    EXPECT_TRUE(live) << "phyxel " << i << " cut free";
+  }
+  GpuSolver resumed(ctx(), set, scene.simulation.gravity);
+  resumed.set_tools(contact_tools(scene.tools));
+  resumed.restore_blade_sides(sides_c);
+  const auto back = resumed.blade_sides();
+  ASSERT_EQ(back.size(), 1u);
+  ASSERT_EQ(back[0].size(), sides_c[0].size());
+  for (size_t k = 0; k < back[0].size(); ++k)
+    EXPECT_EQ(back[0][k].side, sides_c[0][k].side) << "phyxel " << back[0][k].phyxel;
+}
+
 TEST_F(GpuSolverTest, CutsAlongALatticePlaneAndAcrossEachOtherStayFinite) {
   Scene scene = clamped_beam();
   scene.tools.push_back(crossing_scalpel(0.010, -0.003, 0.016, 0.0, 0.016));  // lattice plane

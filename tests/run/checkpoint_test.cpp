@@ -85,7 +85,7 @@ constexpr const char* kProbe = R"({
 })";
 
 // A scalpel cutting a slit through a small block (docs/cutting.md): cuts happen before and
-// after the checkpoints.
+// after the checkpoints; its threshold makes it hold pairs and keep sides.
 constexpr const char* kScalpel = R"({
   "simulation": {"dt": 2e-4, "steps": 200, "gravity": [0, 0, -9.81]},
   "objects": [{"name": "block", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.02, 0.012, 0.01]},
@@ -95,7 +95,7 @@ constexpr const char* kScalpel = R"({
   "output": {"every": 50, "format": "binary"},
   "tools": [{"name": "scalpel", "type": "scalpel",
      "shape": {"type": "capsule", "radius": 0.0003, "length": 0.02},
-     "blade": {"length": 0.015, "edge": [1, 0, 0]}, "friction": 0.3,
+     "blade": {"length": 0.015, "edge": [1, 0, 0]}, "friction": 0.3, "cut_force_threshold": 0.001,
      "path": [{"t": 0, "position": [-0.002, 0.0061, 0.004]}, {"t": 0.04, "position": [0.022, 0.0061, 0.004]}]}]
 })";
 
@@ -328,6 +328,9 @@ TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
   EXPECT_GT(at_100.tool_stats[0].max_feedback, 0.0);
   EXPECT_GT(at_100.tool_stats[0].max_friction, 0.0);
   EXPECT_GT(at_100.tool_stats[0].max_depth, 0.0);
+  // ... and the sides the blade keeps the phyxels its body pushed across its plane on.
+  ASSERT_EQ(at_100.blade_sides.size(), 1u);
+  EXPECT_GT(at_100.blade_sides[0].size(), 0u);
   std::string why;
   const std::optional<std::string> gpu_args = gpu_device_args(why);
   if (!gpu_args) GTEST_SKIP() << why;
