@@ -163,7 +163,8 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                        count_,
                        0u,
                        0u};
-  dispatch_indirect(rec, kernels_->sever, push,
+  // A blade with a threshold keeps sides (sample_in_sever_): else the pass without them.
+  dispatch_indirect(rec, sample_in_sever_ ? kernels_->sever_sided : kernels_->sever, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
                      {"Disp", disp},

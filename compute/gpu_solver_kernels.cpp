@@ -73,7 +73,10 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
-  sever = make(PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush));
+  sever =
+      Pipeline(ctx, PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush), {}, {spec[0], spec[1], 0u});
+  sever_sided =
+      Pipeline(ctx, PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush), {}, {spec[0], spec[1], 1u});
   resist = make(PHYXEL_SHADER(tool_resist), 18, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }

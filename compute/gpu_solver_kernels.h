@@ -43,6 +43,7 @@ class SolverKernels {
   Pipeline broad_phase;     // layout::BroadPhasePush; kBroad* bindings
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
+  Pipeline sever_sided;     // the same where a blade keeps sides (a threshold > 0)
   Pipeline resist;          // layout::ResistPush; kResist* bindings (over the candidates)
   Pipeline grasp;           // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
   Pipeline near;            // layout::NearPush; kNear* bindings (aspiration's reads)

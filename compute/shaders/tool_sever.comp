@@ -50,6 +50,8 @@ layout(std430, binding = kSeverBindingDone) coherent buffer Done { uint done; };
 layout(std430, binding = kSeverBindingSides) buffer Sides { uint sides[]; };
 
 const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
+// Whether a blade may keep sides (one with a threshold): GpuSolver picks the pipeline.
+layout(constant_id = 2) const bool kSeverSided = true;
 
 // segment_crosses_triangle of engine/solver/cutting.cpp, in float.
 bool crosses_triangle(vec3 p, vec3 q, vec3 a, vec3 b, vec3 c, out float t) {
@@ -236,7 +238,7 @@ bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out 
   const bool cuts = blade_cuts(tool, quad);
   const bool crosses =
       i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
-  if (!crosses || !(quad.edge.w > 0.0)) return crosses;
+  if (!crosses || !kSeverSided || !(quad.edge.w > 0.0)) return crosses;
   const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
   return sides_allow(side_of(tool, i), side_of(tool, j), normal, xi, xj);
 }
@@ -307,11 +309,41 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
   }
 }
 
+// Without kept sides (kSeverSided false: no blade has a threshold): pair slot k of candidate i
+// severed by the first tool whose blade crosses it, each tool's quad read per pair (kept live
+// across the pair loop, as sever_candidate does, it cost 20 % of the pass at breast K = 2.5).
+void sever_unsided(uint i, uint lane, uint lanes) {
+  const vec3 xi = rest[i].xyz - p.origin.xyz + disp[i].xyz;
+  const uint end = offset[i + 1u];
+  for (uint k = offset[i] + lane; k < end; k += lanes) {
+    if (pair_weight_bits(k) == 0u) continue;
+    const uint j = nbr_index(k);
+    const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
+    for (uint tool = 0u; tool < p.tools; ++tool) {
+      float t;
+      if (!blade_takes(quads[p.row * p.tools + tool], tool, i, xi, j, xj, t)) continue;
+      const uint lo = min(i, j), hi = max(i, j);
+      const uint lo_slot = i < j ? k : find_slot(j, i);
+      if (sever_pair_weight(lo_slot) == 0u) break;  // another invocation has it
+      clear_pair_weight(i < j ? find_slot(j, i) : k);
+      mark_dirty(lo);
+      mark_dirty(hi);
+      log_severed(lo, hi, t, 0u);
+      break;
+    }
+  }
+}
+
 void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const uint lanes = sever.lanes;
   const uint slot = invocation / lanes;
   const bool severing = any_tool_severs();  // every invocation: it fills blade_ball
-  if (slot < count.total) sever_candidate(list[slot], invocation % lanes, lanes, severing);
+  if (slot < count.total) {
+    if (kSeverSided)
+      sever_candidate(list[slot], invocation % lanes, lanes, severing);
+    else if (severing)
+      sever_unsided(list[slot], invocation % lanes, lanes);
+  }
   precompute_dirty_list();
 }
