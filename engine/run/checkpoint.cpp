@@ -122,13 +122,13 @@ class Reader {
   }
   size_t at() const { return at_; }
   void seek(size_t at) { at_ = at; }
-
- private:
   // n items of `each` bytes (a count read from the file: n * each may overflow).
   void need_items(uint64_t n, uint64_t each) const {
     if (n > (size_ - at_) / each)
       throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
   }
+
+ private:
   void need(uint64_t n) const {
     if (n > size_ - at_)
       throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
@@ -296,7 +296,9 @@ void read_cut_band(Reader& r, CutBandState& band) {
 void read_blade_sides(Reader& r, Checkpoint& c) {
   const uint64_t tools = r.get<uint64_t>();
   for (uint64_t t = 0; t < tools; ++t) {
-    std::vector<BladeSide> kept(r.get<uint64_t>());
+    const uint64_t n = r.get<uint64_t>();
+    r.need_items(n, sizeof(uint32_t) + sizeof(uint8_t));  // a corrupt count: refused, not allocated
+    std::vector<BladeSide> kept(n);
     for (BladeSide& b : kept) {
       b.phyxel = r.get<uint32_t>();
       b.side = r.get<uint8_t>();
