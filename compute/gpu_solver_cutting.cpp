@@ -121,10 +121,7 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
                   float(held.end_motion)};
       const Vec3 end = m.to.position + blade.length * m.to.axis;
       q.p0 = to_vec4(quad.corner[0] - origin, float(radius));
-      // w: 1 where the body severs a pair through it behind its axis (cut_with_blade's
-      // `through`: a threshold, a body, a sideways motion).
-      const bool through = blade.threshold > 0 && radius > 0 && quad.sideways;
-      q.p1 = to_vec4(quad.corner[1] - origin, through ? 1.0f : 0.0f);
+      q.p1 = to_vec4(quad.corner[1] - origin);
       q.p2 = to_vec4(quad.corner[2] - origin, float((end - quad.corner[2]).dot(quad.edge)));
       q.p3 =
           to_vec4(quad.corner[3] - origin, float((m.to.position - quad.corner[3]).dot(quad.edge)));

@@ -81,37 +81,6 @@ bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {
          behind <= f.depth + abs(moved);
 }
 
-// Whether the pair p -> q (canonical order) passes through the blade's body behind its axis
-// (passes_through_body of cutting.cpp): between tip and end, edge . x <= 0, within front of the
-// axis; t its point nearest the axis there.
-bool passes_through_body(vec3 p, vec3 q, EdgeFrame f, out float t) {
-  t = 0.0;
-  const float r = f.front;
-  if (!(r > 0.0)) return false;
-  const vec3 pt = p - f.tip, d = q - p;
-  vec2 range = vec2(0.0, 1.0);  // s with c0 + s c1 <= 0 for each constraint
-  const float a0 = dot(f.axis, pt), a1 = dot(f.axis, d);
-  const float e0 = dot(f.edge, pt), e1 = dot(f.edge, d);
-  const vec3 c0 = vec3(-a0, a0 - f.span, e0), c1 = vec3(-a1, a1, e1);
-  for (int k = 0; k < 3; ++k) {
-    if (c1[k] == 0.0) {
-      if (c0[k] > 0.0) range.y = -1.0;
-    } else if (c1[k] > 0.0) {
-      range.y = min(range.y, -c0[k] / c1[k]);
-    } else {
-      range.x = max(range.x, -c0[k] / c1[k]);
-    }
-  }
-  if (!(range.x <= range.y)) return false;
-  const float n0 = dot(f.normal, pt), n1 = dot(f.normal, d);
-  const float dd = e1 * e1 + n1 * n1;
-  const float s = clamp(dd > 0.0 ? -(e0 * e1 + n0 * n1) / dd : range.x, range.x, range.y);
-  const float e = e0 + s * e1, n = n0 + s * n1;
-  if (!(e * e + n * n < r * r)) return false;
-  t = s;
-  return true;
-}
-
 // One side per phyxel while a blade passes (engine/solver/cutting.h side_entry, sides_allow):
 // entry = pass << 4 | side at the pass's start << 2 | side after it.
 const uint kSideNone = 0u, kSidePlus = 1u, kSideMinus = 2u;
@@ -141,11 +110,6 @@ bool sides_allow(uint side_i, uint side_j, vec3 n, vec3 xi, vec3 xj) {
   const uint i_from_j = side_from(n, xi, xj);
   if (side_i != kSideNone && side_i != i_from_j) return false;
   return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
-}
-
-bool kept_apart(uint side_i, uint side_j) {
-  return side_i != side_j && (side_i == kSidePlus || side_i == kSideMinus) &&
-         (side_j == kSidePlus || side_j == kSideMinus);
 }
 
 #endif

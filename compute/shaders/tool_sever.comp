@@ -182,11 +182,6 @@ vec4 blade_ball_of(uint tool, bool cuts) {
           r2, centre,
           ((corner & 1u) != 0u ? end : tip) + ((corner & 2u) != 0u ? radius : -radius) * e);
   if (c.resist.x > 0.0) hold_edge_region(r2, centre, c);
-  if (c.p1.w > 0.0)  // the body's cylinder (passes_through_body): its axis, widened by radius
-    for (uint corner = 0u; corner < 2u; ++corner) {
-      const vec3 x = (corner != 0u ? end : tip) - centre;
-      r2 = max(r2, (sqrt(dot(x, x)) + radius) * (sqrt(dot(x, x)) + radius));
-    }
   const float r = sqrt(r2) * 1.01 + 1e-5;  // m: far above float round-off at these sizes
   return vec4(centre, r * r);
 }
@@ -236,24 +231,16 @@ uint side_of(uint tool, uint x) {
 }
 
 // Whether the tool's blade severs pair (i, j) at t: it may (its ball), it crosses the pair and,
-// for a blade with a threshold (sided), leaves both phyxels on the sides it keeps them on; or
-// the pair passes through its body between phyxels it keeps apart.
+// for a blade with a threshold (sided), leaves both phyxels on the sides it keeps them on.
 bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out float t) {
   t = 0.0;
   if (!blade_may_sever(tool, quad, xi, xj)) return false;
   const bool cuts = blade_cuts(tool, quad);
   const bool crosses =
       i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
-  const bool through = cuts && quad.p1.w > 0.0;
-  if (!kSeverSided || !(quad.edge.w > 0.0) || !(crosses || through)) return crosses;
+  if (!crosses || !kSeverSided || !(quad.edge.w > 0.0)) return crosses;
   const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
-  const uint side_i = side_of(tool, i), side_j = side_of(tool, j);
-  if (crosses && sides_allow(side_i, side_j, normal, xi, xj)) return true;
-  // With p1.w: a pair through the body behind its axis between phyxels kept apart
-  // (passes_through_body, kept_apart of engine/solver/cutting.h).
-  if (!(through && kept_apart(side_i, side_j))) return false;
-  return i < j ? passes_through_body(xi, xj, edge_frame(quad), t)
-               : passes_through_body(xj, xi, edge_frame(quad), t);
+  return sides_allow(side_of(tool, i), side_of(tool, j), normal, xi, xj);
 }
 
 // Whether a tool before this one severs the pair in this substep (the CPU's tool by tool).

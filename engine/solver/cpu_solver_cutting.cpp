@@ -71,10 +71,6 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   if (!cuts && !resists && !sided) return;
   const std::array<Vec3, 4>& c = quad.corner;
   const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
-  // A blade with a threshold moved sideways also severs a pair through its body behind its
-  // axis (passes_through_body), which may cross no plane, between phyxels it keeps on opposite
-  // sides (kept_apart: each keeps its side's pairs; the GPU's CutQuad p1.w).
-  const bool through = cuts && sided && body > 0 && quad.sideways;
   uint32_t* sides = blade_side_.data() + tool * size();
   auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
     double behind = 0, direction = 0;
@@ -94,15 +90,11 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       const Vec3 xj = rest_d_[j] + u_[j].template cast<double>();
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
-      const uint32_t side_j = sided ? side_at_start(sides[j], cut_pass_) : kSideNone;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-      if (crosses && (!sided || sides_allow(side_i, side_j, edge.normal, xi, xj))) {
-        cut_to |= side_from(edge.normal, xi, xj);
-      } else if (!(through && kept_apart(side_i, side_j) &&
-                   (i < j ? passes_through_body(xi, xj, edge, &t)
-                          : passes_through_body(xj, xi, edge, &t)))) {
+      if (!crosses ||
+          (sided && !sides_allow(side_i, side_at_start(sides[j], cut_pass_), edge.normal, xi, xj)))
         continue;
-      }
+      cut_to |= side_from(edge.normal, xi, xj);
       if (w_[k] == Real(0)) continue;
       sever(i, k, float(i < j ? t : 1 - t));
       touched.push_back(i);

@@ -132,35 +132,6 @@ bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
   return true;
 }
 
-bool passes_through_body(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
-  const double r = f.front;
-  if (!(r > 0)) return false;
-  const Vec3 pt = p - f.tip, d = q - p;
-  double lo = 0, hi = 1;
-  auto clip = [&](double c0, double c1) {  // keeps s with c0 + s c1 <= 0
-    if (c1 == 0) {
-      if (c0 > 0) hi = -1;
-    } else if (c1 > 0) {
-      hi = std::min(hi, -c0 / c1);
-    } else {
-      lo = std::max(lo, -c0 / c1);
-    }
-  };
-  const double a0 = f.axis.dot(pt), a1 = f.axis.dot(d);
-  clip(-a0, -a1);           // along the axis >= 0
-  clip(a0 - f.length, a1);  // <= the blade's length
-  const double e0 = f.edge.dot(pt), e1 = f.edge.dot(d);
-  clip(e0, e1);  // behind the axis
-  if (!(lo <= hi)) return false;
-  const double n0 = f.normal.dot(pt), n1 = f.normal.dot(d);
-  const double dd = e1 * e1 + n1 * n1;
-  const double s = std::clamp(dd > 0 ? -(e0 * e1 + n0 * n1) / dd : lo, lo, hi);
-  const double e = e0 + s * e1, n = n0 + s * n1;
-  if (!(e * e + n * n < r * r)) return false;
-  *t = s;
-  return true;
-}
-
 uint32_t side_at_start(uint32_t entry, uint32_t pass) {
   const uint32_t stamp = entry >> 4;
   if (stamp == (pass & kSidePassMask)) return (entry >> 2) & 3u;

@@ -136,13 +136,6 @@ bool edge_pushes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, do
 // edge is not a hook that drags a strand along. t: where it crosses the blade's plane.
 bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t);
 
-// Whether the pair p -> q (canonical order) passes through the blade's body behind its axis
-// (docs/cutting.md, "Where the cone stays joined"): some point of it lies between the tip and
-// the end, behind the axis against the blade's motion (edge), within the body's radius (front)
-// of the axis. A pair along the blade's plane within that radius crosses no plane, but the
-// body has passed through the material it stands for. t: its point nearest the axis there.
-bool passes_through_body(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t);
-
 // The edge's push on one phyxel, bounded by the blade's threshold (docs/cutting.md, "The edge's
 // resistance"): pairs that alone would push a phyxel harder than the whole blade's threshold
 // fail in this substep, so they carry at most that force while they do (a blade that meets
@@ -174,13 +167,6 @@ double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing
 // phyxel's own candidate during its pass; read by any, which gives the side at the pass's start
 // whether the writer has run yet or not (the GPU's threads need no order).
 inline constexpr uint32_t kSideNone = 0, kSidePlus = 1, kSideMinus = 2;
-
-// Whether a blade keeps the two phyxels on opposite sides (both kept): a pair between them
-// through its body is severed whatever its geometry (it takes neither's side from it).
-inline bool kept_apart(uint32_t side_i, uint32_t side_j) {
-  return side_i != side_j && (side_i == kSidePlus || side_i == kSideMinus) &&
-         (side_j == kSidePlus || side_j == kSideMinus);
-}
 inline constexpr uint32_t kSidePassMask = (1u << 28) - 1;
 uint32_t side_at_start(uint32_t entry, uint32_t pass);  // a side entry's side for pass `pass`
 uint32_t side_entry(uint32_t pass, uint32_t start, uint32_t after);

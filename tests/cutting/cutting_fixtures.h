@@ -3,7 +3,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cmath>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -61,36 +60,6 @@ inline ToolDesc crossing_scalpel(double x_cut, double tip_z, double length, doub
   t.blade.reference_axis = Vec3::UnitZ();
   t.blade.threshold = threshold;
   return t;
-}
-
-// A 16 x 16 x 6 mm block at 2 mm held beyond |x|, |y| = 7.5 mm, cut through its whole depth
-// around a circle of radius 4.3 mm about z in 0.4 s (2.1 turns of pi) by a blade with
-// `threshold`, body radius 0.6 mm, its plane the circle's tangent: lattice points lie 0.1-0.5 mm
-// from the circle on either side (docs/cutting.md, "Where the cone stays joined at K = 2").
-inline Scene circle_cut(double threshold) {
-  Scene scene =
-      box_scene(Vec3(-0.008, -0.008, 0), Vec3(0.008, 0.008, 0.006), 0.002, tissue(5000, 0.45, 20));
-  const double side = 0.0075;
-  std::vector<Shape>& fixed = scene.objects[0].fixed;
-  fixed.push_back(box_shape(Vec3(-1, -1, -1), Vec3(-side, 1, 1)));
-  fixed.push_back(box_shape(Vec3(side, -1, -1), Vec3(1, 1, 1)));
-  fixed.push_back(box_shape(Vec3(-1, -1, -1), Vec3(1, -side, 1)));
-  fixed.push_back(box_shape(Vec3(-1, side, -1), Vec3(1, 1, 1)));
-  scene.simulation.dt = 2.4e-4;
-  scene.simulation.gravity = Vec3::Zero();
-  const double radius = 0.0043, duration = 0.4, turn = 2.1 * 3.141592653589793;
-  ToolDesc blade = crossing_scalpel(0, -0.001, 0.01, 0.0, duration, threshold);
-  blade.shape.radius = 0.0006;
-  blade.path.clear();
-  const int keys = 96;
-  for (int k = 0; k <= keys; ++k) {
-    const double a = turn * k / keys;
-    blade.path.push_back({duration * k / keys,
-                          Vec3(radius * std::cos(a), radius * std::sin(a), -0.001), Vec3::UnitZ()});
-  }
-  blade.blade.edge = Vec3::UnitY();
-  scene.tools.push_back(blade);
-  return scene;
 }
 
 // Steps a CPU solver with the scene's tools along their paths, one substep per step.
