@@ -50,7 +50,7 @@ struct Drive {
 
 // The driver replays the scene's haptic tool path for 4 s from before phyxel starts; phyxel
 // runs `steps` paced steps; `intruder` also sends a line far from the tissue from another
-// socket, from 0.2 s on (the driver is pinned by then).
+// socket, once the driver is pinned.
 struct Driven {
   fs::path dir;
   nlohmann::json summary;
@@ -60,10 +60,13 @@ Driven drive(const Drive& d, const std::string& name, bool intruder) {
   const std::string scene = std::string(PHYXEL_SOURCE_DIR) + "/scenes/" + d.scene;
   const std::string port = std::to_string(free_udp_port()), s = dir.string();
   std::string command = "( timeout 30 " + kClient + " --port " + port + " --scene " + scene +
-                        " --seconds 4 >" + s + "/client.txt 2>&1; echo $? >" + s +
-                        "/client_rc ) & ";
+                        " --seconds 4 --log " + s + "/forces.csv >" + s +
+                        "/client.txt 2>&1; echo $? >" + s + "/client_rc ) & ";
+  // The intruder starts once the driver's force log has its first block on disk (some 150
+  // forces back: the driver is pinned), not after a fixed delay, which a loaded machine beat.
   if (intruder)
-    command += "( sleep 0.2; timeout 30 " + kClient + " --port " + port +
+    command += "( timeout 10 sh -c \"while [ ! -s " + s +
+               "/forces.csv ]; do sleep 0.01; done\"; timeout 30 " + kClient + " --port " + port +
                " --from 1,1,1 --to 1,1,2 --seconds 2 >" + s + "/intruder.txt 2>&1 ) & ";
   command += "timeout 60 " + kPhyxel + " run " + scene + " --haptic-device udp:" + port +
              " --steps " + std::to_string(d.steps) + " --render none --threads 1 --quiet --out " +
