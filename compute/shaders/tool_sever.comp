@@ -252,6 +252,18 @@ bool earlier_tool_takes(uint tool, uint i, vec3 xi, uint j, vec3 xj) {
   return false;
 }
 
+// Severs pair (i, j) (slot k of i) at t unless the invocation of its other side claimed it
+// first (the atomic exchange of the lower index's slot).
+void claim_pair(uint i, uint j, uint k, float t) {
+  const uint lo = min(i, j), hi = max(i, j);
+  const uint lo_slot = i < j ? k : find_slot(j, i);
+  if (sever_pair_weight(lo_slot) == 0u) return;  // another invocation has it
+  clear_pair_weight(i < j ? find_slot(j, i) : k);
+  mark_dirty(lo);
+  mark_dirty(hi);
+  log_severed(lo, hi, t, 0u);
+}
+
 // Pair slot k of candidate i (at xi) against one tool: severed unless a tool before it takes
 // it or the invocation of its other side claimed it first (the atomic exchange of the lower
 // index's slot). Returns the side it cuts i to (kSideNone if the blade does not take it); a
@@ -266,13 +278,7 @@ uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
   const uint side =
       sided ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj) : kSideNone;
   if (pair_weight_bits(k) == 0u || earlier_tool_takes(tool, i, xi, j, xj)) return side;
-  const uint lo = min(i, j), hi = max(i, j);
-  const uint lo_slot = i < j ? k : find_slot(j, i);
-  if (sever_pair_weight(lo_slot) == 0u) return side;  // another invocation has it
-  clear_pair_weight(i < j ? find_slot(j, i) : k);
-  mark_dirty(lo);
-  mark_dirty(hi);
-  log_severed(lo, hi, t, 0u);
+  claim_pair(i, j, k, t);
   return side;
 }
 
@@ -322,13 +328,7 @@ void sever_unsided(uint i, uint lane, uint lanes) {
     for (uint tool = 0u; tool < p.tools; ++tool) {
       float t;
       if (!blade_takes(quads[p.row * p.tools + tool], tool, i, xi, j, xj, t)) continue;
-      const uint lo = min(i, j), hi = max(i, j);
-      const uint lo_slot = i < j ? k : find_slot(j, i);
-      if (sever_pair_weight(lo_slot) == 0u) break;  // another invocation has it
-      clear_pair_weight(i < j ? find_slot(j, i) : k);
-      mark_dirty(lo);
-      mark_dirty(hi);
-      log_severed(lo, hi, t, 0u);
+      claim_pair(i, j, k, t);
       break;
     }
   }
