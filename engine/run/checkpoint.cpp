@@ -3,178 +3,16 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <array>
-#include <bit>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
+#include "engine/run/checkpoint_format.h"
+
 namespace phyxel {
+using namespace checkpoint_format;
 namespace {
-
-static_assert(std::endian::native == std::endian::little,
-              "checkpoint.phx is little-endian; this writer stores native words");
-
-// Section tags, in file order.
-enum Section : uint32_t {
-  kIdentity = 1,
-  kTime = 2,
-  kState = 3,
-  kSleep = 4,
-  kLoads = 5,
-  kChecks = 6,
-  kTools = 7,
-  kTopology = 8,
-  kCuts = 9,          // severed pairs (i, j, t) and the scalpels' cutting statistics
-  kCutFeedback = 10,  // the scalpels' largest feedback, friction and depth (ToolRunStats)
-  kTorn = 11,         // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
-  kGrips = 12,        // per tool: the grasper's jaws closed and what they hold
-  kAspiration = 13,   // the aspirator: removed phyxels, surface, severed log read, totals
-  kCutBand = 14,      // the SCNI band: its quads, counts and cells (CutBandState)
-  kBladeSides = 15,   // per tool: the phyxels its blade keeps on one side, and the side
-};
-constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
-constexpr size_t kChecksumBytes = 8;
-
-class Writer {
- public:
-  template <class T>
-  void put(const T& value) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    const auto* p = reinterpret_cast<const char*>(&value);
-    bytes_.insert(bytes_.end(), p, p + sizeof(T));
-  }
-  void put_string(const std::string& s) {
-    put<uint32_t>(static_cast<uint32_t>(s.size()));
-    bytes_.insert(bytes_.end(), s.begin(), s.end());
-  }
-  void put_vec3(const Vec3& v) {
-    for (int k = 0; k < 3; ++k) put<double>(v[k]);
-  }
-  void put_vec3s(const std::vector<Vec3>& v) {
-    put<uint64_t>(v.size());
-    for (const Vec3& x : v) put_vec3(x);
-  }
-  template <class T>
-  void put_array(const std::vector<T>& v) {
-    put<uint64_t>(v.size());
-    for (const T& x : v) put<T>(x);
-  }
-  // Sections: tag, payload length (patched by end_section), payload.
-  void begin_section(uint32_t tag) {
-    put<uint32_t>(tag);
-    length_at_ = bytes_.size();
-    put<uint64_t>(0);
-    ++sections_;
-  }
-  void end_section() {
-    const uint64_t length = bytes_.size() - length_at_ - sizeof(uint64_t);
-    std::memcpy(bytes_.data() + length_at_, &length, sizeof length);
-  }
-  std::vector<char>& bytes() { return bytes_; }
-  uint32_t sections() const { return sections_; }
-
- private:
-  std::vector<char> bytes_;
-  size_t length_at_ = 0;
-  uint32_t sections_ = 0;
-};
-
-class Reader {
- public:
-  Reader(const char* data, size_t size, const std::string& file)
-      : data_(data), size_(size), file_(file) {}
-  template <class T>
-  T get() {
-    need(sizeof(T));
-    T value;
-    std::memcpy(&value, data_ + at_, sizeof(T));
-    at_ += sizeof(T);
-    return value;
-  }
-  std::string get_string() {
-    const uint32_t n = get<uint32_t>();
-    need(n);
-    std::string s(data_ + at_, n);
-    at_ += n;
-    return s;
-  }
-  Vec3 get_vec3() {
-    Vec3 v;
-    for (int k = 0; k < 3; ++k) v[k] = get<double>();
-    return v;
-  }
-  std::vector<Vec3> get_vec3s() {
-    const uint64_t n = get<uint64_t>();
-    need_items(n, 3 * sizeof(double));
-    std::vector<Vec3> v(n);
-    for (Vec3& x : v) x = get_vec3();
-    return v;
-  }
-  template <class T>
-  std::vector<T> get_array() {
-    const uint64_t n = get<uint64_t>();
-    need_items(n, sizeof(T));
-    std::vector<T> v(n);
-    for (T& x : v) x = get<T>();
-    return v;
-  }
-  size_t at() const { return at_; }
-  void seek(size_t at) { at_ = at; }
-  // n items of `each` bytes (a count read from the file: n * each may overflow).
-  void need_items(uint64_t n, uint64_t each) const {
-    if (n > (size_ - at_) / each)
-      throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
-  }
-
- private:
-  void need(uint64_t n) const {
-    if (n > size_ - at_)
-      throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
-  }
-  const char* data_;
-  size_t size_;
-  size_t at_ = 0;
-  std::string file_;
-};
-
-// The aspirator's removals and the cut band's quads.
-void write_surgery_sections(Writer& w, const Checkpoint& c) {
-  const AspiratorState& a = c.aspiration;
-  w.begin_section(kAspiration);
-  w.put<uint64_t>(a.log_cursor);
-  w.put_array(a.removed);
-  w.put_array(a.surface);
-  w.put<int64_t>(a.events);
-  w.put<double>(a.max_radius);
-  w.put_array(a.removed_mass);
-  w.put_array(a.removed_volume);
-  w.end_section();
-
-  const CutBandState& band = c.band;
-  w.begin_section(kCutBand);
-  w.put<uint64_t>(band.quads.size());
-  for (const auto& q : band.quads)
-    for (const Vec3& x : q) w.put_vec3(x);
-  w.put<uint64_t>(band.quads_built);
-  w.put<uint64_t>(band.quads_before_chunk);
-  w.put_array(band.phyxel);
-  w.put_array(band.dirty);
-  w.put_array(band.built_with);
-  w.end_section();
-
-  w.begin_section(kBladeSides);
-  w.put<uint64_t>(c.blade_sides.size());
-  for (const std::vector<BladeSide>& tool : c.blade_sides) {
-    w.put<uint64_t>(tool.size());
-    for (const BladeSide& b : tool) {
-      w.put<uint32_t>(b.phyxel);
-      w.put<uint8_t>(uint8_t(b.side));
-    }
-  }
-  w.end_section();
-}
 
 void write_sections(Writer& w, const Checkpoint& c) {
   w.begin_section(kIdentity);
@@ -235,105 +73,7 @@ void write_sections(Writer& w, const Checkpoint& c) {
   w.put_array(c.flags);
   w.end_section();
 
-  w.begin_section(kCuts);
-  w.put<uint64_t>(c.severed.size());
-  for (const SeveredPair& p : c.severed) {
-    w.put<uint32_t>(p.i);
-    w.put<uint32_t>(p.j);
-    w.put<float>(p.t);
-  }
-  w.put<uint64_t>(c.tool_stats.size());
-  for (const ToolRunStats& s : c.tool_stats) {
-    w.put<double>(s.max_cut_force);
-    w.put<int64_t>(s.cutting_substeps);
-  }
-  w.end_section();
-
-  w.begin_section(kCutFeedback);
-  w.put<uint64_t>(c.tool_stats.size());
-  for (const ToolRunStats& s : c.tool_stats) {
-    w.put<double>(s.max_feedback);
-    w.put<double>(s.max_friction);
-    w.put<double>(s.max_depth);
-  }
-  w.end_section();
-
-  w.begin_section(kTorn);
-  std::vector<uint8_t> torn(c.severed.size());
-  for (size_t k = 0; k < torn.size(); ++k) torn[k] = c.severed[k].torn;
-  w.put_array(torn);
-  w.end_section();
-
-  w.begin_section(kGrips);
-  w.put<uint64_t>(c.grips.size());
-  for (const Grip& g : c.grips) {
-    w.put<uint8_t>(g.closed ? 1 : 0);
-    w.put<uint64_t>(g.held.size());
-    for (const GripEntry& e : g.held) {
-      w.put<uint32_t>(e.phyxel);
-      w.put_vec3(e.offset);
-    }
-  }
-  w.end_section();
-
   write_surgery_sections(w, c);
-}
-
-void read_cut_band(Reader& r, CutBandState& band) {
-  const uint64_t n = r.get<uint64_t>();
-  for (uint64_t k = 0; k < n; ++k) {
-    std::array<Vec3, 4> q;
-    for (Vec3& x : q) x = r.get_vec3();
-    band.quads.push_back(q);
-  }
-  band.quads_built = r.get<uint64_t>();
-  band.quads_before_chunk = r.get<uint64_t>();
-  band.phyxel = r.get_array<uint32_t>();
-  band.dirty = r.get_array<uint8_t>();
-  band.built_with = r.get_array<uint64_t>();
-}
-
-void read_blade_sides(Reader& r, Checkpoint& c) {
-  const uint64_t tools = r.get<uint64_t>();
-  for (uint64_t t = 0; t < tools; ++t) {
-    const uint64_t n = r.get<uint64_t>();
-    r.need_items(n, sizeof(uint32_t) + sizeof(uint8_t));  // a corrupt count: refused, not allocated
-    std::vector<BladeSide> kept(n);
-    for (BladeSide& b : kept) {
-      b.phyxel = r.get<uint32_t>();
-      b.side = r.get<uint8_t>();
-      if (b.side != kSidePlus && b.side != kSideMinus)
-        throw CheckpointError("corrupt checkpoint: blade side " + std::to_string(b.side) +
-                              " for phyxel " + std::to_string(b.phyxel));
-    }
-    c.blade_sides.push_back(std::move(kept));
-  }
-}
-
-void read_grips(Reader& r, Checkpoint& c) {
-  const uint64_t tools = r.get<uint64_t>();
-  for (uint64_t t = 0; t < tools; ++t) {
-    Grip g;
-    g.closed = r.get<uint8_t>() != 0;
-    const uint64_t n = r.get<uint64_t>();
-    for (uint64_t k = 0; k < n; ++k) {
-      GripEntry e;
-      e.phyxel = r.get<uint32_t>();
-      e.offset = r.get_vec3();
-      g.held.push_back(e);
-    }
-    c.grips.push_back(std::move(g));
-  }
-}
-
-void read_aspiration(Reader& r, AspiratorState& a) {
-  a.log_cursor = r.get<uint64_t>();
-  a.removed = r.get_array<uint32_t>();
-  a.surface = r.get_array<uint8_t>();
-  a.events = r.get<int64_t>();
-  a.max_radius = r.get<double>();
-  a.removed_mass = r.get_array<double>();
-  a.removed_volume = r.get_array<double>();
 }
 
 void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -392,61 +132,8 @@ void read_section(Reader& r, uint32_t tag, Checkpoint& c) {
     case kTopology:
       c.flags = r.get_array<uint32_t>();
       break;
-    case kCuts: {  // after kTools (written in that order)
-      const uint64_t n = r.get<uint64_t>();
-      for (uint64_t k = 0; k < n; ++k) {
-        SeveredPair p;
-        p.i = r.get<uint32_t>();
-        p.j = r.get<uint32_t>();
-        p.t = r.get<float>();
-        c.severed.push_back(p);
-      }
-      const uint64_t tools = r.get<uint64_t>();
-      for (uint64_t t = 0; t < tools; ++t) {
-        const double max_cut = r.get<double>();
-        const int64_t cutting = r.get<int64_t>();
-        if (t < c.tool_stats.size()) {
-          c.tool_stats[t].max_cut_force = max_cut;
-          c.tool_stats[t].cutting_substeps = cutting;
-        }
-      }
-      break;
-    }
-    case kCutFeedback: {  // after kTools
-      const uint64_t tools = r.get<uint64_t>();
-      for (uint64_t t = 0; t < tools; ++t) {
-        const double feedback = r.get<double>(), friction = r.get<double>(),
-                     depth = r.get<double>();
-        if (t < c.tool_stats.size()) {
-          c.tool_stats[t].max_feedback = feedback;
-          c.tool_stats[t].max_friction = friction;
-          c.tool_stats[t].max_depth = depth;
-        }
-      }
-      break;
-    }
-    case kTorn: {  // after kCuts
-      const std::vector<uint8_t> torn = r.get_array<uint8_t>();
-      if (torn.size() != c.severed.size())
-        throw CheckpointError("corrupt checkpoint: " + std::to_string(torn.size()) +
-                              " torn flags for " + std::to_string(c.severed.size()) +
-                              " severed pairs");
-      for (size_t k = 0; k < torn.size(); ++k) c.severed[k].torn = torn[k] != 0;
-      break;
-    }
-    case kGrips:
-      read_grips(r, c);
-      break;
-    case kAspiration:
-      read_aspiration(r, c.aspiration);
-      break;
-    case kCutBand:
-      read_cut_band(r, c.band);
-      break;
-    case kBladeSides:
-      read_blade_sides(r, c);
-      break;
-    default:  // a section this version does not know: skipped
+    default:  // the surgical state's sections, and any this version does not know (skipped)
+      read_surgery_section(r, tag, c);
       break;
   }
 }
@@ -500,6 +187,9 @@ void write_checkpoint(const std::filesystem::path& file, const Checkpoint& check
   if (checkpoint.tool_poses.size() != checkpoint.tool_stats.size())
     throw CheckpointError(file.string() + ": tool poses and statistics differ in count");
   Writer w;
+  // Reserved up front: without it GCC 12 at -O3, inlining write_sections here, takes the
+  // vector's growth for a write past its end (-Wstringop-overflow, a false positive).
+  w.bytes().reserve(size_t{1} << 16);
   w.bytes().insert(w.bytes().end(), kCheckpointMagic, kCheckpointMagic + 8);
   w.put<uint32_t>(kCheckpointVersion);
   w.put<uint32_t>(0);  // section count, patched below
