@@ -97,11 +97,8 @@ Context::Context(const ContextOptions& options)
   features.features.shaderFloat64 = info_.float64 ? VK_TRUE : VK_FALSE;
   features.features.shaderInt64 = info_.int64 ? VK_TRUE : VK_FALSE;
 
-  // The compute family's queues: the solver's, then the frame queue's; a measurement switch,
-  // $PHYXEL_FRAME_QUEUE_PRIORITY (percent), lowers the frame queue's (the driver may ignore it).
-  float priorities[2] = {1.0f, 1.0f};
-  if (const int64_t n = hook_from_env("PHYXEL_FRAME_QUEUE_PRIORITY"); n >= 0 && n <= 100)
-    priorities[1] = float(n) / 100.0f;
+  // The compute family's queues: the solver's, then the frame queue's.
+  const float priorities[2] = {1.0f, 1.0f};
   const bool frame_queue =
       options.frame_queue && frame_queue_allowed() && info_.compute_queue_count >= 2;
   VkDeviceQueueCreateInfo queues[2];
