@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <vector>
+
+#include "compute/env.h"
 
 namespace phyxel::gpu {
 
@@ -13,8 +15,7 @@ bool validation_default() {
 }
 
 bool descriptor_cache_default() {
-  const char* text = std::getenv("PHYXEL_DESCRIPTOR_CACHE");
-  return text == nullptr || std::string(text) != "0";
+  return env_switch("PHYXEL_DESCRIPTOR_CACHE");
 }
 
 std::string format_bytes(uint64_t bytes) {
@@ -34,35 +35,36 @@ std::string format_bytes(uint64_t bytes) {
 
 namespace {
 
+// The context's environment (compute/env.h): a malformed value fails the context's creation
+// as a VulkanError, as other setup failures do (one line from `phyxel run`).
+template <class Read>
+auto from_env(Read read) {
+  try {
+    return read();
+  } catch (const EnvError& e) {
+    throw VulkanError(e.what());
+  }
+}
+
 // $PHYXEL_FRAME_QUEUE "0" turns ContextOptions::frame_queue off (to time frames drawn on the
 // solver's queue against frames drawn beside it).
 bool frame_queue_allowed() {
-  const char* text = std::getenv("PHYXEL_FRAME_QUEUE");
-  return text == nullptr || std::string(text) != "0";
+  return from_env([] { return env_switch("PHYXEL_FRAME_QUEUE"); });
 }
 
-// A test hook's count from the environment (context.h); -1 when unset or not a number.
-int64_t hook_from_env(const char* name) {
-  const char* text = std::getenv(name);
-  if (text == nullptr || *text == '\0') return -1;
-  char* end = nullptr;
-  const long long n = std::strtoll(text, &end, 10);
-  return (*end == '\0' && n >= 0) ? n : -1;
+// A test hook's count (context.h), counting `unit`; nullopt when unset.
+std::optional<int64_t> test_hook(const char* name, const char* unit) {
+  return from_env([&] { return env_number(name, 0, INT64_MAX, unit, "the hook off"); });
 }
 
 // How long a submission may run: $PHYXEL_GPU_TIMEOUT_S seconds where set, else the option's
 // wait, at least 10 min on a CPU driver (lavapipe on a loaded machine is slow, not hung).
 uint32_t fence_timeout_ms_for(const ContextOptions& options, const DeviceInfo& info) {
-  const char* text = std::getenv("PHYXEL_GPU_TIMEOUT_S");
-  if (text != nullptr && *text != '\0') {
-    char* end = nullptr;
-    const long long seconds = std::strtoll(text, &end, 10);
-    if (*end != '\0' || seconds < 1 || seconds > 86400)
-      throw VulkanError(std::string("PHYXEL_GPU_TIMEOUT_S='") + text +
-                        "' is not a whole number of seconds from 1 to 86400; unset it for the "
-                        "default (120 on a GPU, 600 on a CPU driver)");
-    return static_cast<uint32_t>(seconds * 1000);
-  }
+  const std::optional<int64_t> seconds = from_env([] {
+    return env_number("PHYXEL_GPU_TIMEOUT_S", 1, 86400, "seconds",
+                      "the default (120 on a GPU, 600 on a CPU driver)");
+  });
+  if (seconds) return static_cast<uint32_t>(*seconds * 1000);
   constexpr uint32_t kCpuDriverMs = 600000;
   if (info.type == VK_PHYSICAL_DEVICE_TYPE_CPU)
     return std::max(options.fence_timeout_ms, kCpuDriverMs);
@@ -144,11 +146,12 @@ Context::Context(const ContextOptions& options)
     if (frame_queue_ != VK_NULL_HANDLE)
       set_name(VK_OBJECT_TYPE_QUEUE, reinterpret_cast<uint64_t>(frame_queue_),
                "phyxel frame queue");
-    set_test_fail_allocation_after(hook_from_env("PHYXEL_TEST_FAIL_ALLOC_AFTER"));
-    if (const int64_t n = hook_from_env("PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP"); n >= 0)
-      test_lost_at_substep_ = n;
-    if (const int64_t n = hook_from_env("PHYXEL_TEST_FENCE_TIMEOUT_MS"); n >= 0)
-      options_.fence_timeout_ms = static_cast<uint32_t>(std::min<int64_t>(n, UINT32_MAX));
+    set_test_fail_allocation_after(
+        test_hook("PHYXEL_TEST_FAIL_ALLOC_AFTER", "allocations").value_or(-1));
+    if (const auto n = test_hook("PHYXEL_TEST_DEVICE_LOST_AT_SUBSTEP", "substeps"))
+      test_lost_at_substep_ = *n;
+    if (const auto n = test_hook("PHYXEL_TEST_FENCE_TIMEOUT_MS", "milliseconds"))
+      options_.fence_timeout_ms = static_cast<uint32_t>(std::min<int64_t>(*n, UINT32_MAX));
   } catch (...) {
     destroy();
     throw;

@@ -2,7 +2,7 @@
 
 #include <dlfcn.h>
 
-#include <cstdlib>
+#include "compute/env.h"
 
 namespace phyxel::gpu {
 namespace {
@@ -19,9 +19,8 @@ constexpr const char* kDefaultLoader = "libvulkan.so.1";
 
 std::string vulkan_loader_path(const std::string& path) {
   if (!path.empty()) return path;
-  const char* env = std::getenv("PHYXEL_VULKAN_LOADER");
-  if (env != nullptr && env[0] != '\0') return env;
-  return kDefaultLoader;
+  const std::string env = env_text("PHYXEL_VULKAN_LOADER");
+  return env.empty() ? kDefaultLoader : env;
 }
 
 VulkanLibrary::VulkanLibrary(const std::string& path) : path_(vulkan_loader_path(path)) {

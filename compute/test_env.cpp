@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <system_error>
 
+#include "compute/env.h"
+
 namespace phyxel::gpu {
 
 std::string find_lavapipe_icd() {
@@ -23,8 +25,7 @@ std::string find_lavapipe_icd() {
 
 ContextOptions test_context_options() {
   ContextOptions options;
-  const char* device = std::getenv("PHYXEL_TEST_DEVICE");
-  const std::string spec = device != nullptr ? device : "";
+  const std::string spec = env_text("PHYXEL_TEST_DEVICE");
   if (spec.empty() || spec == "lavapipe") {
     const std::string icd = find_lavapipe_icd();
     if (icd.empty()) {
@@ -39,8 +40,7 @@ ContextOptions test_context_options() {
   } else {
     options.device = spec;
   }
-  const char* validation = std::getenv("PHYXEL_TEST_VALIDATION");
-  options.validation = validation == nullptr || std::string(validation) != "0";
+  options.validation = env_switch("PHYXEL_TEST_VALIDATION");
   return options;
 }
 

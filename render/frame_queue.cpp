@@ -1,10 +1,9 @@
 #include "render/frame_queue.h"
 
-#include <cstdlib>
-#include <cstring>
 #include <exception>
 #include <utility>
 
+#include "compute/env.h"
 #include "compute/vk_check.h"
 
 namespace phyxel::render {
@@ -28,10 +27,8 @@ struct FrameQueue::SlotLease {
 
 FrameQueue::FrameQueue(gpu::Context& ctx, SplatRenderer& renderer, FrameSink& sink)
     : renderer_(&renderer), sink_(&sink), ctx_(&ctx) {
-  const char* draw = std::getenv("PHYXEL_FRAME_DRAW");
-  draws_ = draw == nullptr || std::strcmp(draw, "0") != 0;
-  const char* copy = std::getenv("PHYXEL_FRAME_COPY");
-  reads_back_ = copy == nullptr || std::strcmp(copy, "0") != 0;
+  draws_ = gpu::env_switch("PHYXEL_FRAME_DRAW");
+  reads_back_ = gpu::env_switch("PHYXEL_FRAME_COPY");
   if (!reads_back_) renderer.set_readback(false);
   const bool transfer = ctx.transfer_queue() != VK_NULL_HANDLE && reads_back_;
   auto semaphore = [&ctx](VkSemaphore& s) {
