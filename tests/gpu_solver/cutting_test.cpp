@@ -1,10 +1,11 @@
 // Cutting on the GPU against the CPU reference (engine/solver/cpu_solver_cutting.cpp): the
 // same severed pairs and positions after a scalpel crosses a beam, with the tools' motions
 // given chunk by chunk as the run loop does; two blades severing the same pairs in the same
-// substeps give each pair once, to the CPU's tool; two GPU runs give the same bits; a cut along
-// a lattice plane and a second crossing cut leave every value finite; blades past the first 8
-// (no ball around them) sever as the CPU; tool_resist summing its own samples, and
-// tool_contact_reduce summing them beside the sever, give the bits of the passes they replace.
+// substeps give each pair once, to the CPU's tool, and a second blade through the first's cut
+// severs the CPU's pairs; two GPU runs give the same bits; a cut along a lattice plane and a
+// second crossing cut leave every value finite; blades past the first 8 (no ball around them)
+// sever as the CPU; tool_resist summing its own samples, and tool_contact_reduce summing them
+// beside the sever, give the bits of the passes they replace.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -124,6 +125,28 @@ TEST_F(GpuSolverTest, TwoBladesOnTheSamePairsSeverEachOnceAsTheCpu) {
     EXPECT_NEAR(g.severed[k].t, c.severed[k].t, 1e-4) << k;
   }
   EXPECT_LT(max_difference(c.u, g.u), 1e-4 * std::max(max_norm(c.u), 1e-6));  // and finite
+}
+
+// tool_sever loads each lane's candidate and first pair before the blades' balls are set up
+// (its weight and index together), the lane's later pairs in its loop: a second blade through
+// the first's cut finds the pairs it crosses severed (weight 0, a lane's first pair among them),
+// rows of up to 80 pairs on 32 lanes and some lanes without a pair. It severs the CPU's pairs,
+// none twice.
+TEST_F(GpuSolverTest, ASecondBladeThroughTheFirstsCutSeversTheCpusPairs) {
+  Scene scene = clamped_beam();
+  scene.simulation.gravity = Vec3::Zero();
+  scene.objects[0].support_radius = 2.5 * scene.objects[0].spacing;
+  for (const double t0 : {0.0, 0.01}) {
+    ToolDesc blade = crossing_scalpel(t0 > 0.0 ? 0.00934 : 0.00931, -0.003, 0.016, t0, 0.008);
+    blade.name = t0 > 0.0 ? "second" : "first";
+    scene.tools.push_back(blade);
+  }
+  const auto [c, g] = cpu_and_gpu(ctx(), scene, 200);
+  ASSERT_GT(c.severed.size(), 500u);
+  EXPECT_EQ(pair_set(g.severed).size(), g.severed.size());  // none twice
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+  EXPECT_EQ(g.alive, c.alive);
+  EXPECT_LT(max_difference(c.u, g.u), 1e-4 * std::max(max_norm(c.u), 1e-6));
 }
 
 // tool_sever tests a pair against a blade only where it meets the ball around all that blade
