@@ -57,6 +57,7 @@ void print_device(const gpu::DeviceInfo& d) {
     std::printf("  transfer queue        none (frames copied out on the compute queue)\n");
   }
   std::printf("  float64               %s\n", yes_no(d.float64));
+  std::printf("  int64 atomics         %s\n", yes_no(d.int64_atomics));
   std::printf("  push descriptors      %s\n", yes_no(d.push_descriptor));
   std::printf("  memory budget         %s\n", yes_no(d.memory_budget));
   const std::string why = d.unusable_reason();

@@ -98,6 +98,10 @@ Context::Context(const ContextOptions& options)
       vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
   features.features.shaderFloat64 = info_.float64 ? VK_TRUE : VK_FALSE;
   features.features.shaderInt64 = info_.int64 ? VK_TRUE : VK_FALSE;
+  auto atomic64 = vk_struct<VkPhysicalDeviceShaderAtomicInt64Features>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES);
+  atomic64.shaderBufferInt64Atomics = info_.int64_atomics ? VK_TRUE : VK_FALSE;
+  features.pNext = &atomic64;
 
   // The compute family's queues: the solver's, then the frame queue's.
   const float priorities[2] = {1.0f, 1.0f};

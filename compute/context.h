@@ -75,6 +75,7 @@ class Context {
   bool memory_budget() const { return memory_budget_; }
   bool float64() const { return info_.float64; }
   bool int64() const { return info_.int64; }
+  bool int64_atomics() const { return info_.int64_atomics; }
   bool timestamps() const { return info_.timestamps(); }
 
   // Null unless validation is on; see ValidationLog.

@@ -108,11 +108,16 @@ DeviceInfo query_device_info(const InstanceFunctions& fn, VkPhysicalDevice devic
   info.min_storage_buffer_offset_alignment = limits.minStorageBufferOffsetAlignment;
   info.timestamp_period_ns = limits.timestampPeriod;
 
-  auto features =
-      vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  auto atomic64 = vk_struct<VkPhysicalDeviceShaderAtomicInt64Features>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES);
+  // The Vulkan 1.2 struct only where 1.2 is there (else unusable anyway).
+  auto features = vk_struct<VkPhysicalDeviceFeatures2>(
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+      base.apiVersion >= VK_API_VERSION_1_2 ? &atomic64 : nullptr);
   fn.vkGetPhysicalDeviceFeatures2(device, &features);
   info.float64 = features.features.shaderFloat64 == VK_TRUE;
   info.int64 = features.features.shaderInt64 == VK_TRUE;
+  info.int64_atomics = info.int64 && atomic64.shaderBufferInt64Atomics == VK_TRUE;
 
   // Prefer a universal (graphics + compute) family: the renderer reads the solver's buffers
   // on the same queue, so no queue-family ownership transfers are needed.

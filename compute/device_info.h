@@ -36,6 +36,7 @@ struct DeviceInfo {
   uint32_t max_push_descriptors = 0;  // 0 when VK_KHR_push_descriptor is absent
   bool float64 = false;               // shaderFloat64
   bool int64 = false;                 // shaderInt64
+  bool int64_atomics = false;         // and shaderBufferInt64Atomics (core in Vulkan 1.2)
   bool push_descriptor = false;       // VK_KHR_push_descriptor
   bool memory_budget = false;         // VK_EXT_memory_budget
   bool portability_subset = false;    // VK_KHR_portability_subset (must then be enabled)

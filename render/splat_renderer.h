@@ -72,6 +72,10 @@ struct RendererOptions {
   // spacing is centimetres) and mostly flat, so half a radius joins neighbours without
   // blending the drape into tissue that lies just above it.
   float backdrop_epsilon = 0.5f;
+  // One 64-bit atomicAdd per pair of accumulation channels where the device has
+  // shaderBufferInt64Atomics (the same image as a 32-bit add per channel, render_layout.h);
+  // false forces the 32-bit adds, as does the measurement switch $PHYXEL_ACCUM_INT64 "0".
+  bool int64_atomics = true;
 };
 
 class SplatRenderer {
@@ -172,6 +176,9 @@ class SplatRenderer {
   // The largest frame side the renderer accepts (maxImageDimension2D and viewport limits, as
   // a window could show it).
   uint32_t max_frame_side() const;
+  // Whether the accumulation adds pairs of channels with 64-bit atomics
+  // (RendererOptions::int64_atomics and the device's shaderBufferInt64Atomics).
+  bool int64_atomics() const;
 
  private:
   struct Impl;

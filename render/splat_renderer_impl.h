@@ -61,6 +61,7 @@ struct SplatRenderer::Impl {
   RendererOptions options;
   VkPhysicalDeviceLimits limits{};
   gpu::Pipeline deform, visibility, accumulate, shade, tool_pass;
+  bool int64_atomics = false;  // accumulate is splat_accumulate64.comp
   // deform for a solver whose pairs are in two parts (pair_buffers.glsl's specialization
   // constants: split, and the pairs of the first part), made on first use and again when the
   // first part's size changes.

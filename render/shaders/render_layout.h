@@ -111,20 +111,36 @@ PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, bindin
 // written by tool_visibility.comp), w of the cut-face discs alone (kAccumCut: the shading
 // pass makes that fraction of the pixel wet), and mirror x w (kAccumMirror: that fraction of
 // the pixel reflects the environment). 2^16 leaves room for sums of 32768 full-weight discs
-// before a 32-bit int overflows. Planar: an eye's range holds kAccumChannels planes of
-// eye_stride ints (channel c of pixel i at c * eye_stride + i), so that neighbouring pixels'
-// atomics of one channel share cache lines and the shading pass reads only w and the tool
-// where nothing was drawn. The shading pass zeroes what it read non-zero: the buffer is
-// clear again for the next frame without a fill (SplatRenderer::Impl::accum_dirty).
+// before a 32-bit int overflows (it wraps). Planes of pairs: an eye's range holds
+// kAccumChannels / 2 planes of eye_stride pairs of ints (channel c of pixel i at
+// accum_index(c, eye_stride, i)), so that neighbouring pixels' atomics of one pair share
+// cache lines and the shading pass reads only w and the tool (one pair) where nothing was
+// drawn. A pair is one 64-bit word, low int first: with 64-bit atomics the accumulation adds
+// both of a pair at once (splat_accumulate.glsl). Every low channel is added only non-negative
+// values, so a pair's high int gets no carry while its low sum stays below 2^32, and the ints
+// are those of two 32-bit atomics. The shading pass zeroes what it read non-zero: the buffer
+// is clear again for the next frame without a fill (SplatRenderer::Impl::accum_dirty).
 PHYXEL_CONST uint kAccumChannels = 10;
+// The pairs: (red, normal x), (green, normal y), (blue, normal z), (w, tool), (cut, mirror).
+PHYXEL_CONST uint kAccumRed = 0;
+PHYXEL_CONST uint kAccumNormalX = 1;
+PHYXEL_CONST uint kAccumGreen = 2;
+PHYXEL_CONST uint kAccumNormalY = 3;
+PHYXEL_CONST uint kAccumBlue = 4;
+PHYXEL_CONST uint kAccumNormalZ = 5;
+PHYXEL_CONST uint kAccumWeight = 6;
 PHYXEL_CONST uint kAccumCut = 8;
 PHYXEL_CONST uint kAccumMirror = 9;
 // Channel of the tool hit: 0 for none, else kToolHitFlag | the eye-space unit normal of the
 // hit in octahedral coordinates, (u, v) in [-1, 1] to 15 bits each (u in bits 0-14, v in
-// bits 15-29).
+// bits 15-29). The high int of w's pair: w's low sum below 2^32 leaves it as written.
 PHYXEL_CONST uint kAccumTool = 7;
 PHYXEL_CONST uint kToolHitFlag = 0x80000000u;
 PHYXEL_CONST float kAccumScale = 65536.0;
+#ifndef __cplusplus
+// The int index of channel c of pixel i in an eye's range of `plane` pixels per channel.
+uint accum_index(uint c, uint plane, uint i) { return (c >> 1) * 2 * plane + 2 * i + (c & 1); }
+#endif
 // The depth buffer's clear value: the bits of 1.0f (the far plane in linear depth).
 PHYXEL_CONST uint kDepthClear = 0x3f800000u;
 // A splat whose pixel bounds hold more pixels than this is drawn by its whole workgroup.

@@ -75,10 +75,11 @@ vec3 shade_tool(vec3 n, vec3 view) {
 // with w). The next frame then finds the buffer clear.
 vec3 shade(uint eye, uint x, uint y) {
   const uint plane = p.frame.w;
-  const uint at = eye * kAccumChannels * plane + y * p.frame.x + x;
-  const float w = float(accum[at + 3 * plane]);
-  const uint tool = uint(accum[at + kAccumTool * plane]);
-  if (tool != 0u) accum[at + kAccumTool * plane] = 0;
+  const uint base = eye * kAccumChannels * plane, pixel = y * p.frame.x + x;
+#define AT(c) (base + accum_index(c, plane, pixel))
+  const float w = float(accum[AT(kAccumWeight)]);
+  const uint tool = uint(accum[AT(kAccumTool)]);
+  if (tool != 0u) accum[AT(kAccumTool)] = 0;
   const bool has_environment = p.near.z > 0.0;
   if (!(w > 0.0) && (p.frame.z & kShadeBackdropBit) != 0u) {
     // The backdrop layer, unless a tool is nearer (its exact depth won the depth buffer).
@@ -98,12 +99,14 @@ vec3 shade(uint eye, uint x, uint y) {
     return environment_colour(normalize(pixel_ray(unshifted, near, vec2(p.frame.xy), vec2(x, y))));
   }
   if (!(w > 0.0)) return shade_tool(unpack_tool_normal(tool), view);
-  const vec3 albedo = vec3(accum[at], accum[at + plane], accum[at + 2 * plane]) / w;
-  const vec3 sum_n = vec3(accum[at + 4 * plane], accum[at + 5 * plane], accum[at + 6 * plane]);
-  const float cut_w = float(accum[at + kAccumCut * plane]);
-  const float mirror_w = float(accum[at + kAccumMirror * plane]);
+  const vec3 albedo = vec3(accum[AT(kAccumRed)], accum[AT(kAccumGreen)], accum[AT(kAccumBlue)]) / w;
+  const vec3 sum_n =
+      vec3(accum[AT(kAccumNormalX)], accum[AT(kAccumNormalY)], accum[AT(kAccumNormalZ)]);
+  const float cut_w = float(accum[AT(kAccumCut)]);
+  const float mirror_w = float(accum[AT(kAccumMirror)]);
   for (uint c = 0; c < kAccumChannels; ++c)
-    if (c != kAccumTool) accum[at + c * plane] = 0;
+    if (c != kAccumTool) accum[AT(c)] = 0;
+#undef AT
   const float len = length(sum_n);
   const vec3 n = len > 0.0 ? sum_n / len : view;
   const float key = max(dot(n, kKeyLight), 0.0);

@@ -49,6 +49,6 @@ void main() {
   }
   if (best_depth > 1.0) return;
   atomicMin(depth[i], floatBitsToUint(best_depth));
-  accum[kAccumTool * (uint(accum.length()) / kAccumChannels) + i] =
+  accum[accum_index(kAccumTool, uint(accum.length()) / kAccumChannels, i)] =
       int(pack_tool_normal(best_normal));
 }

@@ -2,7 +2,8 @@
 // validation: which pixels a disc covers (the ray-disc test of every pixel, in double), in each
 // of the rasteriser's three paths (a splat's own invocation, the whole workgroup for a large
 // splat, the whole eye for a disc crossing the near plane); an image that does not depend on
-// the order of the surfels; the texture's level of detail; frames too large for the device.
+// the order of the surfels; the texture's level of detail; frames too large for the device;
+// the same image from 64-bit atomics on pairs of channels as from 32-bit ones.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +11,9 @@
 #include <numeric>
 #include <random>
 
+#include "render/environment_map.h"
 #include "render/sample_shapes.h"
+#include "render/tool_raycast.h"
 #include "tests/render/render_test_util.h"
 
 namespace phyxel::render {
@@ -186,6 +189,45 @@ TEST_F(SplatRaster, AFarCheckerboardIsSampledAtItsCoarseLevelNotAliased) {
   const double mean = std::accumulate(reds.begin(), reds.end(), 0.0) / reds.size();
   EXPECT_GT(mean, 40);
   EXPECT_LT(mean, 200);
+}
+
+// Every channel in play: texture, cut and torn faces (procedural colours), a mirror fraction
+// under an environment, a tool in front, both eyes. The 64-bit path is exact (render_layout.h),
+// so the frames are the same bytes.
+TEST_F(SplatRaster, PairedAtomicsDrawTheImageOfThe32BitAdds) {
+  const PhyxelSet set = lattice_sphere(Vec3::Zero(), 0.02, 0.002, 0.006);
+  const NeighbourLists neighbours = find_rest_neighbours(set);
+  HostInputs inputs(ctx(), set, neighbours);
+  SurfelTable table = build_surfel_table(set, {0.4});
+  for (size_t k = 0; k < table.surfels.size(); ++k) {
+    if (k % 3 == 0) table.surfels[k].flags |= layout::kSurfelCutFace;
+    if (k % 7 == 0) table.surfels[k].flags |= layout::kSurfelCutFace | layout::kSurfelTornFace;
+  }
+  const Camera cam = test::camera_at(Vec3(0.01, -0.1, 0.02), Vec3::Zero(), Vec3::UnitZ(), 35);
+  const FrameSetup setup = test::setup_for(cam, 160, 120, RenderSettings::Mode::Stereo);
+  ToolDrawable tool;
+  tool.shape.type = ToolShape::Type::Capsule;
+  tool.shape.radius = 0.003;
+  tool.shape.length = 0.05;
+  tool.pose.position = Vec3(-0.01, -0.03, 0.0);
+  tool.pose.axis = Vec3(1, 0, 0.3).normalized();
+  std::vector<RgbaImage> images;
+  for (const bool int64_atomics : {true, false}) {
+    RendererOptions options;
+    options.int64_atomics = int64_atomics;
+    SplatRenderer renderer(ctx(), table, procedural_tissue_texture(64), options);
+    EXPECT_EQ(renderer.int64_atomics(), int64_atomics && ctx().int64_atomics());
+    renderer.set_environment(procedural_tissue_texture(32), environment_basis(cam), 1.0);
+    renderer.set_tools({tool});
+    images.push_back(renderer.render(inputs.inputs(), setup));
+  }
+  if (!ctx().int64_atomics()) std::printf("no shaderBufferInt64Atomics: both 32-bit\n");
+  size_t covered = 0;
+  for (uint32_t y = 0; y < images[0].height; ++y)
+    for (uint32_t x = 0; x < images[0].width; ++x)
+      covered += !test::is_background(images[0].at(x, y));
+  EXPECT_GT(covered, 5000u);
+  EXPECT_TRUE(images[0].pixels == images[1].pixels) << "the two paths' frames differ";
 }
 
 TEST_F(SplatRaster, FramesLargerThanTheDeviceBindsAndEmptyTexturesAreRefused) {
