@@ -340,27 +340,36 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     const bool last = step == total - 1;
     const uint32_t mode = last ? kForceKick : kForceKickDrift;
     const Buffer& out = disp_[last ? cur : 1 - cur];
+    // With contact_in_force_, the next substep's contact after the drift in the same pass
+    // (without tearing, where no jaws close in it).
+    const int64_t contact_step =
+        !last && contact_in_force_ && contact_fusable(step + 1) ? step + 1 : -1;
+    uint32_t grasp = kContactNoGrasp;
     if (tearing_) {
       // The dirty list's count (tool_contact emptied it unless a sever filled it after).
       if (tear_needs_reset())
         timed("tear: reset", [&] { rec.fill(cut_dirty_, 0, 0, sizeof(uint32_t)); });
-      // With contact_in_force_, the next substep's contact after the drift in the same pass.
-      const int64_t contact_step = !last && contact_in_force_ ? step + 1 : -1;
+      if (contact_step >= 0) fuse_contact(contact_step);
       timed("force+tear", [&] { record_force_tear(rec, mode, dt, disp_[cur], out, contact_step); });
+    } else if (contact_step >= 0) {
+      grasp = fuse_contact(contact_step);
+      timed("force+contact",
+            [&] { record_force_contact(rec, dt, disp_[cur], out, contact_step, grasp); });
     } else {
       timed("force", [&] { record_force(rec, mode, dt, disp_[cur], out); });
     }
     if (!last) {
       cur = 1 - cur;
-      if (contact_recorded() && !contact_in_force_) {
+      // The grip's sum of the hold the force pass did, beside the next pass (no barrier).
+      if (grasp != kContactNoGrasp) record_grip_row(rec, contact_step, grasp);
+      if (contact_recorded() && contact_step < 0)
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
-        if (cutting_) timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
-      }
+      if (contact_recorded() && cutting_)
+        timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
     }
   }
-  // The samples of substeps 1 .. total - 1, whose contact the force pass did, after the last.
-  if (to == total && contact_in_force_)
-    timed("contact: rows", [&] { record_contact_rows(rec, 1, total); });
+  // The samples of the substeps whose contact the force pass did, after the last.
+  if (to == total && contact_in_force_) timed("contact: rows", [&] { record_fused_rows(rec); });
 }
 
 namespace {

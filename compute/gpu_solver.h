@@ -94,9 +94,11 @@ struct GpuSolverOptions {
   // poll the setup's stop (set_search_stop) before each: 0, sized from the measured rate to
   // about 20 ms of wall time each; tests fix it. Any size gives the same bits.
   uint32_t setup_chunk = 0;
-  // While tearing with tools that only touch and suck (no blade, no grasper): the tool contact
-  // after each drift inside the force pass (solver_force_tear) and the samples summed once
-  // after the advance, as tool_contact gives them bit for bit. Tests turn it off to compare.
+  // While tearing with tools that only touch and suck (no blade, no grasper), or without
+  // tearing where no blade has a threshold and at most one tool grasps: the tool contact after
+  // each drift inside the force pass (solver_force_tear, solver_force_contact, the grasper's
+  // hold too; substeps whose jaws close keep tool_contact) and the samples summed once after
+  // the advance, as tool_contact gives them bit for bit. Tests turn it off to compare.
   bool contact_in_force = true;
   // With one grasper and tool_contact summing its own samples (no blade resisting): the hold of
   // its closed jaws inside tool_contact's dispatch, the same bits as its own pass after it.
@@ -328,6 +330,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void build_pass_lists();  // host lists from flags, awake objects and CSR; uploads them
   void remove_from_pass_lists(const std::vector<uint32_t>& ids);  // the same, after a removal
   void upload_pass_lists();
+  uint64_t stage_in_force_bits();
   bool in_stress(size_t i) const;
   void record_steps(Recorder& rec, int64_t from, int64_t to, int64_t total, float dt, int& cur,
                     PassTimer* timer);
@@ -367,6 +370,15 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   uint32_t contact_hold(int64_t step) const;
   // With contact_in_force_: the samples of substeps [first, end) from the force pass's rows.
   void record_contact_rows(Recorder& rec, int64_t first, int64_t end);
+  // Without tearing (gpu_solver_force_contact.cpp): whether substep `step`'s contact may be the
+  // force pass's (no jaws close in it); fuse_contact notes it as such and returns the grasper
+  // whose hold the pass does; the pass; the grip's sum of that substep; the rows of each run.
+  bool contact_fusable(int64_t step) const;
+  uint32_t fuse_contact(int64_t step);
+  void record_force_contact(Recorder& rec, float dt, const Buffer& in, const Buffer& out,
+                            int64_t step, uint32_t grasp);
+  void record_grip_row(Recorder& rec, int64_t step, uint32_t grasp);
+  void record_fused_rows(Recorder& rec);
   void finish_contact(int64_t substeps, bool ran);
   void record_broad_phase(Recorder& rec);  // max norms, then the candidates and their count
   void record_max_norms(Recorder& rec);    // into max_norm_readback_
@@ -426,6 +438,10 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   uint32_t sample_fuse(bool sums) const;
   // This advance's contact after substep 0 is in solver_force_tear (begin_contact decides).
   bool contact_in_force_ = false;
+  // Its runs of substeps [first, end) whose contact the force pass did, and the grasper whose
+  // grip rows (grip_rows_) leave their samples (kContactNoGrasp: none).
+  std::vector<std::pair<int64_t, int64_t>> contact_runs_;
+  uint32_t rows_grasp_ = 0xFFFFFFFFu;
   // The substep whose samples tool_contact left to record_sever's tool_contact_reduce (-1: none),
   // and the grasper whose grip's forces that pass subtracts (kContactNoGrasp: none).
   int64_t sums_pending_ = -1;
@@ -519,17 +535,20 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
     return (std::max<uint32_t>(candidate_capacity_, 1) + PHYXEL_WORKGROUP_SIZE - 1) /
            PHYXEL_WORKGROUP_SIZE;
   }
-  Buffer tool_shapes_;        // ContactToolShape per tool
-  Buffer motion_table_;       // ContactMotion [substep][tool]; motion_upload_ stages it
-  Buffer candidate_list_;     // uint[capacity]: the broad phase's phyxels, ascending
-  Buffer contact_count_;      // Readback, indirect: ContactCount of the broad phase
-  Buffer broad_groups_;       // uint per broad-phase workgroup: hits, then offsets
-  Buffer candidate_force_;    // vec4[2 tools][partial_capacity()]: per workgroup, force and range
-  Buffer contact_flag_;       // uint per phyxel: 1 where a tool touched it in the last substep
-  Buffer contact_done_;       // uint: tool_contact's finished workgroups (kContactFuseReduce)
-  Buffer candidate_slot_;     // uint per phyxel: its slot in candidate_list_, or ~0
-  Buffer contact_rows_;       // vec4 [substep][2][tool][stride]: solver_force_tear's contact
-  Buffer row_partials_;       // vec4 [substep][2][tool][partial_capacity()]: 64 rows' sums
+  Buffer tool_shapes_;      // ContactToolShape per tool
+  Buffer motion_table_;     // ContactMotion [substep][tool]; motion_upload_ stages it
+  Buffer candidate_list_;   // uint[capacity]: the broad phase's phyxels, ascending
+  Buffer contact_count_;    // Readback, indirect: ContactCount of the broad phase
+  Buffer broad_groups_;     // uint per broad-phase workgroup: hits, then offsets
+  Buffer candidate_force_;  // vec4[2 tools][partial_capacity()]: per workgroup, force and range
+  Buffer contact_flag_;     // uint per phyxel: 1 where a tool touched it in the last substep
+  Buffer contact_done_;     // uint: tool_contact's finished workgroups (kContactFuseReduce)
+  Buffer candidate_slot_;   // uint per phyxel: its slot in candidate_list_, or ~0
+  Buffer contact_rows_;     // vec4 [substep][2][tool][stride]: solver_force_tear's contact
+  Buffer row_partials_;     // vec4 [substep][2][tool][partial_capacity()]: 64 rows' sums
+  Buffer grip_rows_;        // vec4 [substep][tool][2] as the samples: the grip's sums (x of 2)
+  Buffer in_force_bits_;    // a bit per phyxel: in the force list (in_force_)
+  Buffer in_force_upload_;
   Buffer samples_buffer_;     // Readback: vec4 [substep][tool] (force on the tool, count)
   Buffer max_norm_readback_;  // Readback: (max |u|, max |v|, 0, 0)
   Buffer motion_readback_;    // Readback, per object: (kinetic energy, max |v|, 0, 0); made on use

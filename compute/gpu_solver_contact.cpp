@@ -12,10 +12,11 @@
 // Readback buffer, read once after the advance with the candidate count) and empties the
 // dirty list; where a blade resists, tool_resist after it, whose last workgroup sums them instead
 // (tool_contact_reduce after it with GpuSolverOptions::resist_reduce off).
-// With contact_in_force_ (tearing, no blade or grasper) the contact of substeps 1 on is
-// solver_force_tear's, per candidate into contact_rows_, which record_contact_rows sums after
-// the advance's last force pass (tool_contact_reduce over rows: every 64 candidates' partial of
-// every row at once, then the samples; the same bits).
+// With contact_in_force_ (tearing, no blade or grasper; or no tearing, no blade with a
+// threshold, one grasper at most: gpu_solver_force_contact.cpp) the contact of substeps 1 on is
+// solver_force_tear's or solver_force_contact's, per candidate into contact_rows_, which
+// record_contact_rows sums after the advance's last force pass (tool_contact_reduce over rows:
+// every 64 candidates' partial of every row at once, then the samples; the same bits).
 // Buffers grow when a chunk needs more and are never reallocated otherwise.
 #include <algorithm>
 #include <cstddef>
@@ -251,8 +252,26 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
   // (tool_contact's own sums of each substep otherwise), where nothing else acts between the
   // contact and the next stress pass and the rows fit in 64 MiB.
   const uint64_t row_bytes = 2 * nt * uint64_t{partial_capacity()} * PHYXEL_WORKGROUP_SIZE * 16;
-  contact_in_force_ = options_.contact_in_force && tearing_ && contact_fused() && !cutting_ &&
-                      !grasping_ && uint64_t(substeps) * row_bytes <= (uint64_t{64} << 20);
+  // Without tearing: no blade reads the sample in the substep, one grasper at most (its hold
+  // inside the pass), no band (the force pass's ext is the band's).
+  const size_t graspers = std::count_if(tools_.begin(), tools_.end(),
+                                        [](const ContactTool& t) { return t.grasp.grasps(); });
+  const bool tears = tearing_ && !cutting_ && !grasping_;
+  const bool holds = !tearing_ && !sample_in_sever_ && !band_ &&
+                     (graspers == 0 || (graspers == 1 && options_.grasp_in_contact));
+  contact_in_force_ = options_.contact_in_force && contact_fused() && (tears || holds) &&
+                      uint64_t(substeps) * row_bytes <= (uint64_t{64} << 20);
+  contact_runs_.clear();
+  rows_grasp_ = kContactNoGrasp;
+  if (contact_in_force_ && graspers == 1) {
+    rows_grasp_ =
+        static_cast<uint32_t>(std::find_if(tools_.begin(), tools_.end(),
+                                           [](const ContactTool& t) { return t.grasp.grasps(); }) -
+                              tools_.begin());
+    reserve(ctx, grip_rows_, 2 * uint64_t(substeps) * nt * sizeof(vec4), MemoryIntent::Device,
+            "grip rows of the force pass's holds");
+    rec.fill(grip_rows_, 0);  // substeps without a hold subtract nothing
+  }
   if (contact_in_force_) {
     reserve(ctx, contact_rows_, uint64_t(substeps) * row_bytes, MemoryIntent::Device,
             "contact rows of the force pass");
@@ -284,6 +303,7 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
   const uint32_t cap = partial_capacity();
   const uint32_t wg = kernels_->contact_reduce.workgroup_size()[0];
   ContactReducePush push{rows, nt, cap, static_cast<uint32_t>(first), 0u, kContactNoGrasp, 0u};
+  const bool grip = rows_grasp_ != kContactNoGrasp;
   part_begin(rec, "contact: rows");
   // Every (row, tool, 64 candidates) partial at once, then the samples from them.
   dispatch(rec, kernels_->contact_reduce, push,
@@ -298,6 +318,7 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
            rows * nt * cap * wg);
   rec.barrier();
   push.sums = 1u;
+  push.grasp = rows_grasp_;  // its grip rows subtracted after the sums
   dispatch(rec, kernels_->contact_reduce, push,
            {{"Force", row_partials_},
             {"Samples", samples_buffer_},
@@ -306,7 +327,7 @@ void GpuSolver::record_contact_rows(Recorder& rec, int64_t first, int64_t end) {
             {"Flags", flags_},
             {"Partials", contact_rows_},  // unwritten with sums 1
             {"Held", contact_count_},
-            {"GripForce", candidate_force_}},
+            {"GripForce", grip ? grip_rows_ : candidate_force_}},
            rows * nt * wg);
   part_end(rec);
 }

@@ -12,6 +12,7 @@
 #include "phyxel_spv/solver_edit.spv.h"
 #include "phyxel_spv/solver_energy.spv.h"
 #include "phyxel_spv/solver_force.spv.h"
+#include "phyxel_spv/solver_force_contact.spv.h"
 #include "phyxel_spv/solver_force_tear.spv.h"
 #include "phyxel_spv/solver_kick_drift.spv.h"
 #include "phyxel_spv/solver_max_norm.spv.h"
@@ -73,6 +74,7 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
+  force_contact = make(PHYXEL_SHADER(solver_force_contact), 28, sizeof(ForceTearPush));
   sever =
       Pipeline(ctx, PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush), {}, {spec[0], spec[1], 0u});
   sever_sided =

@@ -36,6 +36,7 @@ class SolverKernels {
   Pipeline check;           // layout::CheckPush; kCheck* bindings
   Pipeline von_mises;       // layout::StepPush; kEnergy* bindings
   Pipeline force_tear;      // layout::ForceTearPush; kForce*, kForceTear* bindings
+  Pipeline force_contact;   // layout::ForceTearPush; kForce*, kForceContact* bindings
   Pipeline max_norm;        // layout::MaxNormPush; kMaxNorm* bindings
   Pipeline motion;          // layout::MotionPush; kMotion* bindings
   Pipeline contact;         // layout::ContactPush; kContact* bindings (over the candidates)

@@ -90,11 +90,13 @@ void GpuSolver::upload_pass_lists() {
     std::memcpy(up, stress_list_host_.data(), stress_bytes);
     std::memcpy(up + stress_bytes, force_list_host_.data(), force_bytes);
     std::memcpy(up + stress_bytes + force_bytes, tear_only_host_.data(), tear_bytes);
+    const uint64_t bits_bytes = stage_in_force_bits();
     auto record = [&](Recorder& rec) {
       rec.barrier();  // the passes that read the lists before
       if (stress_bytes > 0) rec.copy(list_upload_, stress_list_, stress_bytes, 0, 0);
       if (force_bytes + tear_bytes > 0)
         rec.copy(list_upload_, force_list_, force_bytes + tear_bytes, stress_bytes, 0);
+      rec.copy(in_force_upload_, in_force_bits_, bits_bytes, 0, 0);
       rec.barrier();
     };
     if (rec_[0]) {
@@ -107,6 +109,20 @@ void GpuSolver::upload_pass_lists() {
   }
   stress_count_ = stress_list_host_.size();
   force_count_ = force_list_host_.size();
+}
+
+// A bit per phyxel, in the force list or not (solver_force_contact's hold outside the list),
+// into its upload buffer: upload_pass_lists copies it with the lists. Returns its bytes.
+uint64_t GpuSolver::stage_in_force_bits() {
+  const uint64_t words = std::max<uint64_t>((uint64_t{count_} + 31) / 32, 8);
+  if (!in_force_bits_ || in_force_bits_.size() < words * 4) {
+    in_force_upload_ = Buffer(*ctx_, words * 4, MemoryIntent::Upload, "in force list bits upload");
+    in_force_bits_ = Buffer(*ctx_, words * 4, MemoryIntent::Device, "in force list bits");
+  }
+  auto* bits = static_cast<uint32_t*>(in_force_upload_.mapped());
+  std::fill(bits, bits + words, 0u);
+  for (const uint32_t i : force_list_host_) bits[i / 32] |= 1u << (i % 32);
+  return words * 4;
 }
 
 void GpuSolver::set_pass_selection(bool enabled) {

@@ -6,9 +6,9 @@
 
 shared vec4 grip_partial[PHYXEL_WORKGROUP_SIZE];
 
-// By a whole workgroup: the tool's grip forces summed in a fixed order (tool_contact_reduce's),
-// subtracted from its sample of the substep, and the held count into the second row's z.
-void grip_reduce(uint tool, uint tools, uint capacity, uint substep) {
+// By a whole workgroup: the tool's grip forces summed in a fixed order (tool_contact_reduce's):
+// their force and the held count (w), returned to every invocation.
+vec4 grip_sum(uint tool, uint capacity) {
   const uint t = gl_LocalInvocationIndex;
   const uint region = tool * capacity;
   vec4 sum = vec4(0.0);
@@ -20,11 +20,21 @@ void grip_reduce(uint tool, uint tools, uint capacity, uint substep) {
     if (t < half_size) grip_partial[t] += grip_partial[t + half_size];
     barrier();
   }
-  if (t == 0u) {
-    const uint row = 2u * (substep * tools + tool);
-    samples[row].xyz -= grip_partial[0].xyz;
-    samples[row + 1u].z = grip_partial[0].w;
-  }
+  return grip_partial[0];
+}
+
+// The grip's sum `g` out of the tool's sample of the substep: its force subtracted, the held
+// count into the second row's z (lane 0).
+void grip_subtract(vec4 g, uint tool, uint tools, uint substep) {
+  if (gl_LocalInvocationIndex != 0u) return;
+  const uint row = 2u * (substep * tools + tool);
+  samples[row].xyz -= g.xyz;
+  samples[row + 1u].z = g.w;
+}
+
+// By a whole workgroup: grip_sum subtracted from the tool's sample of the substep.
+void grip_reduce(uint tool, uint tools, uint capacity, uint substep) {
+  grip_subtract(grip_sum(tool, capacity), tool, tools, substep);
 }
 
 #endif  // PHYXEL_GRIP_REDUCE_GLSL

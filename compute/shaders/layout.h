@@ -314,8 +314,10 @@ struct ForceTearPush {
   uint contact_tools;
   uint contact_stride;  // candidates per row and tool (a multiple of the workgroup)
   uint contact_fuse;    // kForceContact, kForceContactDirtyReset
-  uint pad0;
-  uint pad1;
+  // solver_force_contact: the grasper whose hold follows the contact (kContactNoGrasp: none),
+  // and the grip buffers' entries per tool (ContactPush's grasp and grip_capacity).
+  uint contact_grasp;
+  uint grip_capacity;
 };
 PHYXEL_ASSERT_SIZE(ForceTearPush, 80);
 PHYXEL_CONST uint kForceContact = 1u;
@@ -334,6 +336,21 @@ PHYXEL_CONST uint kForceTearBindingTools = 25;    // ContactToolShape per tool
 PHYXEL_CONST uint kForceTearBindingMotion = 26;   // the motion table
 PHYXEL_CONST uint kForceTearBindingRows = 27;     // vec4 [row][2][tool][contact_stride]
 PHYXEL_CONST uint kForceTearBindingContact = 28;  // the contact flags
+// solver_force_contact: the force pass (kForceBinding*) with the contact, no tear test
+// (ForceTearPush; kForceContactDirtyReset by one invocation), and the grasper's hold.
+PHYXEL_CONST uint kForceContactBindingRest = 15;
+PHYXEL_CONST uint kForceContactBindingSlot = 16;
+PHYXEL_CONST uint kForceContactBindingCount = 17;
+PHYXEL_CONST uint kForceContactBindingTools = 18;
+PHYXEL_CONST uint kForceContactBindingMotion = 19;
+PHYXEL_CONST uint kForceContactBindingRows = 20;
+PHYXEL_CONST uint kForceContactBindingContact = 21;
+PHYXEL_CONST uint kForceContactBindingDirty = 22;      // tool_sever's dirty list
+PHYXEL_CONST uint kForceContactBindingGrip = 23;       // GraspEntry [tool][grip_capacity]
+PHYXEL_CONST uint kForceContactBindingHeld = 24;       // ContactCount per tool: the grips' sizes
+PHYXEL_CONST uint kForceContactBindingGripForce = 25;  // vec4 per grip entry
+PHYXEL_CONST uint kForceContactBindingGripOf = 26;     // uint [tool][phyxel]: its grip entry
+PHYXEL_CONST uint kForceContactBindingInForce = 27;    // a bit per phyxel: in the force list
 
 // solver_reduce: out[g] = sum of in[g * kScanBlock .. + kScanBlock) (vec4), in a fixed order.
 PHYXEL_CONST uint kReduceBindingIn = 0;

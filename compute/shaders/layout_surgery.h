@@ -110,19 +110,21 @@ PHYXEL_CONST uint kContactBindingQuads = 20;  // CutQuad [row][tool] (the blades
 struct ContactReducePush {
   uint rows;  // 0: tool_contact's partials of one substep
   uint tools;
-  uint capacity;  // tool_contact's workgroups: partials per tool (and row)
-  uint substep;   // of the advance: the row of the samples (the first, rows > 0)
-  uint sums;      // rows > 0: 0 the rows' partials, 1 the samples from them
-  uint grasp;     // rows 0: the grasper whose grip's forces leave its sample, or kContactNoGrasp
+  uint capacity;       // tool_contact's workgroups: partials per tool (and row)
+  uint substep;        // of the advance: the row of the samples (the first, rows > 0)
+  uint sums;           // rows > 0: 0 the rows' partials, 1 the samples from them
+  uint grasp;          // the grasper whose grip forces (rows: grip rows) leave its sample, or
+                       // kContactNoGrasp
   uint grip_capacity;  // entries per tool of the grip buffers (ContactPush.grip_capacity)
 };
 PHYXEL_ASSERT_SIZE(ContactReducePush, 28);
+PHYXEL_CONST uint kContactReduceGripRow = 2u;  // sums with rows 0: a grip row (the grasp's)
 PHYXEL_CONST uint kContactReduceBindingForce = 0;
 PHYXEL_CONST uint kContactReduceBindingSamples = 1;
 PHYXEL_CONST uint kContactReduceBindingCount = 2;
-PHYXEL_CONST uint kContactReduceBindingList = 3;      // candidate phyxels (rows > 0)
-PHYXEL_CONST uint kContactReduceBindingFlags = 4;     // (rows > 0)
-PHYXEL_CONST uint kContactReduceBindingPartials = 5;  // written with rows > 0, sums 0
+PHYXEL_CONST uint kContactReduceBindingList = 3;       // candidate phyxels (rows > 0)
+PHYXEL_CONST uint kContactReduceBindingFlags = 4;      // (rows > 0)
+PHYXEL_CONST uint kContactReduceBindingPartials = 5;   // written with rows > 0, sums 0
 PHYXEL_CONST uint kContactReduceBindingHeld = 6;       // the grip's count per tool (grasp)
 PHYXEL_CONST uint kContactReduceBindingGripForce = 7;  // the grip's forces (grasp)
 

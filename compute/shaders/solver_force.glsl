@@ -7,7 +7,8 @@
 // Included by solver_force.comp and, with PHYXEL_FORCE_TEARS defined, by solver_force_tear.comp
 // (the tear test fused after it): there the weights are uint bits the pass may clear, the
 // flags and kappa (local_pos.w) are written by its last workgroup's precompute, and with
-// kForceContact the tool contact follows the drift (force_contact.glsl).
+// kForceContact the tool contact follows the drift (force_contact.glsl); and with
+// PHYXEL_FORCE_CONTACT by solver_force_contact: the contact and the grasper's hold, no tear.
 #ifndef PHYXEL_SOLVER_FORCE_GLSL
 #define PHYXEL_SOLVER_FORCE_GLSL
 
@@ -15,14 +16,18 @@
 
 layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
-#ifdef PHYXEL_FORCE_TEARS
+#if defined(PHYXEL_FORCE_TEARS) || defined(PHYXEL_FORCE_CONTACT)
 layout(push_constant) uniform Push { ForceTearPush p; };
+#endif
+#ifdef PHYXEL_FORCE_TEARS
 #define PHYXEL_FORCE_LOCAL
 #define PHYXEL_FORCE_FLAGS coherent
 #define PHYXEL_PAIR_ACCESS 2
 #define PHYXEL_PAIR_WEIGHT_COHERENT
 #else
+#ifndef PHYXEL_FORCE_CONTACT
 layout(push_constant) uniform Push { StepPush p; };
+#endif
 #define PHYXEL_FORCE_LOCAL readonly
 #define PHYXEL_FORCE_FLAGS readonly
 #define PHYXEL_PAIR_ACCESS 0
@@ -43,7 +48,7 @@ layout(std430, binding = kForceBindingExt) readonly buffer Ext { vec4 ext[]; };
 layout(std430, binding = kForceBindingFlags) PHYXEL_FORCE_FLAGS buffer Flags { uint flags[]; };
 layout(std430, binding = kForceBindingClasses) readonly buffer Classes { SolverClass classes[]; };
 layout(std430, binding = kForceBindingList) readonly buffer List { uint pass_list[]; };
-#ifdef PHYXEL_FORCE_TEARS
+#if defined(PHYXEL_FORCE_TEARS) || defined(PHYXEL_FORCE_CONTACT)
 #include "force_contact.glsl"
 #endif
 
@@ -130,6 +135,11 @@ void force_pass(uint invocation) {
   force[k] = vec4(f, 0.0);
   if (p.mode == kForceOnly) return;
   if (!moves(fl)) {
+#ifdef PHYXEL_FORCE_CONTACT
+    vec3 v_held = vel[k].xyz;  // a fixed phyxel in the list may be held (no contact)
+    if ((p.contact_fuse & kForceContact) != 0u && force_hold(k, fl, e.w, uk, v_held))
+      vel[k] = vec4(v_held, 0.0);
+#endif
     if (p.mode == kForceKickDrift) disp_out[k] = vec4(uk, 0.0);
     return;
   }
@@ -139,8 +149,11 @@ void force_pass(uint invocation) {
   if (p.mode == kForceKickDrift) {
     v = half_kick(v, f, e.w, damping, half_dt);
     vec3 u_next = drift(uk, v, p.dt);
-#ifdef PHYXEL_FORCE_TEARS
+#if defined(PHYXEL_FORCE_TEARS) || defined(PHYXEL_FORCE_CONTACT)
     if ((p.contact_fuse & kForceContact) != 0u) force_contact(k, fl, e.w, u_next, v);
+#endif
+#ifdef PHYXEL_FORCE_CONTACT
+    if ((p.contact_fuse & kForceContact) != 0u) force_hold(k, fl, e.w, u_next, v);
 #endif
     disp_out[k] = vec4(u_next, 0.0);
   }

@@ -5,7 +5,11 @@
 // forces subtracted after (grip_reduce.glsl, as tool_contact's last workgroup). With p.rows > 0, solver_force_tear's per-candidate
 // rows (kForceContact) in two dispatches, all rows at once: p.sums 0, one workgroup per (row,
 // tool, 64 candidates) writes that partial by tool_contact's tree, as tool_contact writes its
-// own; p.sums 1, one workgroup per (row, tool) adds them as tool_contact does. The same bits.
+// own; p.sums 1, one workgroup per (row, tool) adds them as tool_contact does, then with p.grasp
+// a tool, subtracts that grasper's grip row (GripForce: the grip rows, laid out as the samples).
+// The grip rows (p.rows 0, p.sums kContactReduceGripRow, Samples: the grip rows): one workgroup
+// writes the grasper's grip sum of substep p.substep, held by solver_force_contact, before the
+// next force pass overwrites the grip's forces. The same bits.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -71,6 +75,12 @@ void row_partial(uint row, uint tool, uint k) {
 
 void main() {
   const uint g = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  if (p.rows == 0u && p.sums == kContactReduceGripRow) {
+    if (g != 0u) return;
+    const vec4 sum = grip_sum(p.grasp, p.grip_capacity);
+    if (gl_LocalInvocationIndex == 0u) samples[2u * (p.substep * p.tools + p.grasp)] = sum;
+    return;
+  }
   if (p.rows == 0u) {
     if (g >= p.tools) return;
     write_tool_sample(g, p.tools, p.capacity, p.substep, count.total);
@@ -85,6 +95,7 @@ void main() {
     return;
   }
   if (g >= p.rows * p.tools) return;
-  const uint row = p.substep + g / p.tools;
-  write_partials_sample(partials_base(row), g % p.tools, p.tools, p.capacity, row, count.total);
+  const uint row = p.substep + g / p.tools, tool = g % p.tools;
+  write_partials_sample(partials_base(row), tool, p.tools, p.capacity, row, count.total);
+  if (tool == p.grasp) grip_subtract(grip_force[2u * (row * p.tools + tool)], tool, p.tools, row);
 }

@@ -5,7 +5,9 @@
 #ifndef PHYXEL_TOOL_GRASP_GLSL
 #define PHYXEL_TOOL_GRASP_GLSL
 
+#ifndef PHYXEL_GRIP_HOLD_ONLY  // solver_force_contact holds, tool_contact_reduce sums
 #include "grip_reduce.glsl"
+#endif
 
 const vec3 kToolFrameAxis = vec3(0.0, 0.0, 1.0);
 

@@ -467,5 +467,22 @@ TEST_F(GpuSolverTest, SamplesSummedBesideTheSeverGiveTheBitsOfTheLastWorkgroup) 
   expect_the_same_bits(ctx(), cut_and_pull(0.0), last, "apart");
 }
 
+// The contact and the jaws' hold inside the force pass (GpuSolverOptions::contact_in_force
+// without tearing: solver_force_contact, the grip rows; tool_contact on the substep the jaws
+// close) against tool_contact after it: the same bits, while a blade without a threshold cuts
+// the beam and the jaws pull its free end.
+TEST_F(GpuSolverTest, ContactAndHoldInTheForcePassGiveToolContactsBits) {
+  const Scene scene = cut_and_pull(0.0);
+  GpuSolver gpu(ctx(), sample_scene(scene), scene.simulation.gravity);
+  run(gpu, scene, 48);
+  bool fused = false;
+  for (const PassTime& t : gpu.profile(2, scene.simulation.dt))
+    fused = fused || t.name == "force+contact";
+  EXPECT_TRUE(fused) << "the contact was not in the force pass";
+  GpuSolverOptions after;
+  after.contact_in_force = false;
+  expect_the_same_bits(ctx(), scene, after, "in force");
+}
+
 }  // namespace
 }  // namespace phyxel::gpu::test

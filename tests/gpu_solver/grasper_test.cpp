@@ -123,5 +123,34 @@ TEST_F(GpuSolverTest, GrasperHoldInsideContactGivesTheBitsOfItsOwnPass) {
   }
 }
 
+// The contact and hold inside the force pass (contact_in_force, solver_force_contact: each
+// listed phyxel's hold after its drift, the sleeping bar's held phyxels outside the list, the
+// grip's sums beside the next pass) against tool_contact's: the same bits, while the held
+// phyxels are candidates, removed, or asleep.
+TEST_F(GpuSolverTest, GrasperHoldInsideTheForcePassGivesTheBitsOfToolContact) {
+  const Scene scene = parse_scene(bar_and_far_box_json(), "bar.json");
+  const PhyxelSet set = sample_scene(scene);
+  GpuSolverOptions after;
+  after.contact_in_force = false;
+  GpuSolver fused(ctx(), set, Vec3::Zero());
+  GpuSolver contact(ctx(), set, Vec3::Zero(), after);
+  const GripRun f = grip(fused, scene, set, true);
+  const GripRun c = grip(contact, scene, set, true);
+  ASSERT_EQ(f.held.size(), c.held.size());
+  ASSERT_GT(f.held.size(), 8u);
+  EXPECT_FALSE(f.held[6].empty()) << "nothing held while the bar slept";
+  for (size_t k = 0; k < f.held.size(); ++k) {
+    SCOPED_TRACE("chunk " + std::to_string(k));
+    EXPECT_EQ(f.held[k], c.held[k]);
+    EXPECT_EQ(f.u[k], c.u[k]);
+  }
+  ASSERT_EQ(f.samples.size(), c.samples.size());
+  for (size_t k = 0; k < f.samples.size(); ++k) {
+    EXPECT_EQ(f.samples[k].force, c.samples[k].force) << k;
+    EXPECT_EQ(f.samples[k].contacts, c.samples[k].contacts) << k;
+    EXPECT_EQ(f.samples[k].held, c.samples[k].held) << k;
+  }
+}
+
 }  // namespace
 }  // namespace phyxel::gpu::test
