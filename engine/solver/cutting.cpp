@@ -167,7 +167,8 @@ uint32_t side_near_plane(uint32_t side, const EdgeFrame& f, const Vec3& x, doubl
 }
 
 double side_band(double body_radius, double spacing) {
-  return std::max(body_radius, spacing);
+  (void)spacing;
+  return body_radius;
 }
 
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support) {
