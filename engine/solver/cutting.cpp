@@ -167,8 +167,7 @@ uint32_t side_near_plane(uint32_t side, const EdgeFrame& f, const Vec3& x, doubl
 }
 
 double side_band(double body_radius, double spacing) {
-  (void)spacing;
-  return body_radius;
+  return std::max(body_radius, spacing);
 }
 
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support) {
