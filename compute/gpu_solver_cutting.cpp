@@ -121,7 +121,7 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
                   float(held.end_motion)};
       const Vec3 end = m.to.position + blade.length * m.to.axis;
       q.p0 = to_vec4(quad.corner[0] - origin, float(radius));
-      q.p1 = to_vec4(quad.corner[1] - origin);
+      q.p1 = to_vec4(quad.corner[1] - origin, float(side_band(radius, contact_spacing_)));
       q.p2 = to_vec4(quad.corner[2] - origin, float((end - quad.corner[2]).dot(quad.edge)));
       q.p3 =
           to_vec4(quad.corner[3] - origin, float((m.to.position - quad.corner[3]).dot(quad.edge)));

@@ -11,6 +11,7 @@ struct EdgeFrame {
   vec3 normal;
   float span;  // the blade's length
   float front;  // the body's radius
+  float side_band;  // how far across its plane a kept side holds (side_band of cutting.cpp)
   float depth;
   float stiffness;
   float tip_motion;
@@ -25,6 +26,7 @@ EdgeFrame edge_frame(CutQuad c) {
   f.normal = normalize(cross(f.axis, f.edge));
   f.span = c.axis.w;
   f.front = c.p0.w;
+  f.side_band = c.p1.w;
   f.depth = c.resist.y;
   f.stiffness = c.resist.x;
   f.tip_motion = c.resist.z;
@@ -100,6 +102,15 @@ uint side_entry(uint pass, uint start, uint after) {
 uint side_after(uint start, uint cut) {
   if (start != kSideNone) return start;
   return cut == kSidePlus || cut == kSideMinus ? cut : kSideNone;
+}
+
+// The kept side that holds for a phyxel at x (side_near_plane of cutting.cpp): none where it
+// lies on the blade plane's other side farther than its band (a stale side).
+uint side_near_plane(uint side, EdgeFrame f, vec3 x) {
+  const float n = dot(f.normal, x - f.tip);
+  if ((side == kSidePlus && n < -f.side_band) || (side == kSideMinus && n > f.side_band))
+    return kSideNone;
+  return side;
 }
 
 uint side_from(vec3 n, vec3 xi, vec3 xj) {

@@ -285,8 +285,9 @@ PHYXEL_CONST uint kGraspBindingGripOf = 13;
 // origin, row-major [row][tool]; rows are the chunk's substeps then one for holding the last
 // pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
 // resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
-// radius p0.w): the axis at the end pose (w: the blade's length, m) and (stiffness N/m^3, 0 where
-// nothing is held; depth m; the tip's and the end's motion along the edge, m).
+// radius p0.w, the kept sides' band p1.w: engine side_band): the axis at the end pose (w: the
+// blade's length, m) and (stiffness N/m^3, 0 where nothing is held; depth m; the tip's and the
+// end's motion along the edge, m).
 struct CutQuad {
   vec4 p0;
   vec4 p1;

@@ -57,7 +57,7 @@ float plane_crossings(uint i, vec3 n) {
 
 vec3 held_pairs_force(uint i, EdgeFrame f, uint tool) {
   const vec3 xi = position(i);
-  const uint side_i = side_at_start(sides[tool * p.phyxels + i], p.pass);
+  const uint side_i = side_near_plane(side_at_start(sides[tool * p.phyxels + i], p.pass), f, xi);
   vec3 total = vec3(0.0);
   float s_i = -1.0;
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
@@ -69,7 +69,9 @@ vec3 held_pairs_force(uint i, EdgeFrame f, uint tool) {
     float direction;
     if (!(i < j ? edge_pushes(xi, xj, f, t, behind, direction)
                 : edge_pushes(xj, xi, f, t, behind, direction)) ||
-        !sides_allow(side_i, side_at_start(sides[tool * p.phyxels + j], p.pass), f.normal, xi, xj))
+        !sides_allow(side_i,
+                     side_near_plane(side_at_start(sides[tool * p.phyxels + j], p.pass), f, xj),
+                     f.normal, xi, xj))
       continue;
     if (s_i < 0.0) s_i = plane_crossings(i, f.normal);
     const float s_j = plane_crossings(j, f.normal);

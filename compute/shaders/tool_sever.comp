@@ -227,8 +227,9 @@ bool any_tool_severs() {
   return false;
 }
 
-uint side_of(uint tool, uint x) {
-  return side_at_start(sides[tool * p.phyxels + x], p.pass);
+// Phyxel x's (at position at) kept side for the tool, lapsed where stale (side_near_plane).
+uint side_of(uint tool, CutQuad quad, uint x, vec3 at) {
+  return side_near_plane(side_at_start(sides[tool * p.phyxels + x], p.pass), edge_frame(quad), at);
 }
 
 // Whether the tool's blade severs pair (i, j) at t: it may (its ball), it crosses the pair and,
@@ -241,7 +242,7 @@ bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out 
       i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
   if (!crosses || !kSeverSided || !(quad.edge.w > 0.0)) return crosses;
   const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
-  return sides_allow(side_of(tool, i), side_of(tool, j), normal, xi, xj);
+  return sides_allow(side_of(tool, quad, i, xi), side_of(tool, quad, j, xj), normal, xi, xj);
 }
 
 // Whether a tool before this one severs the pair in this substep (the CPU's tool by tool).
@@ -307,7 +308,7 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
     const CutQuad quad = quads[p.row * p.tools + tool];
     if (quad.edge.w < 0.0) continue;  // no blade
     const bool sided = quad.edge.w > 0.0;
-    const uint side_i = sided ? side_of(tool, i) : kSideNone;
+    const uint side_i = sided ? side_of(tool, quad, i, xi) : kSideNone;
     uint cut_to = kSideNone;
     if (severing && tool_severs(quad, blade_cuts(tool, quad)))
       for (uint k = offset[i] + lane; k < end; k += lanes)

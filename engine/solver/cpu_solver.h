@@ -176,7 +176,8 @@ class CpuSolver {
   void apply_edge_resistance(Real dt, std::vector<ToolContactSample>& felt);
   EdgeFrame substep_edge(size_t tool) const;  // this substep's (stiffness 0: holds nothing)
   // On phyxel i; `sides`: the blade's side entries (cutting.h, side_entry).
-  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge, const uint32_t* sides) const;
+  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge, const uint32_t* sides,
+                        double band) const;
   void cut_with_blade(size_t tool, std::vector<uint32_t>& touched);  // apply_cuts, one blade
   // Per tool, this substep's blade plane normal where it keeps sides (else zero); phyxel i's
   // side of it for the contact (contact_correction's keep).

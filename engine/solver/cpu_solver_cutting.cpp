@@ -61,6 +61,7 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   const size_t nt = tools_.size();
   const bool cuts = cut_force(samples_[samples_.size() - nt + tool].force, quad) >= blade.threshold;
   const double body = blade_body_radius(tools_[tool]);
+  const double band = side_band(body, contact_spacing_);  // where a kept side still holds
   const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
   // Below the threshold a blade whose edge holds pairs still severs those it carries past
   // its reach (edge_passes); threshold 0 always cuts and holds nothing.
@@ -81,9 +82,10 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
     return resists && edge_passes(p, q, edge, t);
   };
   for (const uint32_t i : candidates_) {
-    const uint32_t side_i = sided ? side_at_start(sides[i], cut_pass_) : kSideNone;
-    uint32_t cut_to = kSideNone;  // the sides of i's pairs this blade crosses (severed or not)
     const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
+    const uint32_t side_i =
+        sided ? side_near_plane(side_at_start(sides[i], cut_pass_), edge, xi, band) : kSideNone;
+    uint32_t cut_to = kSideNone;  // the sides of i's pairs this blade crosses (severed or not)
     for (uint32_t k = nbr_.offset[i]; (cuts || resists) && k < nbr_.offset[i + 1]; ++k) {
       if (!sided && w_[k] == Real(0)) continue;  // no side to learn from a severed pair
       const uint32_t j = nbr_.index[k];
@@ -92,7 +94,9 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
       if (!crosses ||
-          (sided && !sides_allow(side_i, side_at_start(sides[j], cut_pass_), edge.normal, xi, xj)))
+          (sided &&
+           !sides_allow(side_i, side_near_plane(side_at_start(sides[j], cut_pass_), edge, xj, band),
+                        edge.normal, xi, xj)))
         continue;
       cut_to |= side_from(edge.normal, xi, xj);
       if (w_[k] == Real(0)) continue;
@@ -147,11 +151,11 @@ double CpuSolver<Real>::plane_crossings(uint32_t i, const Vec3& normal) const {
 }
 
 template <class Real>
-Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge,
-                                       const uint32_t* sides) const {
+Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge, const uint32_t* sides,
+                                       double band) const {
   const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
   const uint32_t pass = cut_pass_ + 1;  // apply_cuts counts this substep after the contacts
-  const uint32_t side_i = side_at_start(sides[i], pass);
+  const uint32_t side_i = side_near_plane(side_at_start(sides[i], pass), edge, xi, band);
   Vec3 total = Vec3::Zero();
   double s_i = -1;
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
@@ -161,7 +165,8 @@ Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge,
     double t = 0, behind = 0, direction = 0;  // in the canonical order, as apply_cuts
     if (!(i < j ? edge_pushes(xi, xj, edge, &t, &behind, &direction)
                 : edge_pushes(xj, xi, edge, &t, &behind, &direction)) ||
-        !sides_allow(side_i, side_at_start(sides[j], pass), edge.normal, xi, xj))
+        !sides_allow(side_i, side_near_plane(side_at_start(sides[j], pass), edge, xj, band),
+                     edge.normal, xi, xj))
       continue;
     if (s_i < 0) s_i = plane_crossings(i, edge.normal);
     const double s_j = plane_crossings(j, edge.normal);
@@ -178,10 +183,11 @@ void CpuSolver<Real>::apply_edge_resistance(Real dt, std::vector<ToolContactSamp
     const EdgeFrame edge = substep_edge(tool);
     if (!(edge.stiffness > 0)) continue;
     const uint32_t* sides = blade_side_.data() + tool * size();
+    const double band = side_band(blade_body_radius(tools_[tool]), contact_spacing_);
     for (const uint32_t i : candidates_) {
       if (flags_[i] & (kFixed | kRemoved)) continue;
       const Vec3 force =
-          bounded_edge_push(held_pairs_force(i, edge, sides), tools_[tool].blade.threshold);
+          bounded_edge_push(held_pairs_force(i, edge, sides, band), tools_[tool].blade.threshold);
       if (force.isZero(0)) continue;
       v_[i] += dt / mass_[i] * force.template cast<Real>();
       felt[tool].force -= force;
@@ -286,8 +292,8 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
   template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                      \
   template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;               \
   template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;               \
-  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, const uint32_t*) \
-      const;                                                                                   \
+  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, const uint32_t*, \
+                                                  double) const;                               \
   template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&); \
   template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                   \
   template void CpuSolver<Real>::sort_severed_from(size_t);                                    \

@@ -160,6 +160,16 @@ bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec
   return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
 }
 
+uint32_t side_near_plane(uint32_t side, const EdgeFrame& f, const Vec3& x, double band) {
+  const double n = f.normal.dot(x - f.tip);
+  if ((side == kSidePlus && n < -band) || (side == kSideMinus && n > band)) return kSideNone;
+  return side;
+}
+
+double side_band(double body_radius, double spacing) {
+  return std::max(body_radius, spacing);
+}
+
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support) {
   bool cuts = false;
   double reach = spacing;

@@ -179,6 +179,17 @@ uint32_t side_from(const Vec3& normal, const Vec3& xi, const Vec3& xj);
 bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec3& xi,
                  const Vec3& xj);
 
+// The kept side that holds for a phyxel at x: a side lapses where the phyxel lies on the other
+// side of the blade's plane (f.normal through f.tip) farther than `band` (side_band). The
+// side was learned where the plane lay elsewhere: a blade turned about a point of its own keeps
+// the phyxels near it candidates all the turn, and a side learned at the turn's start is the
+// wrong one half a turn on (docs/cutting.md, "Stale sides at the cone's apex").
+uint32_t side_near_plane(uint32_t side, const EdgeFrame& f, const Vec3& x, double band);
+// That band: a lattice spacing (where the next row of phyxels lies), at least the body's radius.
+// The body's radius alone let phyxels on the plane of scalpel_cut's block drift past it and be
+// cut from both sides (BladeSide.ACutAlongALatticePlaneAboveItsThresholdFreesNoPhyxel).
+double side_band(double body_radius, double spacing);
+
 // A phyxel's kept side for one blade (checkpoints, tests): kSidePlus or kSideMinus.
 struct BladeSide {
   uint32_t phyxel = 0;

@@ -4,7 +4,9 @@
 // freed 109).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "engine/solver/contact.h"
@@ -132,6 +134,64 @@ TEST(BladeSide, AtThresholdZeroNoSideIsKept) {
   const PlaneCut cut = cut_along_lattice_plane(0.0);
   EXPECT_GT(cut.severed, 150u);
   EXPECT_EQ(cut.kept_sides, 0u);
+}
+
+// A blade that keeps sides, moved along +x through the same block with its plane tilted (normal
+// (0, 1, 1) / sqrt 2, through y + z = 4.5 mm), where the phyxels of the lattice's row y + z = 8 mm
+// near its start are kept on the plane's -n side: a side learned where the blade's plane lay
+// elsewhere (breast_resection's cone turns about its apex, whose phyxels stay candidates all the
+// turn; docs/cutting.md, "Stale sides at the cone's apex"). They lie 2.47 mm on +n, beyond a
+// spacing, so their sides have lapsed and the blade severs their pairs to the row y + z = 4 mm
+// (on -n) as it does without those sides. The pairs severed, sorted.
+std::vector<std::pair<uint32_t, uint32_t>> cut_beside_stale_sides(bool stale_sides) {
+  Scene scene = test::box_scene(Vec3(-0.012, -0.006, 0), Vec3(0.012, 0.006, 0.010), 0.002,
+                                test::tissue(5000, 0.45, 20));
+  scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.0015)));
+  scene.simulation.dt = 2.4e-4;
+  ToolDesc blade = test::crossing_scalpel(0, 0.004, 0.02, 0.0, 0.16, 0.02);
+  blade.shape.radius = 0.0004;
+  const Vec3 axis = Vec3(0, -1, 1).normalized();
+  blade.path = {{0.0, Vec3(-0.016, 0.003, 0.0015), axis}, {0.16, Vec3(0.006, 0.003, 0.0015), axis}};
+  blade.blade.edge = Vec3::UnitX();
+  blade.blade.reference_axis = axis;
+  scene.tools.push_back(blade);
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  test::ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
+  if (stale_sides) {
+    std::vector<BladeSide> kept;
+    for (uint32_t i = 0; i < set.size(); ++i)
+      if (std::abs(set.rest[i].y() + set.rest[i].z() - 0.008) < 1e-9 && set.rest[i].x() < -0.009)
+        kept.push_back({i, kSideMinus});
+    EXPECT_GT(kept.size(), 5u);
+    solver.restore_blade_sides(0, kept);
+  }
+  run.run(700);
+  EXPECT_EQ(solver.first_non_finite(), -1);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (const SeveredPair& p : solver.severed_log()) pairs.emplace_back(p.i, p.j);
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+TEST(BladeSide, ASideKeptBeyondASpacingOnTheOtherSideOfTheBladesPlaneHasLapsed) {
+  const std::vector<std::pair<uint32_t, uint32_t>> fresh = cut_beside_stale_sides(false);
+  EXPECT_GT(fresh.size(), 50u);  // the cut went through
+  EXPECT_EQ(cut_beside_stale_sides(true), fresh);
+}
+
+TEST(BladeSide, ASideLapsesOnlyBeyondItsBandOnTheOtherSide) {
+  EdgeFrame f;
+  f.tip = Vec3(0, 0.001, 0);
+  f.normal = Vec3::UnitY();
+  const double band = side_band(0.0004, 0.002);
+  EXPECT_EQ(band, 0.002);
+  EXPECT_EQ(side_band(0.0006, 0.0004), 0.0006);
+  EXPECT_EQ(side_near_plane(kSidePlus, f, Vec3(0, -0.0009, 0), band), kSidePlus);  // 1.9 mm
+  EXPECT_EQ(side_near_plane(kSidePlus, f, Vec3(0, -0.0011, 0), band), kSideNone);  // 2.1 mm
+  EXPECT_EQ(side_near_plane(kSideMinus, f, Vec3(0, -0.0011, 0), band), kSideMinus);
+  EXPECT_EQ(side_near_plane(kSideMinus, f, Vec3(0, 0.0031, 0), band), kSideNone);
+  EXPECT_EQ(side_near_plane(kSideNone, f, Vec3(0, 0.0031, 0), band), kSideNone);
 }
 
 }  // namespace
