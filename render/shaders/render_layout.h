@@ -139,7 +139,9 @@ PHYXEL_CONST uint kToolHitFlag = 0x80000000u;
 PHYXEL_CONST float kAccumScale = 65536.0;
 #ifndef __cplusplus
 // The int index of channel c of pixel i in an eye's range of `plane` pixels per channel.
-uint accum_index(uint c, uint plane, uint i) { return (c >> 1) * 2 * plane + 2 * i + (c & 1); }
+uint accum_index(uint c, uint plane, uint i) {
+  return (c >> 1) * 2 * plane + 2 * i + (c & 1);
+}
 #endif
 // The depth buffer's clear value: the bits of 1.0f (the far plane in linear depth).
 PHYXEL_CONST uint kDepthClear = 0x3f800000u;
