@@ -39,8 +39,7 @@ namespace {
 // Fuzzing found undefined behaviour in tinyobjloader's reading of `vw` lines (a weight's
 // joint id converted to int unchecked) and of numbers whose exponent has 10 digits (an int
 // overflow); the first never reaches it now, the second is refused here with the line.
-std::string geometry_statements(const std::filesystem::path& path, std::istream& in) {
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+std::string geometry_statements(const std::filesystem::path& path, const std::string& text) {
   std::string out;
   out.reserve(text.size());
   size_t line_number = 0;
@@ -212,15 +211,21 @@ TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale) {
   check_scale(path, scale);
   std::error_code ec;
   std::ifstream in;
-  if (std::filesystem::is_regular_file(path, ec)) in.open(path);
+  if (std::filesystem::is_regular_file(path, ec)) in.open(path, std::ios::binary);
   if (!in.is_open()) throw std::runtime_error("cannot open " + path.string() + ": check the path");
+  return parse_obj_mesh({std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()},
+                        path, scale);
+}
 
+TriangleMesh parse_obj_mesh(const std::string& text, const std::filesystem::path& path,
+                            double scale) {
+  check_scale(path, scale);
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
   std::string warn, err;
   // No material reader: `mtllib` lines are ignored, only the geometry matters here.
-  std::istringstream geometry(geometry_statements(path, in));
+  std::istringstream geometry(geometry_statements(path, text));
   const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &geometry, nullptr,
                                    /*triangulate=*/true, /*default_vcols_fallback=*/false);
   if (!ok || !err.empty()) fail(path, "cannot parse the OBJ file: " + one_line(err));

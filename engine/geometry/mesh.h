@@ -25,6 +25,9 @@ struct TriangleMesh {
 TriangleMesh load_mesh(const std::filesystem::path& path, double scale);
 // The same for one format: OBJ, or "STL" / "PLY" through assimp.
 TriangleMesh load_obj_mesh(const std::filesystem::path& path, double scale);
+// An OBJ file's text already in memory; `path` only names it in messages (nothing is read).
+TriangleMesh parse_obj_mesh(const std::string& text, const std::filesystem::path& path,
+                            double scale);
 TriangleMesh load_assimp_mesh(const std::filesystem::path& path, double scale,
                               const std::string& format);
 
