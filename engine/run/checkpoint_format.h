@@ -125,14 +125,16 @@ class Reader {
   void seek(size_t at) { at_ = at; }
   // n items of `each` bytes (a count read from the file: n * each may overflow).
   void need_items(uint64_t n, uint64_t each) const {
-    if (n > (size_ - at_) / each)
-      throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
+    if (n > (size_ - at_) / each) corrupt("a section runs past its end");
+  }
+  // Refuses the file: "FILE: corrupt checkpoint: WHAT", one line.
+  [[noreturn]] void corrupt(const std::string& what) const {
+    throw CheckpointError(file_ + ": corrupt checkpoint: " + what);
   }
 
  private:
   void need(uint64_t n) const {
-    if (n > size_ - at_)
-      throw CheckpointError(file_ + ": corrupt checkpoint: a section runs past its end");
+    if (n > size_ - at_) corrupt("a section runs past its end");
   }
   const char* data_;
   size_t size_;

@@ -31,8 +31,9 @@ void read_blade_sides(Reader& r, Checkpoint& c) {
       b.phyxel = r.get<uint32_t>();
       b.side = r.get<uint8_t>();
       if (b.side != kSidePlus && b.side != kSideMinus)
-        throw CheckpointError("corrupt checkpoint: blade side " + std::to_string(b.side) +
-                              " for phyxel " + std::to_string(b.phyxel));
+        r.corrupt("blade side " + std::to_string(b.side) + " for phyxel " +
+                  std::to_string(b.phyxel) + " of tool " + std::to_string(t) + " (sides are " +
+                  std::to_string(kSidePlus) + " and " + std::to_string(kSideMinus) + ")");
     }
     c.blade_sides.push_back(std::move(kept));
   }
@@ -181,9 +182,8 @@ void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
     case kTorn: {  // after kCuts
       const std::vector<uint8_t> torn = r.get_array<uint8_t>();
       if (torn.size() != c.severed.size())
-        throw CheckpointError("corrupt checkpoint: " + std::to_string(torn.size()) +
-                              " torn flags for " + std::to_string(c.severed.size()) +
-                              " severed pairs");
+        r.corrupt(std::to_string(torn.size()) + " torn flags for " +
+                  std::to_string(c.severed.size()) + " severed pairs (one flag each)");
       for (size_t k = 0; k < torn.size(); ++k) c.severed[k].torn = torn[k] != 0;
       break;
     }

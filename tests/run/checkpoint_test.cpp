@@ -19,6 +19,7 @@
 
 #include "compute/test_env.h"
 #include "engine/run/checkpoint.h"
+#include "engine/run/checkpoint_format.h"
 #include "engine/run/simulation.h"
 #include "engine/scene/scene.h"
 #include "engine/solver/solver.h"
@@ -477,6 +478,63 @@ TEST(Checkpoint, RoundTripsAndFailedWritesLeaveNoTemporary) {
   }
   EXPECT_FALSE(fs::exists(blocked / "checkpoint.phx.tmp"));
   EXPECT_TRUE(fs::is_directory(blocked / kCheckpointFile));
+}
+
+// The payload offset of section `tag` in checkpoint bytes (docs/checkpoint.md: a 24-byte
+// header, then per section a u32 tag, a u64 length and the payload).
+size_t section_at(const std::string& bytes, uint32_t tag) {
+  uint32_t sections = 0;
+  std::memcpy(&sections, bytes.data() + 12, sizeof sections);
+  size_t at = checkpoint_format::kHeaderBytes;
+  for (uint32_t s = 0; s < sections; ++s) {
+    uint32_t t = 0;
+    uint64_t length = 0;
+    std::memcpy(&t, bytes.data() + at, sizeof t);
+    std::memcpy(&length, bytes.data() + at + 4, sizeof length);
+    if (t == tag) return at + 12;
+    at += 12 + length;
+  }
+  ADD_FAILURE() << "no section " << tag;
+  return 0;
+}
+
+// The surgical sections' checks of what they hold: a bad blade side, a torn-flag count that
+// is not the severed pairs'. Each refusal is one line naming the file and what is wrong.
+TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
+  const fs::path dir = test::test_output_dir("checkpoint_surgery_refused");
+  Checkpoint c;
+  c.solver = c.device = "cpu (double)";
+  c.displacement = c.velocity = {Vec3::Zero(), Vec3::Zero()};
+  c.flags = {0, 0};
+  c.severed = {{0, 1, 0.25f, false}, {0, 1, 0.5f, true}};
+  c.blade_sides = {{{1, kSideMinus}}};
+  const fs::path file = dir / kCheckpointFile;
+  write_checkpoint(file, c);
+  const std::string bytes = read_text(file);
+  const auto refusal = [&](size_t at, char value) {
+    std::string b = bytes;
+    b[at] = value;
+    const uint64_t sum = fnv1a64(b.data(), b.size() - 8);
+    std::memcpy(b.data() + b.size() - 8, &sum, sizeof sum);
+    write_bytes(file, b);
+    try {
+      read_checkpoint(file);
+    } catch (const CheckpointError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(read without an error)");
+  };
+  // The first kept side: after the tool count, the tool's count and the phyxel.
+  const std::string side = refusal(section_at(bytes, checkpoint_format::kBladeSides) + 20, 7);
+  EXPECT_EQ(side.rfind(file.string() + ": corrupt checkpoint: blade side 7 for phyxel 1", 0), 0u)
+      << side;
+  // The torn flags' count (its low byte), one short of the two severed pairs.
+  const std::string torn = refusal(section_at(bytes, checkpoint_format::kTorn), 1);
+  EXPECT_EQ(torn.rfind(file.string() + ": corrupt checkpoint: 1 torn flags for 2 severed", 0), 0u)
+      << torn;
+  for (const std::string& m : {side, torn}) EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  write_bytes(file, bytes);
+  EXPECT_EQ(read_checkpoint(file).blade_sides.at(0).at(0).side, kSideMinus);
 }
 
 TEST(Checkpoint, AnotherSceneIsRefused) {

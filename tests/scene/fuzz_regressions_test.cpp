@@ -106,6 +106,7 @@ TEST(FuzzRegressions, CheckpointsAreReadOrRejectedWithCheckpointError) {
       EXPECT_EQ(c.velocity.size(), c.displacement.size());
     } catch (const CheckpointError& e) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind(file.string() + ": ", 0), 0u) << e.what();
     } catch (const std::exception& e) {
       ADD_FAILURE() << "not a CheckpointError (" << type_of(e) << "): " << e.what();
     }
