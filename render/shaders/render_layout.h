@@ -110,9 +110,10 @@ PHYXEL_CONST uint kRasterSetTexture = 1;     // accumulation only: set 1, bindin
 // same in any order: colour x w (3), w, normal x w (3), the nearest tool's hit (kAccumTool,
 // written by tool_visibility.comp), w of the cut-face discs alone (kAccumCut: the shading
 // pass makes that fraction of the pixel wet), and mirror x w (kAccumMirror: that fraction of
-// the pixel reflects the environment). 2^16 leaves room for sums of 32768 full-weight discs
-// before a 32-bit int overflows (it wraps). Planes of pairs: an eye's range holds
-// kAccumChannels / 2 planes of eye_stride pairs of ints (channel c of pixel i at
+// the pixel reflects the environment). 2^16 leaves room for sums of 65535 full-weight discs
+// (the shading pass reads the sums of values >= 0 unsigned; 32767 for the normal's signed
+// ones) before a 32-bit int wraps (silently: that frame's pixel is wrong). Planes of pairs: an
+// eye's range holds kAccumChannels / 2 planes of eye_stride pairs of ints (channel c of pixel i at
 // accum_index(c, eye_stride, i)), so that neighbouring pixels' atomics of one pair share
 // cache lines and the shading pass reads only w and the tool (one pair) where nothing was
 // drawn. A pair is one 64-bit word, low int first: with 64-bit atomics the accumulation adds

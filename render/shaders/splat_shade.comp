@@ -71,13 +71,15 @@ vec3 shade_tool(vec3 n, vec3 view) {
 }
 
 // Reads the pixel's accumulation (planar, render_layout.h) and zeroes what was not zero: a
-// tool's hit here, every channel where a disc was drawn (w > 0; the others are only added
-// with w). The next frame then finds the buffer clear.
+// tool's hit here, every channel where a disc was drawn (w != 0; the others are only added
+// with w). The next frame then finds the buffer clear. The channels that only add values
+// >= 0 (colour x w, w, cut, mirror) are read unsigned: exact up to 2^32, not 2^31.
 vec3 shade(uint eye, uint x, uint y) {
   const uint plane = p.frame.w;
   const uint base = eye * kAccumChannels * plane, pixel = y * p.frame.x + x;
 #define AT(c) (base + accum_index(c, plane, pixel))
-  const float w = float(accum[AT(kAccumWeight)]);
+#define SUM(c) float(uint(accum[AT(c)]))
+  const float w = SUM(kAccumWeight);
   const uint tool = uint(accum[AT(kAccumTool)]);
   if (tool != 0u) accum[AT(kAccumTool)] = 0;
   const bool has_environment = p.near.z > 0.0;
@@ -99,13 +101,14 @@ vec3 shade(uint eye, uint x, uint y) {
     return environment_colour(normalize(pixel_ray(unshifted, near, vec2(p.frame.xy), vec2(x, y))));
   }
   if (!(w > 0.0)) return shade_tool(unpack_tool_normal(tool), view);
-  const vec3 albedo = vec3(accum[AT(kAccumRed)], accum[AT(kAccumGreen)], accum[AT(kAccumBlue)]) / w;
+  const vec3 albedo = vec3(SUM(kAccumRed), SUM(kAccumGreen), SUM(kAccumBlue)) / w;
   const vec3 sum_n =
       vec3(accum[AT(kAccumNormalX)], accum[AT(kAccumNormalY)], accum[AT(kAccumNormalZ)]);
-  const float cut_w = float(accum[AT(kAccumCut)]);
-  const float mirror_w = float(accum[AT(kAccumMirror)]);
+  const float cut_w = SUM(kAccumCut);
+  const float mirror_w = SUM(kAccumMirror);
   for (uint c = 0; c < kAccumChannels; ++c)
     if (c != kAccumTool) accum[AT(c)] = 0;
+#undef SUM
 #undef AT
   const float len = length(sum_n);
   const vec3 n = len > 0.0 ? sum_n / len : view;

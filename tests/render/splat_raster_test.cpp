@@ -3,7 +3,8 @@
 // of the rasteriser's three paths (a splat's own invocation, the whole workgroup for a large
 // splat, the whole eye for a disc crossing the near plane); an image that does not depend on
 // the order of the surfels; the texture's level of detail; frames too large for the device;
-// the same image from 64-bit atomics on pairs of channels as from 32-bit ones.
+// the same image from 64-bit atomics on pairs of channels as from 32-bit ones; weight sums
+// past a signed int's range.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -34,8 +35,9 @@ struct Disc {
 };
 
 // One phyxel without neighbours (so the deform pass keeps its rest normal and radius) drawn
-// as a disc, radius_scale 1.
-RgbaImage render_disc(gpu::Context& ctx, const Disc& d, const FrameSetup& setup) {
+// as `copies` coincident discs, radius_scale 1, `frames` times by one renderer.
+std::vector<RgbaImage> render_discs(gpu::Context& ctx, const Disc& d, const FrameSetup& setup,
+                                    size_t copies, int frames) {
   PhyxelSet set;
   set.rest = {d.centre};
   set.volume = {1e-9};
@@ -51,13 +53,19 @@ RgbaImage render_disc(gpu::Context& ctx, const Disc& d, const FrameSetup& setup)
   s.normal = {float(n.x()), float(n.y()), float(n.z()), 0};
   s.ds_dx = {0, 0, 0, 0.5f};
   s.dt_dx = {0, 0, 0, 0.5f};
-  table.surfels = {s};
+  table.surfels.assign(copies, s);
   table.bounds.extend(d.centre);
   HostInputs inputs(ctx, set, none);
   RendererOptions options;
   options.radius_scale = 1.0f;
   SplatRenderer renderer(ctx, table, white_texture(), options);
-  return renderer.render(inputs.inputs(), setup);
+  std::vector<RgbaImage> images;
+  for (int f = 0; f < frames; ++f) images.push_back(renderer.render(inputs.inputs(), setup));
+  return images;
+}
+
+RgbaImage render_disc(gpu::Context& ctx, const Disc& d, const FrameSetup& setup) {
+  return render_discs(ctx, d, setup, 1, 1).front();
 }
 
 // +1: the pixel's ray meets the disc between near and far; -1: it misses; 0: too close to the
@@ -228,6 +236,28 @@ TEST_F(SplatRaster, PairedAtomicsDrawTheImageOfThe32BitAdds) {
       covered += !test::is_background(images[0].at(x, y));
   EXPECT_GT(covered, 5000u);
   EXPECT_TRUE(images[0].pixels == images[1].pixels) << "the two paths' frames differ";
+}
+
+// 50 000 coincident discs: at the centre their weights sum to 50 000 x 2^16 in fixed point,
+// past 2^31 (a signed int's wrap) though below 2^32 (render_layout.h). The non-negative sums
+// are read unsigned, so the pixels are the one disc's (to float rounding), and the next frame
+// starts from a clear buffer (a wrapped sum once stayed in it). Normals (1, 1, 1) / sqrt(3):
+// their signed sums stay below 2^31. About a second on lavapipe.
+TEST_F(SplatRaster, WeightSumsPast2To31DrawTheDiscAndLeaveNoResidue) {
+  const Camera cam = test::camera_at(Vec3(0, 0, 0.1), Vec3::Zero(), Vec3::UnitY(), 40);
+  const FrameSetup setup = test::setup_for(cam, 25, 25);  // odd: the centre is a pixel's
+  const double pixel = 2 * 0.1 * std::tan(20 * M_PI / 180) / 25;
+  const Disc d{Vec3::Zero(), Vec3(1, 1, 1), 3 * pixel};
+  const RgbaImage one = render_disc(ctx(), d, setup);
+  const std::vector<RgbaImage> many = render_discs(ctx(), d, setup, 50000, 2);
+  int drawn = 0, worst = 0;
+  for (size_t i = 0; i < one.pixels.size(); ++i) {
+    drawn += i % 4 == 0 && !test::is_background(&one.pixels[i]);
+    worst = std::max(worst, std::abs(int(one.pixels[i]) - int(many[0].pixels[i])));
+  }
+  EXPECT_GT(drawn, 10);
+  EXPECT_LE(worst, 1) << "the 50 000 discs' pixels differ from the one disc's";
+  EXPECT_TRUE(many[1].pixels == many[0].pixels) << "the second frame differs from the first";
 }
 
 TEST_F(SplatRaster, FramesLargerThanTheDeviceBindsAndEmptyTexturesAreRefused) {
