@@ -36,16 +36,26 @@ VideoClipOptions small_clip() {
   return o;
 }
 
+// A file removed when the process exits normally.
+struct ProcessFile {
+  fs::path path;
+  ~ProcessFile() {
+    std::error_code ec;
+    fs::remove(path, ec);
+  }
+};
+
 const fs::path& clip_file() {
-  static const fs::path file = [] {
+  static const ProcessFile file = [] {
     // One file per process: ctest runs this binary's tests in parallel processes, and one
-    // rewriting a shared clip while another decodes it fails the other.
+    // rewriting a shared clip while another decodes it fails the other. Removed at exit, so
+    // runs do not pile them up in the test output.
     const fs::path f =
         test::test_out_dir() / ("video_texture_clip_" + std::to_string(::getpid()) + ".mp4");
     write_pulsing_tissue_clip(f, small_clip());
-    return f;
+    return ProcessFile{f};
   }();
-  return file;
+  return file.path;
 }
 
 double psnr(const RgbaImage& a, const RgbaImage& b) {
