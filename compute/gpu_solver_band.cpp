@@ -97,7 +97,8 @@ void GpuSolver::use_band(const CutBand::Refresh& r) {
   if (!r.joined.empty()) {  // kFlagBand, and their precompute again (no hourglass term)
     std::vector<uint32_t> edits;
     for (const uint32_t i : r.joined) edits.insert(edits.end(), {i, kFlagBand});
-    apply_removal(edits, {}, r.joined);
+    apply_removal(edits, {}, r.joined);  // and the forces
+    return;
   }
   compute_forces();
 }

@@ -3,8 +3,8 @@
 // slot with kRemoved set, and the precompute pass is rerun for the phyxels whose neighbourhood
 // changed (the indexed mode of solver_precompute). The step passes read the stored weights of
 // the phyxels flagged kFlagPairsEdited and recompute everyone else's from x0.
+#include <algorithm>
 #include <cstring>
-#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -38,17 +38,19 @@ void GpuSolver::read_flags_and_weights(std::vector<uint32_t>& flags, std::vector
 
 // Everything of a removal is local to the removed phyxels and their pairs: the host lists the
 // flag bits to set (per touched phyxel) and the pair slots to zero from the CSR it keeps, and
-// one submission applies them (solver_edit), reruns the precompute over the touched phyxels
-// and counts the flags (solver_edit, mode 1). Nothing per phyxel or per pair crosses the bus.
+// one submission applies them (solver_edit), reruns the precompute over the touched phyxels,
+// counts the flags (solver_edit, mode 1) and recomputes the forces (apply_removal), after the
+// pass lists' upload. Nothing per phyxel or per pair crosses the bus.
 void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
   settle();
   if (ids.empty()) return;
   const NeighbourLists& nbr = neighbours_;
-  std::map<uint32_t, uint32_t> bits;  // touched phyxel -> flag bits to set, ascending
+  // (touched phyxel, flag bits to set), sorted and merged below: no node per entry.
+  std::vector<std::pair<uint32_t, uint32_t>> bits;
   std::vector<uint32_t> slots;
   for (uint32_t i : ids) {
     if (i >= count_) throw std::out_of_range("remove_phyxels: no phyxel " + std::to_string(i));
-    bits[i] |= kFlagRemoved | kFlagPairsEdited;
+    bits.emplace_back(i, kFlagRemoved | kFlagPairsEdited);
     phyxel_flags_[i] |= kRemoved;
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
       const uint32_t j = nbr.index[k];
@@ -59,19 +61,26 @@ void GpuSolver::remove_phyxels(const std::vector<uint32_t>& ids) {
         alive_[k] = 0;
         if (back != NeighbourLists::kNoSlot) alive_[back] = 0;
       }
-      bits[j] |= kFlagPairsEdited;
+      bits.emplace_back(j, kFlagPairsEdited);
     }
   }
-  std::vector<uint32_t> edits, touched;  // edits: (phyxel, bits) pairs
+  std::sort(bits.begin(), bits.end());
+  std::vector<uint32_t> edits, touched;  // edits: (phyxel, bits) pairs, ascending
   for (const auto& [phyxel, set] : bits) {
+    if (!touched.empty() && touched.back() == phyxel) {
+      edits.back() |= set;
+      continue;
+    }
     edits.insert(edits.end(), {phyxel, set});
     touched.push_back(phyxel);
   }
+  remove_from_pass_lists(ids);  // removed phyxels leave every pass; recorded into rec_[0]
   apply_removal(edits, slots, touched);
-  remove_from_pass_lists(ids);  // removed phyxels leave every pass
-  compute_forces();
 }
 
+// Records the edits, the precompute and the flag counts into rec_[0] after what is recorded
+// there (the pass lists' upload), then the forces (compute_forces submits them all at once: one
+// wait per removal, not two), and takes the counts.
 void GpuSolver::apply_removal(const std::vector<uint32_t>& edits,
                               const std::vector<uint32_t>& slots,
                               const std::vector<uint32_t>& touched) {
@@ -98,7 +107,8 @@ void GpuSolver::apply_removal(const std::vector<uint32_t>& edits,
   record_precompute(rec, PrecomputePush{n, 1, 0, 0}, removal_list_, n);
   rec.barrier();
   dispatch(rec, kernels_->edit, EditPush{count_, 0u, 1u, 0u}, bindings, count_);
-  rec.submit_and_wait();
+  rec.barrier();  // compute_forces() records into the same command buffer
+  compute_forces();
   removal_counts_.invalidate();
   uint32_t counts[2];
   std::memcpy(counts, removal_counts_.mapped(), sizeof counts);

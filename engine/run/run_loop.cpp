@@ -393,9 +393,10 @@ bool RunLoop::aspirates_at(int64_t next) const {
 // at the end of each tool chunk.
 void RunLoop::surgery_events(int64_t next, const std::vector<ToolStepRecord>& records) {
   tool_rows(next, records);
+  // The events' rest-space fields only for a listener (map_fracture_to_rest: outcomes alike).
   if (aspirates_at(next))
-    for (const AspirationEvent& e :
-         aspirator_.after_advance(solver_, tools_.poses(), double(next) * step_time_))
+    for (const AspirationEvent& e : aspirator_.after_advance(
+             solver_, tools_.poses(), double(next) * step_time_, bool(options_.on_aspiration)))
       if (options_.on_aspiration) options_.on_aspiration(e);
   lap(result_.split.callbacks);
 }

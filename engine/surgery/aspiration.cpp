@@ -160,8 +160,9 @@ Aspirator::Aspirator(const Scene& scene, const PhyxelSet& set)
   }
 }
 
-void Aspirator::account(const AspirationEvent& e) {
+void Aspirator::account(const AspirationEvent& e, const NeighbourLists& nbr) {
   for (const uint32_t i : e.removed) {
+    if (counted_ && !removed_[i]) count_removed(i, nbr);
     removed_[i] = 1;
     totals_.removed_mass[set_->material[i]] += set_->mass[i];
     totals_.removed_volume[set_->material[i]] += set_->volume[i];
@@ -178,9 +179,50 @@ void Aspirator::add_torn(const SeveredPair& p) {
   torn_.partners[p.j].push_back(p.i);
 }
 
+// The live and intact counts once (O(pairs)), then per severed pair and removed phyxel: a
+// refresh is O(near) with no look-up in severed_. Rows are symmetric (find_rest_neighbours:
+// one support radius per object), so the phyxels that have r as a neighbour are r's own.
+void Aspirator::build_counts(const NeighbourLists& nbr) {
+  count_stale_ = false;
+  counted_ = false;
+  const size_t n = removed_.size();
+  if (nbr.offset.size() != n + 1) return;
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t s = nbr.offset[i]; s < nbr.offset[i + 1]; ++s)
+      if (nbr.slot(nbr.index[s], i) == NeighbourLists::kNoSlot) return;  // not symmetric
+  live_.assign(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    for (uint32_t s = nbr.offset[i]; s < nbr.offset[i + 1]; ++s)
+      live_[i] += !removed_[nbr.index[s]];
+  intact_ = live_;
+  counted_ = true;
+  for (const uint64_t key : severed_) count_severed(uint32_t(key >> 32), uint32_t(key), nbr);
+}
+
+// The pair (i, j) was just severed.
+void Aspirator::count_severed(uint32_t i, uint32_t j, const NeighbourLists& nbr) {
+  if (nbr.slot(i, j) == NeighbourLists::kNoSlot) return;
+  intact_[i] -= !removed_[j];
+  intact_[j] -= !removed_[i];
+}
+
+// r is about to be removed.
+void Aspirator::count_removed(uint32_t r, const NeighbourLists& nbr) {
+  for (uint32_t s = nbr.offset[r]; s < nbr.offset[r + 1]; ++s) {
+    const uint32_t j = nbr.index[s];
+    --live_[j];
+    intact_[j] -= !severed_.count(pair_key(j, r));
+  }
+}
+
 void Aspirator::refresh_loose(const MouthPhyxels& near, const NeighbourLists& nbr) {
+  if (count_stale_) build_counts(nbr);
   for (const uint32_t i : near.ids) {
     if (torn_.partners[i].empty() || removed_[i]) continue;
+    if (counted_) {
+      torn_.loose[i] = 2 * intact_[i] < live_[i];
+      continue;
+    }
     int live = 0, intact = 0;
     for (uint32_t s = nbr.offset[i]; s < nbr.offset[i + 1]; ++s) {
       const uint32_t j = nbr.index[s];
@@ -199,7 +241,8 @@ void Aspirator::read_severed(Solver& solver) {
   for (const SeveredPair& p : cut->severed_since(log_cursor_)) {
     surface_[p.i] = surface_[p.j] = 1;
     if (p.torn) add_torn(p);
-    severed_.insert(pair_key(p.i, p.j));
+    if (severed_.insert(pair_key(p.i, p.j)).second && counted_)
+      count_severed(p.i, p.j, solver.neighbours());
   }
   log_cursor_ = cut->severed_pairs();
 }
@@ -261,8 +304,8 @@ void Aspirator::before_advance(Solver& solver, const std::vector<ToolPose>& pose
 }
 
 std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
-                                                      const std::vector<ToolPose>& poses,
-                                                      double t) {
+                                                      const std::vector<ToolPose>& poses, double t,
+                                                      bool rest_space) {
   std::vector<AspirationEvent> events;
   if (!active_) return events;
   read_severed(solver);
@@ -279,13 +322,15 @@ std::vector<AspirationEvent> Aspirator::after_advance(Solver& solver,
                                         scene_->tools[k].suction.reach, shell_);
     lap(times_.sphere, mark);
     if (e.removed.empty()) continue;
-    read_event_displacements(solver, e);
-    map_fracture_to_rest(e, *set_, solver.neighbours(), u_, removed_, severed_);
+    if (rest_space) {
+      read_event_displacements(solver, e);
+      map_fracture_to_rest(e, *set_, solver.neighbours(), u_, removed_, severed_);
+    }
     lap(times_.rest_map, mark);
     e.tool = k;
     e.time = t;
     need(solver.removal(), solver, "remove phyxels").remove_phyxels(e.removed);
-    account(e);
+    account(e, solver.neighbours());
     lap(times_.removal, mark);
     events.push_back(std::move(e));
   }
@@ -317,6 +362,7 @@ void Aspirator::restore(const AspiratorState& s, Solver& solver,
     if (i >= removed_.size() || removed_[i])
       throw std::invalid_argument("its aspirated phyxels do not fit this scene");
   for (const uint32_t i : s.removed) removed_[i] = 1;
+  count_stale_ = true;  // counted again from this state at the next refresh
   surface_ = s.surface;
   for (size_t k = 0; k < s.log_cursor; ++k) {
     const SeveredPair& p = severed[k];

@@ -148,8 +148,10 @@ class Aspirator {
   bool active() const { return active_; }
   // After an advance that ended at time t with the tools at `poses` (one per scene tool): the
   // aspiration of every suction tool on at t, applied to `solver` (Solver::remove_phyxels).
+  // rest_space: map each event to rest space (map_fracture_to_rest, its displacements read);
+  // off where no one looks at the events' rest-space fields (they stay in current positions).
   std::vector<AspirationEvent> after_advance(Solver& solver, const std::vector<ToolPose>& poses,
-                                             double t);
+                                             double t, bool rest_space = true);
   // Before the advance that ends at time t with the tools at `poses`, where after_advance
   // follows it: the solver may read the mouths' phyxels within that advance
   // (Solver::prefetch_near). Changes no outcome.
@@ -164,10 +166,15 @@ class Aspirator {
                const std::vector<SeveredPair>& severed);
 
  private:
-  void account(const AspirationEvent& e);
+  void account(const AspirationEvent& e, const NeighbourLists& nbr);
   void add_torn(const SeveredPair& p);
   // torn_.loose at the torn phyxels of `near`, from the rest lists, removed_ and severed_.
   void refresh_loose(const MouthPhyxels& near, const NeighbourLists& nbr);
+  // The counts behind it (live_, intact_), kept as pairs are severed and phyxels removed; built
+  // at the first refresh (from the state then) where the rest lists are symmetric.
+  void build_counts(const NeighbourLists& nbr);
+  void count_severed(uint32_t i, uint32_t j, const NeighbourLists& nbr);
+  void count_removed(uint32_t r, const NeighbourLists& nbr);
   void read_severed(Solver& solver);
   Bounds mouth_box(const std::vector<ToolPose>& poses, double t, std::vector<size_t>& on) const;
   // The phyxels in `box` (Solver::read_near), u_ set at them.
@@ -186,6 +193,10 @@ class Aspirator {
   std::vector<Vec3> u_;
   size_t log_cursor_ = 0;  // of the solver's severed log
   SeveredKeys severed_;    // the log's pairs
+  // Per phyxel, of its rest neighbours: those not removed (live_), and of those the pairs not
+  // severed (intact_). Valid while counted_.
+  std::vector<uint32_t> live_, intact_;
+  bool counted_ = false, count_stale_ = true;
   AspirationTotals totals_;
   AspirationTimes times_;
 };

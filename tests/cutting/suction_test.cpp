@@ -199,7 +199,8 @@ TEST(Suction, FragmentsAreDrawnInNoFasterThanTheFlow) {
 TEST(Suction, FramesAndOutputsChangeNothingThatIsAspirated) {
   const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
   const PhyxelSet set = sample_scene(scene);
-  auto run = [&](int64_t frame_every) {
+  // listen: an on_aspiration callback (without one, no event is mapped to rest space).
+  auto run = [&](int64_t frame_every, bool listen = true) {
     const std::unique_ptr<Solver> solver = make_cpu_solver(set, Vec3::Zero(), 1);
     RunOptions options;
     options.steps = 300;
@@ -209,15 +210,22 @@ TEST(Suction, FramesAndOutputsChangeNothingThatIsAspirated) {
       options.on_frame = [&](int64_t, Solver&) { ++frames; };
     }
     std::vector<uint32_t> removed;
-    options.on_aspiration = [&](const AspirationEvent& e) {
-      removed.insert(removed.end(), e.removed.begin(), e.removed.end());
-    };
+    if (listen)
+      options.on_aspiration = [&](const AspirationEvent& e) {
+        removed.insert(removed.end(), e.removed.begin(), e.removed.end());
+      };
     const RunResult r = run_simulation(scene, set, *solver, options);
     EXPECT_EQ(frames > 0, frame_every > 0);
     return std::make_tuple(r.aspiration.events, removed, solver->read_state(false).displacement);
   };
   const auto [events, removed, u] = run(0);
   ASSERT_GE(events, 2);
+  {
+    SCOPED_TRACE("no listener");
+    const auto [e, r, v] = run(0, false);
+    EXPECT_EQ(e, events);
+    EXPECT_EQ(v, u);
+  }
   for (const int64_t every : {7, 45}) {  // neither divides the tool chunk nor is a multiple
     SCOPED_TRACE(every);
     const auto [e, r, v] = run(every);
