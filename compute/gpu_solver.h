@@ -129,9 +129,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // An advance's first submission: the GPU starts after recording this many substeps, not the
   // whole advance (a tool chunk of 64 substeps cost the brain about 18 us of idle GPU per
   // substep while its host recorded; docs/performance-log.md, "Recording off the critical
-  // path"; 2, not 8: "The first submission of 2 substeps"). Each later one holds half the
-  // substeps recorded so far, up to kStepsPerSubmit.
-  static constexpr int64_t kFirstSubmitSteps = 2;
+  // path"). Each later one holds half the substeps recorded so far, up to kStepsPerSubmit.
+  static constexpr int64_t kFirstSubmitSteps = 8;
   // Substeps of the submission after `done` substeps of an advance.
   static int64_t submit_steps(int64_t done) {
     return std::min(kStepsPerSubmit, std::max(kFirstSubmitSteps, done / 2));

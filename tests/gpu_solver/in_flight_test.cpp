@@ -24,7 +24,7 @@ Readings advance_and_read(GpuSolver& gpu, const PhyxelSet& set, double dt, bool 
     r.in_flight.push_back(gpu.advance_in_flight());
     if (finish) gpu.finish();
   };
-  step(2 * GpuSolver::kStepsPerSubmit + 44);  // 15 submissions: two in flight at a time
+  step(2 * GpuSolver::kStepsPerSubmit + 44);  // three submissions: two in flight at a time
   step(30);  // advances back to back: each waits for the last one's submission
   step(20);
   const Energies e = gpu.energies();

@@ -99,7 +99,7 @@ TEST_F(GpuSolverTest, RunsAreBitIdenticalHoweverTheStepsAreSplit) {
     for (int64_t n : chunks) gpu.advance(n, dt);
     return gpu.read_state(false);
   };
-  // 300 steps in one advance (13 submissions of 2 to 89 steps), again, and in three uneven parts
+  // 300 steps in one advance (ten submissions of 8 to 90 steps), again, and in three uneven parts
   // (the step passes fuse a step's closing kick with the next step's opening kick and drift
   // only inside one advance).
   const PointState a = run({300});
