@@ -48,8 +48,9 @@ void GpuSolver::prepare_cutting() {
   if (alive_.empty()) alive_.assign(pairs_, 1);
 }
 
+// The side entries [tool][phyxel], then the normals they were learned on (blade_edge.glsl).
 void GpuSolver::prepare_blade_sides() {
-  const uint64_t entries = std::max<uint64_t>(1, uint64_t{count_} * tools_.size());
+  const uint64_t entries = std::max<uint64_t>(1, 2 * uint64_t{count_} * tools_.size());
   cut_sides_ =
       Buffer(*ctx_, entries * sizeof(uint32_t), MemoryIntent::Device, "blade side entries");
   upload(*ctx_, cut_sides_, std::vector<uint32_t>(entries, 0u));
@@ -65,13 +66,14 @@ std::vector<std::vector<BladeSide>> GpuSolver::blade_sides() {
   settle();
   std::vector<std::vector<BladeSide>> kept(tools_.size());
   if (!cutting_) return kept;
+  const size_t nt = tools_.size();
   const std::vector<uint32_t> entries =
-      download<uint32_t>(*ctx_, cut_sides_, uint64_t{count_} * tools_.size());
-  for (size_t t = 0; t < tools_.size(); ++t)
+      download<uint32_t>(*ctx_, cut_sides_, 2 * uint64_t{count_} * nt);
+  for (size_t t = 0; t < nt; ++t)
     for (uint32_t i = 0; i < count_ && tools_[t].blade.cuts(); ++i)
       if (const uint32_t side = side_at_start(entries[t * count_ + i], cut_pass_ + 1);
           side != kSideNone)
-        kept[t].push_back({i, side});
+        kept[t].push_back({i, side, entries[(nt + t) * count_ + i]});
   return kept;
 }
 
@@ -82,7 +84,8 @@ void GpuSolver::restore_blade_sides(const std::vector<std::vector<BladeSide>>& k
                                 std::to_string(kept.size()) + " tools, the scene has " +
                                 std::to_string(tools_.size()));
   if (!cutting_) return;
-  std::vector<uint32_t> entries(uint64_t{count_} * tools_.size(), 0u);
+  const size_t nt = tools_.size();
+  std::vector<uint32_t> entries(2 * uint64_t{count_} * nt, 0u);
   for (size_t t = 0; t < kept.size(); ++t)
     for (const BladeSide& b : kept[t]) {
       if (!tools_[t].blade.cuts() || b.phyxel >= count_ ||
@@ -90,6 +93,7 @@ void GpuSolver::restore_blade_sides(const std::vector<std::vector<BladeSide>>& k
         throw std::invalid_argument("GpuSolver::restore_blade_sides: bad side for phyxel " +
                                     std::to_string(b.phyxel) + " of tool " + std::to_string(t));
       entries[t * count_ + b.phyxel] = side_entry(cut_pass_, kSideNone, b.side);
+      entries[(nt + t) * count_ + b.phyxel] = b.normal;
     }
   upload(*ctx_, cut_sides_, entries);
 }

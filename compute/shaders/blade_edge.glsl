@@ -84,7 +84,9 @@ bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {
 }
 
 // One side per phyxel while a blade passes (engine/solver/cutting.h side_entry, sides_allow):
-// entry = pass << 4 | side at the pass's start << 2 | side after it.
+// entry = pass << 4 | side at the pass's start << 2 | side after it. The side buffer holds the
+// entries [tool][phyxel], then the normals they were learned on [tool][phyxel]
+// (side_normal_index).
 const uint kSideNone = 0u, kSidePlus = 1u, kSideMinus = 2u;
 const uint kSidePassMask = (1u << 28) - 1u;
 
@@ -93,6 +95,10 @@ uint side_at_start(uint entry, uint pass) {
   if (stamp == (pass & kSidePassMask)) return (entry >> 2) & 3u;
   if (stamp == ((pass - 1u) & kSidePassMask)) return (entry & 3u) == 3u ? kSideNone : entry & 3u;
   return kSideNone;
+}
+
+uint side_normal_index(uint tool, uint tools, uint phyxels, uint i) {
+  return (tools + tool) * phyxels + i;
 }
 
 uint side_entry(uint pass, uint start, uint after) {
@@ -104,13 +110,57 @@ uint side_after(uint start, uint cut) {
   return cut == kSidePlus || cut == kSideMinus ? cut : kSideNone;
 }
 
+// The normal a kept side was learned on, from its word (unpack_side_normal of cutting.cpp:
+// octahedral, two 16-bit signed fractions).
+float side_sign(float v) {
+  return v >= 0.0 ? 1.0 : -1.0;
+}
+
+vec3 unpack_side_normal(uint word) {
+  float u = float(int(word << 16) >> 16) / 32767.0, v = float(int(word) >> 16) / 32767.0;
+  const float z = 1.0 - abs(u) - abs(v);
+  if (z < 0.0) {
+    const float fu = (1.0 - abs(v)) * side_sign(u), fv = (1.0 - abs(u)) * side_sign(v);
+    u = fu;
+    v = fv;
+  }
+  return normalize(vec3(u, v, z));
+}
+
+// pack_side_normal of cutting.cpp.
+uint pack_side_fraction(float v) {
+  return uint(int(floor(clamp(v, -1.0, 1.0) * 32767.0 + 0.5))) & 0xffffu;
+}
+
+uint pack_side_normal(vec3 n) {
+  const vec3 a = n / (abs(n.x) + abs(n.y) + abs(n.z));
+  float u = a.x, v = a.y;
+  if (a.z < 0.0) {
+    u = (1.0 - abs(a.y)) * side_sign(a.x);
+    v = (1.0 - abs(a.x)) * side_sign(a.y);
+  }
+  return pack_side_fraction(u) | pack_side_fraction(v) << 16;
+}
+
+// cos(kSideTurn) of engine/solver/cutting.h: how far the blade's plane may turn from the one a
+// side was learned on before the side lapses.
+const float kSideTurnCos = 0.98480775;
+
 // The kept side that holds for a phyxel at x (side_near_plane of cutting.cpp): none where it
-// lies on the blade plane's other side farther than its band (a stale side).
-uint side_near_plane(uint side, EdgeFrame f, vec3 x) {
+// lies on the blade plane's other side farther than its band, or where the plane has turned
+// from the one the side was learned on (`learned`) by more than kSideTurn (a stale side).
+uint side_near_plane(uint side, uint learned, EdgeFrame f, vec3 x) {
+  if (side == kSideNone) return side;
   const float n = dot(f.normal, x - f.tip);
   if ((side == kSidePlus && n < -f.side_band) || (side == kSideMinus && n > f.side_band))
     return kSideNone;
+  if (dot(unpack_side_normal(learned), f.normal) < kSideTurnCos) return kSideNone;
   return side;
+}
+
+// side_after_lapse of cutting.cpp: none where the side at the pass's start lapsed in it.
+uint side_after_lapse(uint start, uint held, uint cut) {
+  return start != kSideNone && held == kSideNone ? kSideNone : side_after(held, cut);
 }
 
 uint side_from(vec3 n, vec3 xi, vec3 xj) {

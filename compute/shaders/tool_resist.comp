@@ -55,9 +55,15 @@ float plane_crossings(uint i, vec3 n) {
   return 0.5 * sum;
 }
 
+// Phyxel x's (at position at) kept side for the tool, lapsed where stale (side_near_plane).
+uint side_of(uint tool, uint x, EdgeFrame f, vec3 at) {
+  return side_near_plane(side_at_start(sides[tool * p.phyxels + x], p.pass),
+                         sides[side_normal_index(tool, p.tools, p.phyxels, x)], f, at);
+}
+
 vec3 held_pairs_force(uint i, EdgeFrame f, uint tool) {
   const vec3 xi = position(i);
-  const uint side_i = side_near_plane(side_at_start(sides[tool * p.phyxels + i], p.pass), f, xi);
+  const uint side_i = side_of(tool, i, f, xi);
   vec3 total = vec3(0.0);
   float s_i = -1.0;
   for (uint k = offset[i]; k < offset[i + 1u]; ++k) {
@@ -69,9 +75,7 @@ vec3 held_pairs_force(uint i, EdgeFrame f, uint tool) {
     float direction;
     if (!(i < j ? edge_pushes(xi, xj, f, t, behind, direction)
                 : edge_pushes(xj, xi, f, t, behind, direction)) ||
-        !sides_allow(side_i,
-                     side_near_plane(side_at_start(sides[tool * p.phyxels + j], p.pass), f, xj),
-                     f.normal, xi, xj))
+        !sides_allow(side_i, side_of(tool, j, f, xj), f.normal, xi, xj))
       continue;
     if (s_i < 0.0) s_i = plane_crossings(i, f.normal);
     const float s_j = plane_crossings(j, f.normal);

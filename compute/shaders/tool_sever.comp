@@ -229,7 +229,9 @@ bool any_tool_severs() {
 
 // Phyxel x's (at position at) kept side for the tool, lapsed where stale (side_near_plane).
 uint side_of(uint tool, CutQuad quad, uint x, vec3 at) {
-  return side_near_plane(side_at_start(sides[tool * p.phyxels + x], p.pass), edge_frame(quad), at);
+  return side_near_plane(side_at_start(sides[tool * p.phyxels + x], p.pass),
+                         sides[side_normal_index(tool, p.tools, p.phyxels, x)], edge_frame(quad),
+                         at);
 }
 
 // Whether the tool's blade severs pair (i, j) at t: it may (its ball), it crosses the pair and,
@@ -284,15 +286,21 @@ uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
   return side;
 }
 
-// Merges one lane's sides into candidate i's entry for the tool (side_entry, side_after): the
-// kept side, or what this lane cut i to; both sides (3) read as none in the next substep.
-void merge_side(uint tool, uint i, uint side_i, uint cut_to) {
+// Merges one lane's sides into candidate i's entry for the tool (side_entry, side_after_lapse):
+// the side at the pass's start as it was (readers apply the lapse), then the kept side, or what
+// this lane cut i to (none where the kept side lapsed in this pass); both sides (3) read as none
+// in the next substep. A side learned in this pass (none at its start)
+// gets the plane's normal: every lane writes the same word, which no reader needs before the
+// next pass.
+void merge_side(uint tool, uint i, uint start, uint side_i, uint cut_to, vec3 normal) {
   const uint index = tool * p.phyxels + i;
-  const uint share = side_i != kSideNone ? side_i : cut_to;
+  const uint share = side_after_lapse(start, side_i, cut_to);
+  if (start == kSideNone && share != kSideNone)
+    sides[side_normal_index(tool, p.tools, p.phyxels, i)] = pack_side_normal(normal);
   uint old = sides[index];
   for (;;) {
     const bool stamped = (old >> 4) == (p.pass & kSidePassMask);
-    const uint want = (stamped ? old : side_entry(p.pass, side_i, kSideNone)) | share;
+    const uint want = (stamped ? old : side_entry(p.pass, start, kSideNone)) | share;
     if (want == old) return;
     const uint seen = atomicCompSwap(sides[index], old, want);
     if (seen == old) return;
@@ -308,12 +316,14 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
     const CutQuad quad = quads[p.row * p.tools + tool];
     if (quad.edge.w < 0.0) continue;  // no blade
     const bool sided = quad.edge.w > 0.0;
+    const uint start = sided ? side_at_start(sides[tool * p.phyxels + i], p.pass) : kSideNone;
     const uint side_i = sided ? side_of(tool, quad, i, xi) : kSideNone;
     uint cut_to = kSideNone;
     if (severing && tool_severs(quad, blade_cuts(tool, quad)))
       for (uint k = offset[i] + lane; k < end; k += lanes)
         cut_to |= sever_pair(tool, quad, i, xi, k);
-    if (sided) merge_side(tool, i, side_i, cut_to);  // every substep: the side stays kept
+    if (sided)  // every substep: the side stays kept
+      merge_side(tool, i, start, side_i, cut_to, normalize(cross(quad.axis.xyz, quad.edge.xyz)));
   }
 }
 

@@ -39,6 +39,21 @@ void read_blade_sides(Reader& r, Checkpoint& c) {
   }
 }
 
+// After kBladeSides: the normal each kept side was learned on, in its order.
+void read_side_normals(Reader& r, Checkpoint& c) {
+  const uint64_t tools = r.get<uint64_t>();
+  if (tools != c.blade_sides.size())
+    throw CheckpointError("corrupt checkpoint: side normals for " + std::to_string(tools) +
+                          " tools, sides for " + std::to_string(c.blade_sides.size()));
+  for (std::vector<BladeSide>& kept : c.blade_sides) {
+    const std::vector<uint32_t> normals = r.get_array<uint32_t>();
+    if (normals.size() != kept.size())
+      throw CheckpointError("corrupt checkpoint: " + std::to_string(normals.size()) +
+                            " side normals for " + std::to_string(kept.size()) + " sides");
+    for (size_t k = 0; k < kept.size(); ++k) kept[k].normal = normals[k];
+  }
+}
+
 void read_grips(Reader& r, Checkpoint& c) {
   const uint64_t tools = r.get<uint64_t>();
   for (uint64_t t = 0; t < tools; ++t) {
@@ -142,6 +157,15 @@ void write_surgery_sections(Writer& w, const Checkpoint& c) {
     }
   }
   w.end_section();
+
+  w.begin_section(kSideNormals);
+  w.put<uint64_t>(c.blade_sides.size());
+  for (const std::vector<BladeSide>& tool : c.blade_sides) {
+    std::vector<uint32_t> normals;
+    for (const BladeSide& b : tool) normals.push_back(b.normal);
+    w.put_array(normals);
+  }
+  w.end_section();
 }
 
 void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -198,6 +222,9 @@ void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
       break;
     case kBladeSides:
       read_blade_sides(r, c);
+      break;
+    case kSideNormals:  // after kBladeSides
+      read_side_normals(r, c);
       break;
     default:  // a section this version does not know: skipped
       break;

@@ -175,9 +175,11 @@ class CpuSolver {
   // (cutting.h, EdgeFrame), into v and `felt` (cpu_solver_cutting.cpp).
   void apply_edge_resistance(Real dt, std::vector<ToolContactSample>& felt);
   EdgeFrame substep_edge(size_t tool) const;  // this substep's (stiffness 0: holds nothing)
-  // On phyxel i; `sides`: the blade's side entries (cutting.h, side_entry).
-  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge, const uint32_t* sides,
-                        double band) const;
+  Vec3 held_pairs_force(uint32_t i, const EdgeFrame& edge, size_t tool, double band) const;
+  // Phyxel i's (at x) kept side for the tool in pass `pass`, lapsed where stale (cutting.h,
+  // side_near_plane).
+  uint32_t side_held(size_t tool, uint32_t i, const Vec3& x, const EdgeFrame& edge, uint32_t pass,
+                     double band) const;
   void cut_with_blade(size_t tool, std::vector<uint32_t>& touched);  // apply_cuts, one blade
   // Per tool, this substep's blade plane normal where it keeps sides (else zero); phyxel i's
   // side of it for the contact (contact_correction's keep).
@@ -246,8 +248,10 @@ class CpuSolver {
   std::vector<Vec3> rest_d_;          // x0 in double (the precompute's input)
   std::vector<double> kappa_scale_;   // gamma mu v_i: kappa_i = kappa_scale_i / (tr A_i / 3)
   std::vector<SeveredPair> severed_;  // the log
-  std::vector<uint32_t> blade_side_;  // [tool][phyxel] side entries (cutting.h, side_entry)
-  uint32_t cut_pass_ = 0;             // substeps counted for the side entries
+  // [tool][phyxel] side entries (cutting.h, side_entry), then [tool][phyxel] the normals they
+  // were learned on (pack_side_normal), as the GPU's side buffer.
+  std::vector<uint32_t> blade_side_;
+  uint32_t cut_pass_ = 0;  // substeps counted for the side entries
 
   // The SCNI band: its cells and quads (double), and the boxes in Real with their stress.
   struct BandBox {

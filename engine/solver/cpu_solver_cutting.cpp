@@ -73,6 +73,7 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   const std::array<Vec3, 4>& c = quad.corner;
   const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
   uint32_t* sides = blade_side_.data() + tool * size();
+  uint32_t* learned = blade_side_.data() + (nt + tool) * size();
   auto crosses_blade = [&](const Vec3& p, const Vec3& q, double* t) {
     double behind = 0, direction = 0;
     if (cuts &&
@@ -83,8 +84,8 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   };
   for (const uint32_t i : candidates_) {
     const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
-    const uint32_t side_i =
-        sided ? side_near_plane(side_at_start(sides[i], cut_pass_), edge, xi, band) : kSideNone;
+    const uint32_t start = sided ? side_at_start(sides[i], cut_pass_) : kSideNone;
+    const uint32_t side_i = sided ? side_held(tool, i, xi, edge, cut_pass_, band) : kSideNone;
     uint32_t cut_to = kSideNone;  // the sides of i's pairs this blade crosses (severed or not)
     for (uint32_t k = nbr_.offset[i]; (cuts || resists) && k < nbr_.offset[i + 1]; ++k) {
       if (!sided && w_[k] == Real(0)) continue;  // no side to learn from a severed pair
@@ -93,10 +94,8 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-      if (!crosses ||
-          (sided &&
-           !sides_allow(side_i, side_near_plane(side_at_start(sides[j], cut_pass_), edge, xj, band),
-                        edge.normal, xi, xj)))
+      if (!crosses || (sided && !sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band),
+                                             edge.normal, xi, xj)))
         continue;
       cut_to |= side_from(edge.normal, xi, xj);
       if (w_[k] == Real(0)) continue;
@@ -104,7 +103,11 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       touched.push_back(i);
       touched.push_back(j);
     }
-    if (sided) sides[i] = side_entry(cut_pass_, side_i, side_after(side_i, cut_to));
+    if (!sided) continue;
+    const uint32_t after = side_after_lapse(start, side_i, cut_to);
+    sides[i] = side_entry(cut_pass_, start, after);  // readers apply the lapse to start
+    // Learned in this pass (no reader needs it before the next): the plane it was learned on.
+    if (start == kSideNone && after != kSideNone) learned[i] = pack_side_normal(edge.normal);
   }
   // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
   // not at pairs only carried past the reach.
@@ -151,11 +154,19 @@ double CpuSolver<Real>::plane_crossings(uint32_t i, const Vec3& normal) const {
 }
 
 template <class Real>
-Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge, const uint32_t* sides,
+uint32_t CpuSolver<Real>::side_held(size_t tool, uint32_t i, const Vec3& x, const EdgeFrame& edge,
+                                    uint32_t pass, double band) const {
+  const size_t n = size();
+  return side_near_plane(side_at_start(blade_side_[tool * n + i], pass),
+                         blade_side_[(tools_.size() + tool) * n + i], edge, x, band);
+}
+
+template <class Real>
+Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge, size_t tool,
                                        double band) const {
   const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
   const uint32_t pass = cut_pass_ + 1;  // apply_cuts counts this substep after the contacts
-  const uint32_t side_i = side_near_plane(side_at_start(sides[i], pass), edge, xi, band);
+  const uint32_t side_i = side_held(tool, i, xi, edge, pass, band);
   Vec3 total = Vec3::Zero();
   double s_i = -1;
   for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k) {
@@ -165,8 +176,7 @@ Vec3 CpuSolver<Real>::held_pairs_force(uint32_t i, const EdgeFrame& edge, const 
     double t = 0, behind = 0, direction = 0;  // in the canonical order, as apply_cuts
     if (!(i < j ? edge_pushes(xi, xj, edge, &t, &behind, &direction)
                 : edge_pushes(xj, xi, edge, &t, &behind, &direction)) ||
-        !sides_allow(side_i, side_near_plane(side_at_start(sides[j], pass), edge, xj, band),
-                     edge.normal, xi, xj))
+        !sides_allow(side_i, side_held(tool, j, xj, edge, pass, band), edge.normal, xi, xj))
       continue;
     if (s_i < 0) s_i = plane_crossings(i, edge.normal);
     const double s_j = plane_crossings(j, edge.normal);
@@ -182,12 +192,11 @@ void CpuSolver<Real>::apply_edge_resistance(Real dt, std::vector<ToolContactSamp
   for (size_t tool = 0; tool < tools_.size(); ++tool) {
     const EdgeFrame edge = substep_edge(tool);
     if (!(edge.stiffness > 0)) continue;
-    const uint32_t* sides = blade_side_.data() + tool * size();
     const double band = side_band(blade_body_radius(tools_[tool]), contact_spacing_);
     for (const uint32_t i : candidates_) {
       if (flags_[i] & (kFixed | kRemoved)) continue;
       const Vec3 force =
-          bounded_edge_push(held_pairs_force(i, edge, sides, band), tools_[tool].blade.threshold);
+          bounded_edge_push(held_pairs_force(i, edge, tool, band), tools_[tool].blade.threshold);
       if (force.isZero(0)) continue;
       v_[i] += dt / mass_[i] * force.template cast<Real>();
       felt[tool].force -= force;
@@ -239,9 +248,10 @@ std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t tool) const {
   std::vector<BladeSide> kept;
   if (!tools_.at(tool).blade.cuts()) return kept;
   const uint32_t* sides = blade_side_.data() + tool * size();
+  const uint32_t* learned = blade_side_.data() + (tools_.size() + tool) * size();
   for (uint32_t i = 0; i < size(); ++i)
     if (const uint32_t side = side_at_start(sides[i], cut_pass_ + 1); side != kSideNone)
-      kept.push_back({i, side});
+      kept.push_back({i, side, learned[i]});
   return kept;
 }
 
@@ -251,11 +261,13 @@ void CpuSolver<Real>::restore_blade_sides(size_t tool, const std::vector<BladeSi
     throw std::invalid_argument("restore_blade_sides: tool " + std::to_string(tool) +
                                 " has no blade");
   uint32_t* sides = blade_side_.data() + tool * size();
+  uint32_t* learned = blade_side_.data() + (tools_.size() + tool) * size();
   for (const BladeSide& b : kept) {
     if (b.phyxel >= size() || (b.side != kSidePlus && b.side != kSideMinus))
       throw std::invalid_argument("restore_blade_sides: bad side for phyxel " +
                                   std::to_string(b.phyxel));
     sides[b.phyxel] = side_entry(cut_pass_, kSideNone, b.side);
+    learned[b.phyxel] = b.normal;
   }
 }
 
@@ -282,22 +294,24 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
 }
 
 // The members defined here (the class itself is instantiated in cpu_solver.cpp).
-#define PHYXEL_CUTTING_MEMBERS(Real)                                                           \
-  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);                             \
-  template void CpuSolver<Real>::apply_cuts();                                                 \
-  template void CpuSolver<Real>::cut_with_blade(size_t, std::vector<uint32_t>&);               \
-  template std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t) const;                  \
-  template void CpuSolver<Real>::restore_blade_sides(size_t, const std::vector<BladeSide>&);   \
-  template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                              \
-  template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                      \
-  template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;               \
-  template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;               \
-  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, const uint32_t*, \
-                                                  double) const;                               \
-  template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&); \
-  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                   \
-  template void CpuSolver<Real>::sort_severed_from(size_t);                                    \
-  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);                 \
+#define PHYXEL_CUTTING_MEMBERS(Real)                                                            \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);                              \
+  template void CpuSolver<Real>::apply_cuts();                                                  \
+  template void CpuSolver<Real>::cut_with_blade(size_t, std::vector<uint32_t>&);                \
+  template std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t) const;                   \
+  template void CpuSolver<Real>::restore_blade_sides(size_t, const std::vector<BladeSide>&);    \
+  template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                               \
+  template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                       \
+  template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;                \
+  template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;                \
+  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, size_t, double)   \
+      const;                                                                                    \
+  template uint32_t CpuSolver<Real>::side_held(size_t, uint32_t, const Vec3&, const EdgeFrame&, \
+                                               uint32_t, double) const;                         \
+  template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&);  \
+  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                    \
+  template void CpuSolver<Real>::sort_severed_from(size_t);                                     \
+  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);                  \
   template void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>&);
 PHYXEL_CUTTING_MEMBERS(double)
 PHYXEL_CUTTING_MEMBERS(float)

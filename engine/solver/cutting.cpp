@@ -160,10 +160,55 @@ bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec
   return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
 }
 
-uint32_t side_near_plane(uint32_t side, const EdgeFrame& f, const Vec3& x, double band) {
+uint32_t side_near_plane(uint32_t side, uint32_t learned, const EdgeFrame& f, const Vec3& x,
+                         double band) {
+  if (side == kSideNone) return side;
   const double n = f.normal.dot(x - f.tip);
   if ((side == kSidePlus && n < -band) || (side == kSideMinus && n > band)) return kSideNone;
+  if (unpack_side_normal(learned).dot(f.normal) < std::cos(kSideTurn)) return kSideNone;
   return side;
+}
+
+namespace {
+
+double sign_of(double v) {
+  return v >= 0 ? 1.0 : -1.0;
+}
+
+uint32_t pack_fraction(double v) {
+  const double q = std::floor(std::clamp(v, -1.0, 1.0) * 32767.0 + 0.5);
+  return uint32_t(int32_t(q)) & 0xffffu;
+}
+
+double unpack_fraction(uint32_t bits) {
+  return double(int16_t(uint16_t(bits & 0xffffu))) / 32767.0;
+}
+
+}  // namespace
+
+uint32_t pack_side_normal(const Vec3& n) {
+  const Vec3 a = n / (std::abs(n.x()) + std::abs(n.y()) + std::abs(n.z()));
+  double u = a.x(), v = a.y();
+  if (a.z() < 0) {
+    u = (1 - std::abs(a.y())) * sign_of(a.x());
+    v = (1 - std::abs(a.x())) * sign_of(a.y());
+  }
+  return pack_fraction(u) | pack_fraction(v) << 16;
+}
+
+Vec3 unpack_side_normal(uint32_t word) {
+  double u = unpack_fraction(word), v = unpack_fraction(word >> 16);
+  const double z = 1 - std::abs(u) - std::abs(v);
+  if (z < 0) {
+    const double fu = (1 - std::abs(v)) * sign_of(u), fv = (1 - std::abs(u)) * sign_of(v);
+    u = fu;
+    v = fv;
+  }
+  return Vec3(u, v, z).normalized();
+}
+
+uint32_t side_after_lapse(uint32_t start, uint32_t held, uint32_t cut) {
+  return start != kSideNone && held == kSideNone ? kSideNone : side_after(held, cut);
 }
 
 double side_band(double body_radius, double spacing) {

@@ -179,21 +179,35 @@ uint32_t side_from(const Vec3& normal, const Vec3& xi, const Vec3& xj);
 bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec3& xi,
                  const Vec3& xj);
 
-// The kept side that holds for a phyxel at x: a side lapses where the phyxel lies on the other
-// side of the blade's plane (f.normal through f.tip) farther than `band` (side_band). The
-// side was learned where the plane lay elsewhere: a blade turned about a point of its own keeps
-// the phyxels near it candidates all the turn, and a side learned at the turn's start is the
-// wrong one half a turn on (docs/cutting.md, "Stale sides at the cone's apex").
-uint32_t side_near_plane(uint32_t side, const EdgeFrame& f, const Vec3& x, double band);
+// The kept side that holds for a phyxel at x. A side lapses where the phyxel lies on the other
+// side of the blade's plane (f.normal through f.tip) farther than `band` (side_band), or where
+// the blade's plane has turned from the one the side was learned on (`learned`: its normal,
+// pack_side_normal) by more than kSideTurn. A blade turned about a point of its own keeps the
+// phyxels near it candidates all the turn, and a side learned at one angle is the wrong one
+// later; position alone cannot tell a plane that turned under a phyxel from a phyxel drifting
+// across a plane that stayed (docs/cutting.md, "Stale sides at the cone's apex"). A lapse
+// leaves no side for the rest of that substep (side_after_lapse): the learned normal is written
+// only in a substep that starts without a side, when no reader needs it.
+uint32_t side_near_plane(uint32_t side, uint32_t learned, const EdgeFrame& f, const Vec3& x,
+                         double band);
 // That band: a lattice spacing (where the next row of phyxels lies), at least the body's radius.
 // The body's radius alone let phyxels on the plane of scalpel_cut's block drift past it and be
 // cut from both sides (BladeSide.ACutAlongALatticePlaneAboveItsThresholdFreesNoPhyxel).
 double side_band(double body_radius, double spacing);
+// How far the blade's plane may turn from the one a side was learned on (rad) before the side
+// lapses; the GPU's twin is blade_edge.glsl's kSideTurnCos.
+inline constexpr double kSideTurn = 0.17453292519943295;  // 10 degrees
+// A unit normal in one word (octahedral, two 16-bit signed fractions; blade_edge.glsl's twin).
+uint32_t pack_side_normal(const Vec3& n);
+Vec3 unpack_side_normal(uint32_t word);
+// The side a pass leaves (side_after), none where the side at its start lapsed in it.
+uint32_t side_after_lapse(uint32_t start, uint32_t held, uint32_t cut);
 
 // A phyxel's kept side for one blade (checkpoints, tests): kSidePlus or kSideMinus.
 struct BladeSide {
   uint32_t phyxel = 0;
   uint32_t side = kSideNone;
+  uint32_t normal = 0;  // pack_side_normal of the plane it was learned on
 };
 
 // One severed pair (i < j): where the blade crossed it, as the fraction t along x_i -> x_j.

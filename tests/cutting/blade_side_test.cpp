@@ -137,13 +137,12 @@ TEST(BladeSide, AtThresholdZeroNoSideIsKept) {
 }
 
 // A blade that keeps sides, moved along +x through the same block with its plane tilted (normal
-// (0, 1, 1) / sqrt 2, through y + z = 4.5 mm), where the phyxels of the lattice's row y + z = 8 mm
-// near its start are kept on the plane's -n side: a side learned where the blade's plane lay
-// elsewhere (breast_resection's cone turns about its apex, whose phyxels stay candidates all the
-// turn; docs/cutting.md, "Stale sides at the cone's apex"). They lie 2.47 mm on +n, beyond a
-// spacing, so their sides have lapsed and the blade severs their pairs to the row y + z = 4 mm
-// (on -n) as it does without those sides. The pairs severed, sorted.
-std::vector<std::pair<uint32_t, uint32_t>> cut_beside_stale_sides(bool stale_sides) {
+// n = (0, 1, 1) / sqrt 2, through y + z = 4.5 mm), where the phyxels of the lattice's row
+// y + z = `row` near its start are kept on the plane's -n side, learned on a plane of normal
+// `learned`: a side learned where the blade's plane lay elsewhere (breast_resection's cone turns
+// about its apex, whose phyxels stay candidates all the turn; docs/cutting.md, "Stale sides at
+// the cone's apex"). Without sides (`learned` null) none is put. The pairs severed, sorted.
+std::vector<std::pair<uint32_t, uint32_t>> cut_beside_stale_sides(double row, const Vec3* learned) {
   Scene scene = test::box_scene(Vec3(-0.012, -0.006, 0), Vec3(0.012, 0.006, 0.010), 0.002,
                                 test::tissue(5000, 0.45, 20));
   scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.0015)));
@@ -158,11 +157,11 @@ std::vector<std::pair<uint32_t, uint32_t>> cut_beside_stale_sides(bool stale_sid
   const PhyxelSet set = sample_scene(scene);
   CpuSolver<double> solver(set, scene.simulation.gravity);
   test::ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
-  if (stale_sides) {
+  if (learned) {
     std::vector<BladeSide> kept;
     for (uint32_t i = 0; i < set.size(); ++i)
-      if (std::abs(set.rest[i].y() + set.rest[i].z() - 0.008) < 1e-9 && set.rest[i].x() < -0.009)
-        kept.push_back({i, kSideMinus});
+      if (std::abs(set.rest[i].y() + set.rest[i].z() - row) < 1e-9 && set.rest[i].x() < -0.009)
+        kept.push_back({i, kSideMinus, pack_side_normal(*learned)});
     EXPECT_GT(kept.size(), 5u);
     solver.restore_blade_sides(0, kept);
   }
@@ -174,24 +173,73 @@ std::vector<std::pair<uint32_t, uint32_t>> cut_beside_stale_sides(bool stale_sid
   return pairs;
 }
 
+const Vec3 kTiltedNormal = Vec3(0, 1, 1).normalized();  // the blade's of cut_beside_stale_sides
+
+// The row y + z = 8 mm lies 2.47 mm on +n, beyond a spacing: its sides, learned on the blade's
+// own plane, have lapsed, and the blade severs its pairs to the row y + z = 4 mm (on -n) as it
+// does without those sides.
 TEST(BladeSide, ASideKeptBeyondASpacingOnTheOtherSideOfTheBladesPlaneHasLapsed) {
-  const std::vector<std::pair<uint32_t, uint32_t>> fresh = cut_beside_stale_sides(false);
+  const std::vector<std::pair<uint32_t, uint32_t>> fresh = cut_beside_stale_sides(0, nullptr);
   EXPECT_GT(fresh.size(), 50u);  // the cut went through
-  EXPECT_EQ(cut_beside_stale_sides(true), fresh);
+  EXPECT_EQ(cut_beside_stale_sides(0.008, &kTiltedNormal), fresh);
+}
+
+// The row y + z = 6 mm lies 1.06 mm on +n, within the band, as breast_resection's phyxel 7 377
+// lay 0.62 mm across the cone's plane: kept on -n by the blade's own plane, its sides hold and
+// keep its pairs to -n; learned on a plane turned 45 degrees (normal +y), they have lapsed and
+// the blade severs as without them.
+TEST(BladeSide, ASideLearnedOnATurnedPlaneHasLapsedWithinItsBand) {
+  const std::vector<std::pair<uint32_t, uint32_t>> fresh = cut_beside_stale_sides(0, nullptr);
+  const std::vector<std::pair<uint32_t, uint32_t>> held =
+      cut_beside_stale_sides(0.006, &kTiltedNormal);
+  EXPECT_NE(held, fresh);  // the sides hold where they were learned
+  const Vec3 turned = Vec3::UnitY();
+  EXPECT_EQ(cut_beside_stale_sides(0.006, &turned), fresh);
 }
 
 TEST(BladeSide, ASideLapsesOnlyBeyondItsBandOnTheOtherSide) {
   EdgeFrame f;
   f.tip = Vec3(0, 0.001, 0);
   f.normal = Vec3::UnitY();
+  const uint32_t here = pack_side_normal(f.normal);
   const double band = side_band(0.0004, 0.002);
   EXPECT_EQ(band, 0.002);
   EXPECT_EQ(side_band(0.0006, 0.0004), 0.0006);
-  EXPECT_EQ(side_near_plane(kSidePlus, f, Vec3(0, -0.0009, 0), band), kSidePlus);  // 1.9 mm
-  EXPECT_EQ(side_near_plane(kSidePlus, f, Vec3(0, -0.0011, 0), band), kSideNone);  // 2.1 mm
-  EXPECT_EQ(side_near_plane(kSideMinus, f, Vec3(0, -0.0011, 0), band), kSideMinus);
-  EXPECT_EQ(side_near_plane(kSideMinus, f, Vec3(0, 0.0031, 0), band), kSideNone);
-  EXPECT_EQ(side_near_plane(kSideNone, f, Vec3(0, 0.0031, 0), band), kSideNone);
+  EXPECT_EQ(side_near_plane(kSidePlus, here, f, Vec3(0, -0.0009, 0), band), kSidePlus);  // 1.9 mm
+  EXPECT_EQ(side_near_plane(kSidePlus, here, f, Vec3(0, -0.0011, 0), band), kSideNone);  // 2.1 mm
+  EXPECT_EQ(side_near_plane(kSideMinus, here, f, Vec3(0, -0.0011, 0), band), kSideMinus);
+  EXPECT_EQ(side_near_plane(kSideMinus, here, f, Vec3(0, 0.0031, 0), band), kSideNone);
+  EXPECT_EQ(side_near_plane(kSideNone, here, f, Vec3(0, 0.0031, 0), band), kSideNone);
+}
+
+// A side holds while the blade's plane stays within kSideTurn (10 degrees) of the one it was
+// learned on, whatever the phyxel's place; a plane turned further, or the blade moving the other
+// way (its normal flipped), leaves no side.
+TEST(BladeSide, ASideLapsesOnceTheBladesPlaneHasTurnedFromTheOneItWasLearnedOn) {
+  for (const Vec3& n : {Vec3(0, 1, 0), Vec3(0.3, -0.5, -0.81), Vec3(-0.7, 0.1, 0.2), Vec3(0, 0, -1),
+                        Vec3(0.6, 0.8, 0)}) {
+    const Vec3 back = unpack_side_normal(pack_side_normal(n.normalized()));
+    EXPECT_NEAR(back.norm(), 1.0, 1e-12);
+    EXPECT_LT((back - n.normalized()).norm(), 1e-4) << n.transpose();
+  }
+  EdgeFrame f;
+  f.normal = Vec3::UnitY();
+  const double band = 0.002;
+  auto turned = [](double deg) {
+    const double a = deg * M_PI / 180;
+    return pack_side_normal(Vec3(std::sin(a), std::cos(a), 0));
+  };
+  const Vec3 on_plane = Vec3::Zero();
+  EXPECT_EQ(side_near_plane(kSidePlus, turned(9.5), f, on_plane, band), kSidePlus);
+  EXPECT_EQ(side_near_plane(kSideMinus, turned(-9.5), f, on_plane, band), kSideMinus);
+  EXPECT_EQ(side_near_plane(kSidePlus, turned(10.5), f, on_plane, band), kSideNone);
+  EXPECT_EQ(side_near_plane(kSideMinus, turned(90), f, Vec3(0, -0.001, 0), band), kSideNone);
+  EXPECT_EQ(side_near_plane(kSidePlus, turned(180), f, on_plane, band), kSideNone);
+  // A side that lapsed in a pass is not learned again in it (its normal is written only in a
+  // pass that starts without a side, when no reader needs it).
+  EXPECT_EQ(side_after_lapse(kSidePlus, kSideNone, kSideMinus), kSideNone);
+  EXPECT_EQ(side_after_lapse(kSideNone, kSideNone, kSideMinus), kSideMinus);
+  EXPECT_EQ(side_after_lapse(kSidePlus, kSidePlus, kSideMinus), kSidePlus);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "engine/run/checkpoint_format.h"
 #include "engine/run/simulation.h"
 #include "engine/scene/scene.h"
+#include "engine/solver/cutting.h"
 #include "engine/solver/solver.h"
 #include "tests/physics/physics_fixtures.h"
 #include "tests/support/support.h"
@@ -332,6 +333,8 @@ TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
   // ... and the sides the blade keeps the phyxels its body pushed across its plane on.
   ASSERT_EQ(at_100.blade_sides.size(), 1u);
   EXPECT_GT(at_100.blade_sides[0].size(), 0u);
+  for (const BladeSide& b : at_100.blade_sides[0])  // with the plane learned on (normal +y)
+    EXPECT_GT(std::abs(unpack_side_normal(b.normal).y()), 0.9999) << "phyxel " << b.phyxel;
   std::string why;
   const std::optional<std::string> gpu_args = gpu_device_args(why);
   if (!gpu_args) GTEST_SKIP() << why;
