@@ -43,13 +43,13 @@ void read_blade_sides(Reader& r, Checkpoint& c) {
 void read_side_normals(Reader& r, Checkpoint& c) {
   const uint64_t tools = r.get<uint64_t>();
   if (tools != c.blade_sides.size())
-    throw CheckpointError("corrupt checkpoint: side normals for " + std::to_string(tools) +
-                          " tools, sides for " + std::to_string(c.blade_sides.size()));
+    r.corrupt("side normals for " + std::to_string(tools) + " tools, sides for " +
+              std::to_string(c.blade_sides.size()));
   for (std::vector<BladeSide>& kept : c.blade_sides) {
     const std::vector<uint32_t> normals = r.get_array<uint32_t>();
     if (normals.size() != kept.size())
-      throw CheckpointError("corrupt checkpoint: " + std::to_string(normals.size()) +
-                            " side normals for " + std::to_string(kept.size()) + " sides");
+      r.corrupt(std::to_string(normals.size()) + " side normals for " +
+                std::to_string(kept.size()) + " sides");
     for (size_t k = 0; k < kept.size(); ++k) kept[k].normal = normals[k];
   }
 }

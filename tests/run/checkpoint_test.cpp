@@ -502,7 +502,8 @@ size_t section_at(const std::string& bytes, uint32_t tag) {
 }
 
 // The surgical sections' checks of what they hold: a bad blade side, a torn-flag count that
-// is not the severed pairs'. Each refusal is one line naming the file and what is wrong.
+// is not the severed pairs', side normals for other tools than the sides'. Each refusal is one line
+// naming the file and what is wrong.
 TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
   const fs::path dir = test::test_output_dir("checkpoint_surgery_refused");
   Checkpoint c;
@@ -535,7 +536,14 @@ TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
   const std::string torn = refusal(section_at(bytes, checkpoint_format::kTorn), 1);
   EXPECT_EQ(torn.rfind(file.string() + ": corrupt checkpoint: 1 torn flags for 2 severed", 0), 0u)
       << torn;
-  for (const std::string& m : {side, torn}) EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  // The side normals' tool count (its low byte): two tools where the sides have one.
+  const std::string normals = refusal(section_at(bytes, checkpoint_format::kSideNormals), 2);
+  EXPECT_EQ(normals.rfind(
+                file.string() + ": corrupt checkpoint: side normals for 2 tools, sides for 1", 0),
+            0u)
+      << normals;
+  for (const std::string& m : {side, torn, normals})
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   write_bytes(file, bytes);
   EXPECT_EQ(read_checkpoint(file).blade_sides.at(0).at(0).side, kSideMinus);
 }
