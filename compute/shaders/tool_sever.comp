@@ -323,7 +323,7 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
       for (uint k = offset[i] + lane; k < end; k += lanes)
         cut_to |= sever_pair(tool, quad, i, xi, k);
     if (sided)  // every substep: the side stays kept
-      merge_side(tool, i, start, side_i, cut_to, normalize(cross(quad.axis.xyz, quad.edge.xyz)));
+      merge_side(tool, i, start, side_i, cut_to, edge_frame(quad).normal);
   }
 }
 
