@@ -45,7 +45,7 @@ else
   # engine, so the job compiles no Vulkan, render or command-line code. Left out for time:
   # stability and validation (long runs of the solver code that physics covers), run and bench
   # (the whole command line), and the Vulkan areas (gpu_solver, vulkan, render). Also left
-  # out: the twelve tests that run longer than 20 s each under ASan (san_slow; their code runs
+  # out: the fifteen tests that run longer than 20 s each under ASan (san_slow; their code runs
   # in the areas' other tests).
   san_areas=(scene sampling physics contact skip surgery cutting haptics)
   san_targets=("${san_areas[@]/#/test_}")
@@ -60,7 +60,10 @@ else
   san_slow+='FreeVibration\.UndampedMotionConservesTotalEnergy|'
   san_slow+='Sleeping\.ChangesResultsOnlyBelowItsRestBound|'
   san_slow+='ScniBand\.(TakesThePhyxels|ItsForcesAre|KeepsTheMargin|ARunCheckpointed).*|'
-  san_slow+='ProbePloughing\.(TissueThatCannotTear|ThickProbeThroughTissueThatTears).*)$'
+  san_slow+='ProbePloughing\.(TissueThatCannotTear|ThickProbeThroughTissueThatTears).*|'
+  san_slow+='Cutting\.AHalfDepthSlitSoftensTheBeamAndClosesWhenUnloaded|'
+  san_slow+='Tearing\.ABarPulledByARisingLoadTearsWhenItsStressReachesTheTearStress|'
+  san_slow+='EdgeResistance\.TheBreastsTurnAtItsApexDoesNotThrowTheTissue)$'
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -L "$label" \
     -E "$san_slow"
