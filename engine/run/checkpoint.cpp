@@ -276,9 +276,11 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& name) {
   Checkpoint c;
   Reader r(bytes.data(), length - kChecksumBytes, name);
   r.seek(kHeaderBytes);
+  bool side_normals = false;
   for (uint32_t s = 0; s < sections; ++s) {
     const uint32_t tag = r.get<uint32_t>();
     const uint64_t size = r.get<uint64_t>();
+    side_normals = side_normals || tag == kSideNormals;
     const size_t start = r.at();
     if (size > length - kChecksumBytes - start)
       throw CheckpointError(name + ": corrupt checkpoint: section " + std::to_string(tag) +
@@ -289,6 +291,9 @@ Checkpoint parse_checkpoint(const std::string& bytes, const std::string& name) {
                             " has the wrong length");
     r.seek(start + size);
   }
+  // Sides without the planes they were learned on (written before section 16): none kept, as
+  // before section 15; the blade learns them again (docs/decisions.md).
+  if (!side_normals) c.blade_sides.clear();
   const size_t n = c.displacement.size();
   if (c.velocity.size() != n || c.flags.size() != n ||
       c.awake.size() != c.object_below_since.size())

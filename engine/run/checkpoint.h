@@ -72,7 +72,7 @@ struct Checkpoint {
   // The SCNI band round the cuts (objects with cut_band; empty without one).
   CutBandState band;
   // Per tool, the sides its blade keeps (engine/solver/cutting.h, BladeSide; empty without a
-  // blade or in a checkpoint written before them: none kept).
+  // blade or in a checkpoint written before them or before their normals: none kept).
   std::vector<std::vector<BladeSide>> blade_sides;
 };
 

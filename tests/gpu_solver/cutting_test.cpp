@@ -325,9 +325,10 @@ TEST_F(GpuSolverTest, ACutThroughTheBeamInOneSubstepMatchesTheCpu) {
 
 // A blade that keeps sides through `scene` for `steps` on both solvers: the same pairs severed,
 // the positions within 1e-3 (the contact moves kept phyxels out of the body toward their sides
-// alike: kept_side_exit), and the same sides kept, learned on the same planes. The CPU's sides.
+// alike: kept_side_exit), and the same sides kept, learned on the same planes; no phyxel cut
+// free unless `may_free` (a long turn: sides lapse, docs/cutting.md). The CPU's sides.
 std::vector<BladeSide> expect_same_sides(Context& ctx, const Scene& scene, int64_t steps,
-                                         const PhyxelSet& set) {
+                                         const PhyxelSet& set, bool may_free = false) {
   auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
   GpuSolver gpu(ctx, set, scene.simulation.gravity);
   const CutRun c = run(*cpu, scene, steps, 50);
@@ -336,11 +337,14 @@ std::vector<BladeSide> expect_same_sides(Context& ctx, const Scene& scene, int64
   EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
   EXPECT_LT(max_difference(c.u, g.u), 1e-3 * max_norm(c.u));
   const NeighbourLists& nbr = gpu.neighbours();
+  size_t freed = 0;  // the same on both solvers, which sever the same pairs
   for (uint32_t i = 0; i < set.size(); ++i) {
     bool live = false;
     for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) live = live || g.alive[k];
-    EXPECT_TRUE(live) << "phyxel " << i << " cut free";
+    freed += !live;
+    EXPECT_TRUE(live || may_free) << "phyxel " << i << " cut free";
   }
+  std::printf("[ sides    ] %zu pairs severed, %zu phyxels cut free\n", c.severed.size(), freed);
   const auto sides_c = cpu->cutting()->blade_sides(), sides_g = gpu.blade_sides();
   EXPECT_EQ(sides_c.size(), 1u);
   EXPECT_EQ(sides_g.size(), 1u);
@@ -398,23 +402,27 @@ TEST_F(GpuSolverTest, ABladeKeepsEachPhyxelOnOneSideAsTheCpuDoes) {
   }
 }
 
-// A blade that keeps sides turned along an arc (radius 5.1 mm, 43 degrees of it about a
-// vertical axis in 150 steps): its plane turns under the phyxels beside the arc, which stay
+// A blade that keeps sides turned along an arc (radius 5.1 mm, 115 degrees of it about a
+// vertical axis in 400 steps): its plane turns under the phyxels beside the arc, which stay
 // candidates for tens of degrees, so their sides lapse once it has turned past kSideTurn from
 // the plane they were learned on (docs/cutting.md, "The plane a side was learned on"): the
 // sides kept at the end were learned on planes within 2 kSideTurn of each other. Both solvers
-// sever the same pairs and keep the same sides, learned on the same planes. (Run on to 400 steps,
-// 115 degrees, the GPU severs 4 pairs otherwise and frees two phyxels: not yet traced.)
+// sever the same pairs and keep the same sides, learned on the same planes; both cut the same
+// 3 phyxels free. The keys are 7 degrees apart: the plane is the chord's, so it turns by a key's
+// step at each key, and at 10 degrees (kSideTurn) every lapse was a tie, cos of the turn within
+// 7e-7 of cos kSideTurn, under the 16-bit normal's rounding (5e-6), which float and double
+// decided apart (4 pairs by 400 steps). At 7 degrees the nearest is 2.6e-4 from it.
 TEST_F(GpuSolverTest, ATurnedBladesSidesLapseAsOnTheCpu) {
   std::vector<ToolKey> arc;
-  for (int k = 0; k <= 12; ++k) {
-    const double a = k * M_PI / 18;  // 10 degrees a key
-    arc.push_back(
-        {0.1 * k / 12, Vec3(0.0051 * std::cos(a), 0.0051 * std::sin(a), 0.003), Vec3::UnitZ()});
+  for (int k = 0; k <= 18; ++k) {
+    const double a = k * 7 * M_PI / 180;  // 120 degrees in 0.1 s
+    arc.push_back({0.1 * k * 7 / 120, Vec3(0.0051 * std::cos(a), 0.0051 * std::sin(a), 0.003),
+                   Vec3::UnitZ()});
   }
   const Scene scene =
       sided_block(Vec3(-0.00898, -0.00898, 0), Vec3(0.00902, 0.00902, 0.008), arc, Vec3::UnitY());
-  const std::vector<BladeSide> kept = expect_same_sides(ctx(), scene, 150, sample_scene(scene));
+  const std::vector<BladeSide> kept =
+      expect_same_sides(ctx(), scene, 400, sample_scene(scene), true);
   double widest = 1;  // the least cosine between two kept sides' planes
   for (const BladeSide& a : kept)
     for (const BladeSide& b : kept)

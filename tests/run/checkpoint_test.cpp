@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compute/test_env.h"
@@ -25,6 +27,7 @@
 #include "engine/solver/cutting.h"
 #include "engine/solver/solver.h"
 #include "tests/physics/physics_fixtures.h"
+#include "tests/run/checkpoint_fixtures.h"
 #include "tests/support/support.h"
 
 namespace phyxel {
@@ -32,26 +35,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using checkpoint_test::gpu_device_args;
+using checkpoint_test::kScalpel;
+using checkpoint_test::Ran;
+using checkpoint_test::run;
+using checkpoint_test::write_bytes;
+using checkpoint_test::write_scene;
 using phyxel::test::exit_status;
 using phyxel::test::kPhyxel;
 using phyxel::test::read_json;
 using phyxel::test::read_text;
-void write_bytes(const fs::path& p, const std::string& bytes) {
-  std::ofstream(p, std::ios::binary) << bytes;
-}
-
-struct Ran {
-  int code;
-  std::string err;
-};
-// `phyxel run SCENE ARGS --quiet` under `timeout`, stderr kept.
-Ran run(const fs::path& scene, const std::string& args, const fs::path& dir) {
-  const fs::path err = dir / "stderr.txt";
-  const std::string command = "timeout 300 " + kPhyxel + " run " + scene.string() + " " + args +
-                              " --quiet >/dev/null 2>" + err.string();
-  const int status = std::system(command.c_str());
-  return {exit_status(status), read_text(err)};
-}
 
 // Two objects, no gravity: a cantilever whose tip load acts from step 100 to step 200 (before
 // it, and once it has settled, the cantilever sleeps; the load's switches wake it) and a block
@@ -86,21 +79,6 @@ constexpr const char* kProbe = R"({
               {"t": 0.06, "position": [0.01, 0.01, 0.009]}], "friction": 0.2}]
 })";
 
-// A scalpel cutting a slit through a small block (docs/cutting.md): cuts happen before and
-// after the checkpoints; its threshold makes it hold pairs and keep sides.
-constexpr const char* kScalpel = R"({
-  "simulation": {"dt": 2e-4, "steps": 200, "gravity": [0, 0, -9.81]},
-  "objects": [{"name": "block", "shape": {"type": "box", "min": [0, 0, 0], "max": [0.02, 0.012, 0.01]},
-    "spacing": 0.002,
-    "material": {"young": 5e3, "poisson": 0.3, "density": 1000, "damping": 10},
-    "fixed": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 0.0005]}]}],
-  "output": {"every": 50, "format": "binary"},
-  "tools": [{"name": "scalpel", "type": "scalpel",
-     "shape": {"type": "capsule", "radius": 0.0003, "length": 0.02},
-     "blade": {"length": 0.015, "edge": [1, 0, 0]}, "friction": 0.3, "cut_force_threshold": 0.001,
-     "path": [{"t": 0, "position": [-0.002, 0.0061, 0.004]}, {"t": 0.04, "position": [0.022, 0.0061, 0.004]}]}]
-})";
-
 // A grasper closing on the end of a strip at 5 ms, pulling it until it lets go at 40 ms: the
 // checkpoints at 20 ms (and a stop at 27 ms) fall inside the grip.
 constexpr const char* kGrasper = R"({
@@ -115,13 +93,6 @@ constexpr const char* kGrasper = R"({
      "path": [{"t": 0, "position": [0.0315, 0, 0]}, {"t": 0.005, "position": [0.0315, 0, 0]},
               {"t": 0.04, "position": [0.0365, 0.002, 0.001]}]}]
 })";
-
-fs::path write_scene(const fs::path& dir, const std::string& name, const std::string& json) {
-  fs::create_directories(dir);
-  const fs::path file = dir / name;
-  std::ofstream(file) << json;
-  return file;
-}
 
 // The resumed run's outputs equal the uninterrupted run's byte for byte.
 void expect_same_file(const fs::path& a, const fs::path& b) {
@@ -233,19 +204,6 @@ TEST(Checkpoint, InterruptedRunResumesBitIdentically) {
                            state.displacement.size() * sizeof(Vec3)));
   EXPECT_EQ(0, std::memcmp(state.velocity.data(), plain_state.velocity.data(),
                            state.velocity.size() * sizeof(Vec3)));
-}
-
-// The command-line arguments that run the test GPU ("--device NAME", with " --validate" where
-// validation is on; lavapipe: sets VK_DRIVER_FILES for the child), or nothing and `why` when
-// there is no Vulkan device.
-std::optional<std::string> gpu_device_args(std::string& why) {
-  try {
-    const gpu::ContextOptions context = gpu::test_context_options();
-    return "--device " + context.device + (context.validation ? " --validate" : "");
-  } catch (const VulkanError& e) {
-    why = e.what();
-    return std::nullopt;
-  }
 }
 
 TEST(Checkpoint, GpuResumeIsBitIdentical) {
@@ -481,71 +439,6 @@ TEST(Checkpoint, RoundTripsAndFailedWritesLeaveNoTemporary) {
   }
   EXPECT_FALSE(fs::exists(blocked / "checkpoint.phx.tmp"));
   EXPECT_TRUE(fs::is_directory(blocked / kCheckpointFile));
-}
-
-// The payload offset of section `tag` in checkpoint bytes (docs/checkpoint.md: a 24-byte
-// header, then per section a u32 tag, a u64 length and the payload).
-size_t section_at(const std::string& bytes, uint32_t tag) {
-  uint32_t sections = 0;
-  std::memcpy(&sections, bytes.data() + 12, sizeof sections);
-  size_t at = checkpoint_format::kHeaderBytes;
-  for (uint32_t s = 0; s < sections; ++s) {
-    uint32_t t = 0;
-    uint64_t length = 0;
-    std::memcpy(&t, bytes.data() + at, sizeof t);
-    std::memcpy(&length, bytes.data() + at + 4, sizeof length);
-    if (t == tag) return at + 12;
-    at += 12 + length;
-  }
-  ADD_FAILURE() << "no section " << tag;
-  return 0;
-}
-
-// The surgical sections' checks of what they hold: a bad blade side, a torn-flag count that
-// is not the severed pairs', side normals for other tools than the sides'. Each refusal is one line
-// naming the file and what is wrong.
-TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
-  const fs::path dir = test::test_output_dir("checkpoint_surgery_refused");
-  Checkpoint c;
-  c.solver = c.device = "cpu (double)";
-  c.displacement = c.velocity = {Vec3::Zero(), Vec3::Zero()};
-  c.flags = {0, 0};
-  c.severed = {{0, 1, 0.25f, false}, {0, 1, 0.5f, true}};
-  c.blade_sides = {{{1, kSideMinus}}};
-  const fs::path file = dir / kCheckpointFile;
-  write_checkpoint(file, c);
-  const std::string bytes = read_text(file);
-  const auto refusal = [&](size_t at, char value) {
-    std::string b = bytes;
-    b[at] = value;
-    const uint64_t sum = fnv1a64(b.data(), b.size() - 8);
-    std::memcpy(b.data() + b.size() - 8, &sum, sizeof sum);
-    write_bytes(file, b);
-    try {
-      read_checkpoint(file);
-    } catch (const CheckpointError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(read without an error)");
-  };
-  // The first kept side: after the tool count, the tool's count and the phyxel.
-  const std::string side = refusal(section_at(bytes, checkpoint_format::kBladeSides) + 20, 7);
-  EXPECT_EQ(side.rfind(file.string() + ": corrupt checkpoint: blade side 7 for phyxel 1", 0), 0u)
-      << side;
-  // The torn flags' count (its low byte), one short of the two severed pairs.
-  const std::string torn = refusal(section_at(bytes, checkpoint_format::kTorn), 1);
-  EXPECT_EQ(torn.rfind(file.string() + ": corrupt checkpoint: 1 torn flags for 2 severed", 0), 0u)
-      << torn;
-  // The side normals' tool count (its low byte): two tools where the sides have one.
-  const std::string normals = refusal(section_at(bytes, checkpoint_format::kSideNormals), 2);
-  EXPECT_EQ(normals.rfind(
-                file.string() + ": corrupt checkpoint: side normals for 2 tools, sides for 1", 0),
-            0u)
-      << normals;
-  for (const std::string& m : {side, torn, normals})
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-  write_bytes(file, bytes);
-  EXPECT_EQ(read_checkpoint(file).blade_sides.at(0).at(0).side, kSideMinus);
 }
 
 TEST(Checkpoint, AnotherSceneIsRefused) {

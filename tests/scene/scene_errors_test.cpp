@@ -12,6 +12,7 @@
 
 #include "engine/scene/scene.h"
 #include "tests/scene/scene_error_helpers.h"
+#include "tests/support/scoped_dir.h"
 
 namespace phyxel {
 namespace {
@@ -37,9 +38,9 @@ TEST(SceneErrors, MissingFileNamesItAndSaysCheckThePath) {
 }
 
 TEST(SceneErrors, DirectoryInsteadOfFileIsUnreadable) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("phyxel_scene_dir_" + std::to_string(getpid()) + ".json");
-  fs::create_directories(dir);
+  const test::ScopedDir scoped(fs::temp_directory_path() /
+                               ("phyxel_scene_dir_" + std::to_string(getpid()) + ".json"));
+  const fs::path& dir = scoped.path();
   try {
     load_scene(dir);
     ADD_FAILURE() << "no error";
@@ -48,7 +49,6 @@ TEST(SceneErrors, DirectoryInsteadOfFileIsUnreadable) {
     EXPECT_EQ(msg.rfind(dir.string() + ": ", 0), 0u) << msg;
     EXPECT_NE(msg.find("check the path"), std::string::npos) << msg;
   }
-  fs::remove_all(dir);
 }
 
 TEST(SceneErrors, SyntaxErrorGivesLineAndColumn) {

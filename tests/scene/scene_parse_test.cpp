@@ -9,6 +9,7 @@
 
 #include "engine/geometry/mesh.h"
 #include "engine/scene/scene.h"
+#include "tests/support/scoped_dir.h"
 
 namespace phyxel {
 namespace {
@@ -167,15 +168,13 @@ TEST(SceneParse, SupportRadiusJustAboveSqrt2SpacingIsAccepted) {
 }
 
 TEST(SceneParse, LoadSceneReadsTheFileAndRemembersItsPath) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("phyxel_scene_parse_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const fs::path file = dir / "minimal.json";
+  const test::ScopedDir dir(fs::temp_directory_path() /
+                            ("phyxel_scene_parse_test_" + std::to_string(getpid())));
+  const fs::path file = dir.path() / "minimal.json";
   std::ofstream(file) << kMinimal;
   const Scene s = load_scene(file);
   EXPECT_EQ(s.file, file);
   EXPECT_EQ(s.objects.at(0).name, "block");
-  fs::remove_all(dir);
 }
 
 TEST(SceneParse, MeshPathIsResolvedAgainstTheSceneFolderAndScaled) {

@@ -1,5 +1,6 @@
 // Helpers the test areas share: files read whole, the `phyxel` binary run with its stderr kept,
-// exit statuses (tests/support/scoped_env.h: environment variables for a scope).
+// exit statuses (tests/support/scoped_env.h: environment variables for a scope; scoped_dir.h: a
+// folder removed when the scope ends).
 #pragma once
 
 #include <filesystem>
