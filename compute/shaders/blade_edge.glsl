@@ -83,38 +83,6 @@ bool edge_passes(vec3 p, vec3 q, EdgeFrame f, out float t) {
          behind <= f.depth + abs(moved);
 }
 
-// The on-plane rule's tolerance over the body's radius (kBodyTolerance of cutting.cpp): the
-// body's footprint and half-thickness.
-const float kBodyTolerance = 0.9;
-
-// One bound of Liang-Barsky clipping (clip_bound of cutting.cpp).
-bool clip_bound(float s, float r, inout float t0, inout float t1) {
-  if (s == 0.0) return r >= 0.0;
-  if (s > 0.0)
-    t0 = max(t0, -r / s);
-  else
-    t1 = min(t1, -r / s);
-  return t0 <= t1;
-}
-
-// Whether the body passes through the pair p -> q lying in it without crossing the blade's
-// plane (body_passes_through of cutting.cpp): both ends within 1.5 body radii of the plane,
-// the segment meeting the footprint seen in the plane; t the middle of the part inside.
-bool body_passes_through(vec3 p, vec3 q, EdgeFrame f, out float t) {
-  t = 0.0;
-  const float h = kBodyTolerance * f.front, dp = dot(f.normal, p - f.tip), dq = dot(f.normal, q - f.tip);
-  if (!(h > 0.0) || (dp >= 0.0) != (dq >= 0.0) || abs(dp) > h || abs(dq) > h) return false;
-  const vec3 pt = p - f.tip, d = q - p;
-  const float a = dot(pt, f.axis), da = dot(d, f.axis), e = dot(pt, f.edge), de = dot(d, f.edge);
-  const float w = h;
-  float t0 = 0.0, t1 = 1.0;
-  if (!clip_bound(da, a, t0, t1) || !clip_bound(-da, f.span - a, t0, t1) ||
-      !clip_bound(de, e + w, t0, t1) || !clip_bound(-de, w - e, t0, t1))
-    return false;
-  t = 0.5 * (t0 + t1);
-  return true;
-}
-
 // One side per phyxel while a blade passes (engine/solver/cutting.h side_entry, sides_allow):
 // entry = pass << 4 | side at the pass's start << 2 | side after it. The side buffer holds the
 // entries [tool][phyxel], then the normals they were learned on [tool][phyxel]

@@ -101,7 +101,6 @@ bool crosses_body(vec3 p, vec3 q, CutQuad c, out float t) {
 
 // Where the blade cuts in this substep: the quad, the body's strip, or a pair the edge holds
 // (tool_resist); whatever its force: a pair its edge carries past its reach (edge_passes).
-// blade_takes adds the pairs lying in the body (body_passes_through).
 bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
   t = 0.0;
   if (cuts && (crosses_quad(p, q, c, t) || crosses_body(p, q, c, t))) return true;
@@ -128,8 +127,7 @@ bool tool_cuts(CutQuad quad, uint tool) {
 
 // Per tool of the first kSeverBallTools, a ball holding everything its blade can sever this
 // substep (the swept quad, the body's strip, the region the edge holds or carries past its
-// reach: each the convex hull of corners in it; and within 1.5 body radii of the strip, the
-// pairs the body passes through), widened for float round-off: centre, radius
+// reach: each the convex hull of corners in it), widened for float round-off: centre, radius
 // squared; w < 0 where the blade severs nothing. A pair whose segment misses the ball is left
 // untested (it cannot cross), so the same pairs are severed as when testing all of them.
 // blade_cutting: whether its force reached the threshold (else only edge_passes severs).
@@ -185,8 +183,7 @@ vec4 blade_ball_of(uint tool, bool cuts) {
           r2, centre,
           ((corner & 1u) != 0u ? end : tip) + ((corner & 2u) != 0u ? radius : -radius) * e);
   if (c.resist.x > 0.0) hold_edge_region(r2, centre, c);
-  // The pairs the body passes through lie within 1.5 radii of the strip (kBodyTolerance).
-  const float r = sqrt(r2) * 1.01 + 1e-5 + 2.0 * max(radius, 0.0);  // m: above float round-off
+  const float r = sqrt(r2) * 1.01 + 1e-5;  // m: far above float round-off at these sizes
   return vec4(centre, r * r);
 }
 
@@ -239,20 +236,13 @@ uint side_of(uint tool, CutQuad quad, uint x, vec3 at) {
 
 // Whether the tool's blade severs pair (i, j) at t: it may (its ball), it crosses the pair and,
 // for a blade with a threshold (sided), leaves both phyxels on the sides it keeps them on.
-// A pair the body passes through in its plane (body_passes_through; `planar`): the kept sides
-// apply as to a crossing pair, but it teaches no side.
-bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out float t,
-                 out bool planar) {
+bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out float t) {
   t = 0.0;
-  planar = false;
   if (!blade_may_sever(tool, quad, xi, xj)) return false;
   const bool cuts = blade_cuts(tool, quad);
   const bool crosses =
       i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
-  if (!crosses && cuts)
-    planar = i < j ? body_passes_through(xi, xj, edge_frame(quad), t)
-                   : body_passes_through(xj, xi, edge_frame(quad), t);
-  if (!(crosses || planar) || !kSeverSided || !(quad.edge.w > 0.0)) return crosses || planar;
+  if (!crosses || !kSeverSided || !(quad.edge.w > 0.0)) return crosses;
   const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
   return sides_allow(side_of(tool, quad, i, xi), side_of(tool, quad, j, xj), normal, xi, xj);
 }
@@ -261,8 +251,7 @@ bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out 
 bool earlier_tool_takes(uint tool, uint i, vec3 xi, uint j, vec3 xj) {
   for (uint before = 0u; before < tool; ++before) {
     float t;
-    bool planar;
-    if (blade_takes(quads[p.row * p.tools + before], before, i, xi, j, xj, t, planar)) return true;
+    if (blade_takes(quads[p.row * p.tools + before], before, i, xi, j, xj, t)) return true;
   }
   return false;
 }
@@ -289,11 +278,9 @@ uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
   const uint j = nbr_index(k);
   const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
   float t;
-  bool planar;
-  if (!blade_takes(quad, tool, i, xi, j, xj, t, planar)) return kSideNone;
-  const uint side = sided && !planar
-                        ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj)
-                        : kSideNone;
+  if (!blade_takes(quad, tool, i, xi, j, xj, t)) return kSideNone;
+  const uint side =
+      sided ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj) : kSideNone;
   if (pair_weight_bits(k) == 0u || earlier_tool_takes(tool, i, xi, j, xj)) return side;
   claim_pair(i, j, k, t);
   return side;
@@ -347,8 +334,7 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
 void sever_unsided_pair(uint i, vec3 xi, uint k, uint j, vec3 xj) {
   for (uint tool = 0u; tool < p.tools; ++tool) {
     float t;
-    bool planar;
-    if (!blade_takes(quads[p.row * p.tools + tool], tool, i, xi, j, xj, t, planar)) continue;
+    if (!blade_takes(quads[p.row * p.tools + tool], tool, i, xi, j, xj, t)) continue;
     claim_pair(i, j, k, t);
     return;
   }

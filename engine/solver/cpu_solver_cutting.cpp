@@ -1,8 +1,7 @@
 // CpuSolver: cutting (engine/solver/cutting.h; the GPU twin is compute/shaders/tool_sever.comp).
 // After the contacts of a step, each blade whose edge force reached its threshold tests the
-// rows of the broad phase's candidates against the quad it swept in the step, its body's strip
-// and the pairs lying in its body (body_passes_through) (and a blade with a threshold, whatever
-// its force, against the pairs its edge carries past its reach); a pair
+// rows of the broad phase's candidates against the quad it swept in the step (and a blade with
+// a threshold, whatever its force, against the pairs its edge carries past its reach); a pair
 // gets weight 0 on both sides, and the precompute reruns for the phyxels whose rows changed.
 #include <algorithm>
 #include <array>
@@ -95,17 +94,10 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-      // A pair the body passes through in its plane: the kept sides apply (it would otherwise
-      // cut a phyxel from the side it keeps it on: a turned blade freed phyxels so), but it
-      // teaches no side (it crosses none).
-      const bool planar =
-          !crosses && cuts &&
-          (i < j ? body_passes_through(xi, xj, edge, &t) : body_passes_through(xj, xi, edge, &t));
-      if ((!crosses && !planar) ||
-          (sided && !sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band), edge.normal,
-                                 xi, xj)))
+      if (!crosses || (sided && !sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band),
+                                             edge.normal, xi, xj)))
         continue;
-      if (!planar) cut_to |= side_from(edge.normal, xi, xj);
+      cut_to |= side_from(edge.normal, xi, xj);
       if (w_[k] == Real(0)) continue;
       sever(i, k, float(i < j ? t : 1 - t));
       touched.push_back(i);

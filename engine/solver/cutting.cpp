@@ -132,44 +132,6 @@ bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
   return true;
 }
 
-namespace {
-
-// One bound of Liang-Barsky clipping: keeps the part of [t0, t1] where r + s t >= 0.
-bool clip_bound(double s, double r, double* t0, double* t1) {
-  if (s == 0) return r >= 0;
-  if (s > 0)
-    *t0 = std::max(*t0, -r / s);
-  else
-    *t1 = std::min(*t1, -r / s);
-  return *t0 <= *t1;
-}
-
-}  // namespace
-
-// The on-plane rule's tolerance over the body's radius. Tried (docs/cutting.md, "The on-plane
-// rule"): 1 (the contact parks pushed phyxels on the body's surface: float-double ties, GPU and
-// CPU severed different pairs), 1.5 (a turned blade freed a phyxel), 0.9 (the contact pushes
-// phyxels out of the slab before the footprint reaches them).
-constexpr double kBodyTolerance = 0.9;
-
-double body_footprint(const EdgeFrame& f) {
-  return kBodyTolerance * f.front;
-}
-
-bool body_passes_through(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t) {
-  const double h = body_footprint(f), dp = f.normal.dot(p - f.tip), dq = f.normal.dot(q - f.tip);
-  if (!(h > 0) || (dp >= 0) != (dq >= 0) || std::abs(dp) > h || std::abs(dq) > h) return false;
-  const Vec3 pt = p - f.tip, d = q - p;
-  const double a = pt.dot(f.axis), da = d.dot(f.axis), e = pt.dot(f.edge), de = d.dot(f.edge);
-  const double w = body_footprint(f);
-  double t0 = 0, t1 = 1;
-  if (!clip_bound(da, a, &t0, &t1) || !clip_bound(-da, f.length - a, &t0, &t1) ||
-      !clip_bound(de, e + w, &t0, &t1) || !clip_bound(-de, w - e, &t0, &t1))
-    return false;
-  *t = 0.5 * (t0 + t1);
-  return true;
-}
-
 uint32_t side_at_start(uint32_t entry, uint32_t pass) {
   const uint32_t stamp = entry >> 4;
   if (stamp == (pass & kSidePassMask)) return (entry >> 2) & 3u;

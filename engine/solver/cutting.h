@@ -136,18 +136,6 @@ bool edge_pushes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, do
 // edge is not a hook that drags a strand along. t: where it crosses the blade's plane.
 bool edge_passes(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t);
 
-// The on-plane rule (docs/cutting.md, "The blade's body"): whether the blade's body passes
-// through the pair p -> q (canonical order) that lies in it without crossing the blade's plane
-// (f.normal through f.tip; the tie rule of segment_crosses_triangle): both ends within
-// body_footprint of the plane (a length of the tool, not of the spacing), and the segment, seen
-// in the plane, meets the body's footprint (along the axis in [0, f.length], along the edge
-// within body_footprint of the axis). No crossing test sees such a pair. t: the middle of the
-// part of the segment inside the footprint. The kept sides apply as to a crossing pair, but it
-// teaches no side.
-bool body_passes_through(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t);
-// The footprint's half-width and half-thickness: kBodyTolerance (cutting.cpp) body radii.
-double body_footprint(const EdgeFrame& f);
-
 // The edge's push on one phyxel, bounded by the blade's threshold (docs/cutting.md, "The edge's
 // resistance"): pairs that alone would push a phyxel harder than the whole blade's threshold
 // fail in this substep, so they carry at most that force while they do (a blade that meets

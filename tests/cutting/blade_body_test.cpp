@@ -1,8 +1,7 @@
 // The blade's body separates what it passes through (docs/cutting.md, "The blade's body"): a
 // blade turned about its tip inside the tissue reaches almost nothing ahead near that pivot, so
 // without the body's strip its capsule ploughed the phyxels there along instead of cutting them
-// (what kept breast_resection's cut open at twice its resolution). The pairs lying in the
-// body without crossing its plane are severed too (the on-plane rule).
+// (what kept breast_resection's cut open at twice its resolution).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -61,76 +60,6 @@ TEST(BladeBody, NoPairPassesThroughTheBodyOfABladeTurnedAboutItsTip) {
       through += segment_crosses_quad<double>(xi, xj, strip);
     }
   EXPECT_EQ(through, 0u) << "live pairs through the blade's body";
-}
-
-// The lattice plane x = const of the clamped beam nearest 2 cm (its rest x).
-double lattice_plane_near(const PhyxelSet& set, double x) {
-  double best = set.rest[0].x();
-  for (const Vec3& r : set.rest)
-    if (std::abs(r.x() - x) < std::abs(best - x)) best = r.x();
-  return best;
-}
-
-// The live pairs of that lattice plane (both ends in it) after a blade of body radius 0.4 mm
-// crossed the whole beam along +y, its plane (x = const) `offset` from the lattice plane.
-size_t live_pairs_in_plane(double offset, double threshold, size_t* in_plane) {
-  Scene scene = test::clamped_beam(5e4, 5);
-  scene.simulation.gravity = Vec3::Zero();
-  const double x = lattice_plane_near(sample_scene(scene), 0.02);
-  scene.tools.push_back(test::crossing_scalpel(x + offset, -0.003, 0.016, 0.0, 0.016, threshold));
-  scene.tools[0].shape.radius = 0.0004;
-  const PhyxelSet set = sample_scene(scene);
-  CpuSolver<double> solver(set, scene.simulation.gravity);
-  ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
-  run.run(180);
-  EXPECT_EQ(solver.first_non_finite(), -1);
-  const NeighbourLists& nbr = solver.neighbours();
-  size_t live = 0;
-  *in_plane = 0;
-  for (uint32_t i = 0; i < set.size(); ++i)
-    for (uint32_t k = nbr.offset[i]; k < nbr.offset[i + 1]; ++k) {
-      const uint32_t j = nbr.index[k];
-      if (j < i || std::abs(set.rest[i].x() - x) > 1e-9 || std::abs(set.rest[j].x() - x) > 1e-9)
-        continue;
-      ++*in_plane;
-      live += solver.pair_weights()[k] != 0.0;
-    }
-  return live;
-}
-
-// The on-plane rule (docs/cutting.md, "The blade's body"): the pairs of a lattice plane lying
-// within the body's radius of the blade's plane never cross it, yet the body passes through
-// them: all are severed (at threshold 0 and above it). Those of a lattice plane 1.5 radii away
-// are not: the tolerance is the body's.
-TEST(BladeBody, ThePairsLyingInTheBodyAreSeveredThoseOutsideItAreNot) {
-  for (const double threshold : {0.0, 0.02}) {
-    SCOPED_TRACE(threshold);
-    size_t in_plane = 0;
-    EXPECT_EQ(live_pairs_in_plane(0.0002, threshold, &in_plane), 0u);
-    EXPECT_GT(in_plane, 50u);
-    EXPECT_EQ(live_pairs_in_plane(0.0007, threshold, &in_plane), in_plane);
-  }
-}
-
-// The rule itself: a pair in the plane within the body's footprint, one beside the footprint,
-// one just beyond the body's radius off the plane, one crossing the plane (the crossing tests').
-TEST(BladeBody, APairPassesThroughTheBodyOnlyWithinItsRadiusOfThePlane) {
-  EdgeFrame f;  // tip at the origin, axis z, edge y, normal -x; 1 cm long, radius 0.5 mm
-  f.axis = Vec3::UnitZ();
-  f.edge = Vec3::UnitY();
-  f.normal = f.axis.cross(f.edge);
-  f.length = 0.01;
-  f.front = 0.0005;
-  f.depth = 0.002;
-  double t = 0;
-  EXPECT_TRUE(body_passes_through(Vec3(0.0004, -0.001, 0.005), Vec3(0.0004, 0.001, 0.005), f, &t));
-  EXPECT_NEAR(t, 0.5, 1e-12);
-  EXPECT_FALSE(body_passes_through(Vec3(0, 0.0008, 0.005), Vec3(0, 0.002, 0.005), f, &t));
-  EXPECT_FALSE(body_passes_through(Vec3(0.0008, -0.001, 0.005), Vec3(0.0004, 0.001, 0.005), f, &t));
-  EXPECT_FALSE(
-      body_passes_through(Vec3(0.0004, -0.001, 0.005), Vec3(-0.0004, 0.001, 0.005), f, &t));
-  f.stiffness = 1e7;  // an edge that holds pairs: the footprint is still the body's
-  EXPECT_FALSE(body_passes_through(Vec3(0, 0.0008, 0.005), Vec3(0, 0.002, 0.005), f, &t));
 }
 
 }  // namespace
