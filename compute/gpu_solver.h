@@ -112,6 +112,11 @@ struct GpuSolverOptions {
   // blade with a threshold > 0): tool_contact_reduce sums them beside the sever, off the
   // substep's chain of dependent passes; the same bits. Tests turn it off to compare.
   bool sums_apart = true;
+  // Cutting without tearing, band or principal stress: a substep's sever beside its stress pass
+  // (no barrier between them; the sever's last workgroup redoes the stress of the phyxels it
+  // cut pairs of once that pass is done), one dependent pass less a substep; the same bits.
+  // Tests turn it off to compare.
+  bool sever_beside_stress = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -342,7 +347,11 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void part_end(Recorder& rec) {
     if (part_timer_) part_timer_->end(rec);
   }
-  void record_stress(Recorder& rec, const Buffer& disp);
+  // epoch != 0: the pass signals its end with it (StressPush), for a sever beside it.
+  void record_stress(Recorder& rec, const Buffer& disp, uint32_t epoch = 0);
+  // Whether substep `step`'s sever goes beside its stress pass (sever_beside_stress), in a
+  // piece of the advance that ends before substep `to`.
+  bool sever_beside(int64_t step, int64_t to) const;
   // solver_force_tear in place of record_force (gpu_solver_tearing.cpp).
   // contact_step >= 0: with the contact of that substep after the drift (contact_in_force_).
   void record_force_tear(Recorder& rec, uint32_t mode, float dt, const Buffer& in,
@@ -388,7 +397,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void prepare_blade_sides();             // set_tools: every blade's side entries, none kept
   uint32_t cut_pass(int64_t step) const;  // SeverPush.pass of a substep of the advance
   void upload_cut_quads(Recorder& rec);
-  void record_sever(Recorder& rec, int64_t step, const Buffer& disp);
+  // beside: recorded after that substep's stress pass with no barrier between (sever_beside).
+  void record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside = false);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
   uint32_t cut_table_row(int64_t step) const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.
@@ -471,6 +481,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer ainv_;           // 2 vec4
   Buffer resid_;          // 2 vec4
   Buffer stress_;         // D_i, 3 vec4 (w: u_i, as the stress pass read it)
+  Buffer stress_done_;    // uint: the stress pass's workgroups done, its last epoch (StressPush)
   Buffer nbr_offset_;     // N + 1
   PairBuffer nbr_index_;  // pairs, in two parts past one binding (pair_buffers.glsl)
   PairBuffer weight_;     // pairs

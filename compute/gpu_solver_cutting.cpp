@@ -146,8 +146,11 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
   return static_cast<uint32_t>(std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_));
 }
 
-void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
+void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside) {
   const uint32_t row = cut_table_row(step);
+  // Beside the stress pass, record_steps times the two as one.
+  PassTimer* const parts = part_timer_;
+  if (beside) part_timer_ = nullptr;
   // record_steps put a barrier after the contact: the samples of this substep are written.
   if (!contact_fused() && !resist_fused()) {  // else tool_contact or tool_resist emptied it
     part_begin(rec, "cut: reset");
@@ -165,10 +168,17 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                        log_capacity_,
                        cut_pass(step),
                        count_,
+                       beside ? cut_pass(step) : 0u,  // record_stress's epoch
+                       lanes_for(Gather::Stress, uint32_t(stress_count_)),
+                       uint32_t(stress_count_),
+                       GpuSolver::push(0, 0.0f).weights,
                        0u,
                        0u};
   // A blade with a threshold keeps sides (sample_in_sever_): else the pass without them.
-  dispatch_indirect(rec, sample_in_sever_ ? kernels_->sever_sided : kernels_->sever, push,
+  const Pipeline& sever =
+      beside ? (sample_in_sever_ ? kernels_->sever_sided_beside : kernels_->sever_beside)
+             : (sample_in_sever_ ? kernels_->sever_sided : kernels_->sever);
+  dispatch_indirect(rec, sever, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
                      {"Disp", disp},
@@ -188,9 +198,13 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"Ainv", ainv_},
                      {"Resid", resid_},
                      {"Done", cut_done_},
-                     {"Sides", cut_sides_}},
+                     {"Sides", cut_sides_},
+                     {"Stress", stress_},
+                     {"StressList", stress_list_},
+                     {"StressDone", stress_done_}},
                     contact_count_, sizeof(ContactCount));
   part_end(rec);
+  part_timer_ = parts;
 }
 
 void GpuSolver::record_sums_apart(Recorder& rec) {

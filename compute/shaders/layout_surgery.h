@@ -325,9 +325,16 @@ struct SeverPush {
   uint log_capacity;
   uint pass;     // the substep's count for the side entries (engine cutting.h side_entry)
   uint phyxels;  // the stride of the side entries [tool][phyxel]
+  // Beside the stress pass (stress_epoch != 0, its StressPush.epoch): the last workgroup waits
+  // for that pass's end, then redoes the stress of the dirty list's phyxels in its list (of
+  // stress_count, ascending) with its lanes and weights mode (StepPush).
+  uint stress_epoch;
+  uint stress_lanes;
+  uint stress_count;
+  uint stress_weights;
   uint pad0, pad1;
 };
-PHYXEL_ASSERT_SIZE(SeverPush, 48);
+PHYXEL_ASSERT_SIZE(SeverPush, 64);
 PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
 PHYXEL_CONST uint kSeverBindingRest = 1;
 PHYXEL_CONST uint kSeverBindingDisp = 2;
@@ -346,8 +353,11 @@ PHYXEL_CONST uint kSeverBindingLocal = 14;  // the precompute's (kPrecomputeBind
 PHYXEL_CONST uint kSeverBindingClasses = 15;
 PHYXEL_CONST uint kSeverBindingAinv = 16;
 PHYXEL_CONST uint kSeverBindingResid = 17;
-PHYXEL_CONST uint kSeverBindingDone = 18;   // workgroups done (solver_force_tear's too); 0 between
-PHYXEL_CONST uint kSeverBindingSides = 19;  // uint [tool][phyxel]: side entries (blade_edge.glsl)
+PHYXEL_CONST uint kSeverBindingDone = 18;    // workgroups done (solver_force_tear's too); 0 between
+PHYXEL_CONST uint kSeverBindingSides = 19;   // uint [tool][phyxel]: side entries (blade_edge.glsl)
+PHYXEL_CONST uint kSeverBindingStress = 20;  // beside the stress pass: its D (vec4[3 N])
+PHYXEL_CONST uint kSeverBindingStressList = 21;  // ... its list
+PHYXEL_CONST uint kSeverBindingStressDone = 22;  // ... its Done (kStressBindingDone)
 
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor
