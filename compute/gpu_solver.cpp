@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "compute/env.h"
 #include "compute/gpu_solver_band.h"
 #include "compute/gpu_solver_kernels.h"
 #include "compute/gpu_solver_setup.h"
@@ -71,15 +72,31 @@ void GpuSolver::check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pa
                       VK_ERROR_OUT_OF_DEVICE_MEMORY);
 }
 
+namespace {
+
+// The options with the environment's say: $PHYXEL_SEVER_BESIDE_STRESS "0" turns
+// sever_beside_stress off (a malformed value is a VulkanError, as the context's variables).
+GpuSolverOptions with_env(GpuSolverOptions options) {
+  try {
+    options.sever_beside_stress =
+        options.sever_beside_stress && env_switch("PHYXEL_SEVER_BESIDE_STRESS");
+  } catch (const EnvError& e) {
+    throw VulkanError(e.what());
+  }
+  return options;
+}
+
+}  // namespace
+
 GpuSolver::GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
                      const GpuSolverOptions& options)
-    : ctx_(&ctx), options_(options) {
+    : ctx_(&ctx), options_(with_env(options)) {
   build(set, gravity);
 }
 
 GpuSolver::GpuSolver(std::unique_ptr<Context> ctx, const PhyxelSet& set, const Vec3& gravity,
                      const GpuSolverOptions& options)
-    : owned_ctx_(std::move(ctx)), ctx_(owned_ctx_.get()), options_(options) {
+    : owned_ctx_(std::move(ctx)), ctx_(owned_ctx_.get()), options_(with_env(options)) {
   if (ctx_ == nullptr) throw std::invalid_argument("GpuSolver: no context");
   build(set, gravity);
 }
@@ -340,8 +357,11 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     }
     if (beside == step) {
       timed("stress+cut", [&] {
+        const bool first = options_.sever_before_stress;  // a test's: the wait runs out
+        if (first) record_sever(rec, step, disp_[cur], true);
+        if (first) rec.barrier();
         record_stress(rec, disp_[cur], cut_pass(step));
-        record_sever(rec, step, disp_[cur], true);
+        if (!first) record_sever(rec, step, disp_[cur], true);
       });
     } else {
       timed("stress", [&] { record_stress(rec, disp_[cur]); });

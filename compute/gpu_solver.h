@@ -115,8 +115,13 @@ struct GpuSolverOptions {
   // Cutting without tearing, band or principal stress: a substep's sever beside its stress pass
   // (no barrier between them; the sever's last workgroup redoes the stress of the phyxels it
   // cut pairs of once that pass is done), one dependent pass less a substep; the same bits.
-  // Tests turn it off to compare.
+  // Tests turn it off to compare. $PHYXEL_SEVER_BESIDE_STRESS "0" turns it off (GpuSolver's
+  // constructor): for a driver that does not run the stress pass beside or before the sever,
+  // where the sever's bounded wait runs out and the advance throws a VulkanError saying so.
   bool sever_beside_stress = true;
+  // Tests only, with sever_beside_stress: the sever recorded before its stress pass (a barrier
+  // between), as a driver that ran it first would: its wait runs out, the advance throws.
+  bool sever_before_stress = false;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -403,7 +408,10 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   uint32_t cut_table_row(int64_t step) const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.
   void record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp);
+  // The cut log's header after an advance: the pairs cut or torn, and a VulkanError where a
+  // sever beside the stress pass found that pass not run (kCutLogStressMissed).
   void finish_cutting();
+  void take_cut_log(uint32_t found);  // the log's `found` pairs into severed_
   // Graspers (gpu_solver_grasp.cpp): the grip buffers for set_tools, and the capture, hold and
   // reduction passes of a substep, after the contact reduction.
   void prepare_grasping();
@@ -608,7 +616,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer cut_quads_, cut_quad_upload_;  // CutQuad [row][tool]
   Buffer cut_dirty_;                    // uint: count, phyxels
   Buffer cut_done_;   // uint: finished workgroups of tool_sever or solver_force_tear; 0 between
-  Buffer cut_log_;    // Readback: uvec4 count, then (i, j, t bits, 0)
+  Buffer cut_log_;    // Readback: uvec4 (count, missed, 0, 0), then (i, j, t bits, torn)
   Buffer cut_sides_;  // uint [tool][phyxel]: side entries (tool_sever)
   uint32_t cut_pass_ = 0;  // substeps counted for them (SeverPush.pass)
   uint32_t log_capacity_ = 0;

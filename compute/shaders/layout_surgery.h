@@ -335,6 +335,14 @@ struct SeverPush {
   uint pad0, pad1;
 };
 PHYXEL_ASSERT_SIZE(SeverPush, 64);
+// The most polls of that pass's epoch (Vulkan does not promise that the pass recorded first runs
+// beside or before the sever): an atomic's round trip (~0.1-1 us) makes it 0.4 s or more on a
+// GPU, far past a stress pass (7 us on the breast, ms at tens of millions of phyxels); llvmpipe
+// ends any loop after 65 535 iterations (milliseconds). Where they run out, the sever sets
+// kCutLogStressMissed in the log header's y, skips the redo, and the advance's later severs do
+// not wait; GpuSolver::finish_cutting throws.
+PHYXEL_CONST uint kSeverStressWaitSpins = 1u << 22;
+PHYXEL_CONST uint kCutLogStressMissed = 1u;
 PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
 PHYXEL_CONST uint kSeverBindingRest = 1;
 PHYXEL_CONST uint kSeverBindingDisp = 2;
@@ -345,8 +353,9 @@ PHYXEL_CONST uint kSeverBindingFlags = 6;
 PHYXEL_CONST uint kSeverBindingQuads = 7;    // CutQuad [row][tool]
 PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on the tool
 PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, then phyxels
-PHYXEL_CONST uint kSeverBindingLog = 10;     // uvec4: (count, 0, 0, 0), then (i, j, t bits, torn)
-PHYXEL_CONST uint kSeverBindingCount = 11;   // ContactCount, then SeverGroups
+// uvec4: (count, kCutLogStressMissed or 0, 0, 0), then (i, j, t bits, torn)
+PHYXEL_CONST uint kSeverBindingLog = 10;
+PHYXEL_CONST uint kSeverBindingCount = 11;  // ContactCount, then SeverGroups
 PHYXEL_CONST uint kSeverBindingIndexHi = 12;
 PHYXEL_CONST uint kSeverBindingWeightHi = 13;
 PHYXEL_CONST uint kSeverBindingLocal = 14;  // the precompute's (kPrecomputeBinding*)

@@ -14,10 +14,11 @@
 // all that blade can sever this substep (blade_ball). Then the workgroup that finishes last
 // reruns the precompute of the phyxels put in the dirty list (none most substeps: no dependent
 // dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). Beside the stress
-// pass (p.stress_epoch != 0: no barrier between them), it then waits for that pass's end and
-// redoes the stress of those phyxels (solver_stress.glsl, the same sums in the same order), which
-// the pass may have computed from the pairs and precompute before the cut. Positions relative
-// to the motion table's origin.
+// pass (p.stress_epoch != 0: no barrier between them), it then waits for that pass's end (at
+// most kSeverStressWaitSpins polls, else kCutLogStressMissed in the log) and redoes the stress
+// of those phyxels (solver_stress.glsl, the same sums in the same order), which the pass may
+// have computed from the pairs and precompute before the cut. Positions relative to the motion
+// table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -430,6 +431,8 @@ void redo_stress(uint i) {
   store_stress(i, fl, cls, li.w, ui, m, s, piola);
 }
 
+shared bool stress_seen;  // the wait's outcome, for every invocation of the last workgroup
+
 // By the last workgroup, after the dirty list's precompute: once the stress pass beside this one
 // has written all its stress, that of the dirty phyxels in its list from their new pairs.
 void redo_dirty_stress() {
@@ -437,10 +440,25 @@ void redo_dirty_stress() {
   if (p.stress_epoch == 0u || dirtied == 0u) return;  // uniform
   memoryBarrierBuffer();  // the precompute's writes
   barrier();
-  if (gl_LocalInvocationIndex == 0u)
-    while (atomicAdd(stress_finished, 0u) != p.stress_epoch) {
+  // Bounded: Vulkan does not promise that the stress pass, recorded first, runs beside or
+  // before this one. Where the wait runs out, the log's header says so (the host throws after
+  // the advance) and the redo is skipped.
+  if (gl_LocalInvocationIndex == 0u) {
+    // Once a wait of the advance ran out, none waits again (one timeout an advance). Seen is
+    // what the loop read, not its count: llvmpipe ends any loop after 65 535 iterations.
+    bool seen = false;
+    const bool missed = atomicAdd(cut_log[0].y, 0u) != 0u;
+    for (uint spins = 0u; !missed && spins < kSeverStressWaitSpins; ++spins) {
+      if (atomicAdd(stress_finished, 0u) == p.stress_epoch) {
+        seen = true;
+        break;
+      }
     }
+    stress_seen = seen;
+    if (!seen) atomicOr(cut_log[0].y, kCutLogStressMissed);
+  }
   barrier();
+  if (!stress_seen) return;  // uniform (shared)
   memoryBarrierBuffer();
   for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x) {
     const uint i = dirty[1u + e];
