@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "compute/env.h"
 #include "compute/gpu_solver_band.h"
 #include "compute/gpu_solver_kernels.h"
 #include "compute/gpu_solver_setup.h"
@@ -71,15 +72,31 @@ void GpuSolver::check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pa
                       VK_ERROR_OUT_OF_DEVICE_MEMORY);
 }
 
+namespace {
+
+// The options with the environment's say: $PHYXEL_SEVER_BESIDE_STRESS "0" turns
+// sever_beside_stress off (a malformed value is a VulkanError, as the context's variables).
+GpuSolverOptions with_env(GpuSolverOptions options) {
+  try {
+    options.sever_beside_stress =
+        options.sever_beside_stress && env_switch("PHYXEL_SEVER_BESIDE_STRESS");
+  } catch (const EnvError& e) {
+    throw VulkanError(e.what());
+  }
+  return options;
+}
+
+}  // namespace
+
 GpuSolver::GpuSolver(Context& ctx, const PhyxelSet& set, const Vec3& gravity,
                      const GpuSolverOptions& options)
-    : ctx_(&ctx), options_(options) {
+    : ctx_(&ctx), options_(with_env(options)) {
   build(set, gravity);
 }
 
 GpuSolver::GpuSolver(std::unique_ptr<Context> ctx, const PhyxelSet& set, const Vec3& gravity,
                      const GpuSolverOptions& options)
-    : owned_ctx_(std::move(ctx)), ctx_(owned_ctx_.get()), options_(options) {
+    : owned_ctx_(std::move(ctx)), ctx_(owned_ctx_.get()), options_(with_env(options)) {
   if (ctx_ == nullptr) throw std::invalid_argument("GpuSolver: no context");
   build(set, gravity);
 }
@@ -139,6 +156,8 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   ainv_ = device(2 * n * sizeof(vec4), "moment inverse");
   resid_ = device(2 * n * sizeof(vec4), "moment residual");
   stress_ = device(3 * n * sizeof(vec4), "stress D");
+  stress_done_ = device(2 * sizeof(uint32_t), "stress workgroups done");
+  upload(ctx, stress_done_, std::vector<uint32_t>(2, 0u));
   nbr_offset_ = device((n + 1) * sizeof(uint32_t), "neighbour offsets");
   energy_ = device(n * sizeof(vec4), "energy per phyxel");
   const uint64_t level1 = (n + kScanBlock - 1) / kScanBlock;
@@ -242,12 +261,12 @@ uint32_t GpuSolver::lanes_for(Gather pass, uint32_t count) const {
 
 // With the principal stress on, the same gather also writes it (and the tensor while tearing);
 // buffers not written are bound by stand-ins of the right kind.
-void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
+void GpuSolver::record_stress(Recorder& rec, const Buffer& disp, uint32_t epoch) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   const uint32_t mode = !principal_ ? kStressOnly
                         : tearing_  ? kStressWithTensor
                                     : kStressWithPrincipal;
-  const StepPush pc = push(n, 0.0f, mode, lanes_for(Gather::Stress, n));
+  const StressPush pc{push(n, 0.0f, mode, lanes_for(Gather::Stress, n)), epoch};
   const Buffer& principal = principal_ ? principal_stress_ : von_mises_;
   dispatch(rec, kernels_->stress, pc,
            {{"Offset", nbr_offset_},
@@ -264,8 +283,9 @@ void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
             {"Principal", principal},
             {"Cauchy", tearing_ ? cauchy_ : energy_},
             {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()}},
-           n * pc.lanes);
+            {"WeightHi", weight_.hi()},
+            {"Done", stress_done_}},
+           n * pc.step.lanes);
   record_band(rec, disp);  // while the band has cells
 }
 
@@ -304,14 +324,15 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     // With part_timer_ the surgical passes time their parts themselves; the step passes (the
     // fused force and tear test among them) and the tear's reset are one part each.
     const bool whole =
-        timer &&
-        !(part_timer_ && std::strcmp(name, "stress") != 0 && std::strncmp(name, "force", 5) != 0 &&
-          std::strcmp(name, "kick_drift") != 0 && std::strcmp(name, "tear: reset") != 0);
+        timer && !(part_timer_ && std::strncmp(name, "stress", 6) != 0 &&
+                   std::strncmp(name, "force", 5) != 0 && std::strcmp(name, "kick_drift") != 0 &&
+                   std::strcmp(name, "tear: reset") != 0);
     if (whole) timer->begin(rec, name);
     record();
     if (whole) timer->end(rec);
     rec.barrier();
   };
+  int64_t beside = -1;  // the substep whose sever waits for its stress pass
   for (int64_t step = from; step < to; ++step) {
     if (step == 0) {
       const int target = (total - 1) % 2 == 0 ? 0 : 1;
@@ -334,7 +355,17 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
         if (cutting_) timed("cut", [&] { record_sever(rec, 0, disp_[cur]); });
       }
     }
-    timed("stress", [&] { record_stress(rec, disp_[cur]); });
+    if (beside == step) {
+      timed("stress+cut", [&] {
+        const bool first = options_.sever_before_stress;  // a test's: the wait runs out
+        if (first) record_sever(rec, step, disp_[cur], true);
+        if (first) rec.barrier();
+        record_stress(rec, disp_[cur], cut_pass(step));
+        if (!first) record_sever(rec, step, disp_[cur], true);
+      });
+    } else {
+      timed("stress", [&] { record_stress(rec, disp_[cur]); });
+    }
     // The closing kick, or with the next step's kick and drift into the other buffer (its
     // neighbours still read the current one); while tearing, with the tear test after it.
     const bool last = step == total - 1;
@@ -364,12 +395,21 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       if (grasp != kContactNoGrasp) record_grip_row(rec, contact_step, grasp);
       if (contact_recorded() && contact_step < 0)
         timed("contact", [&] { record_contact(rec, step + 1, dt, disp_[cur]); });
-      if (contact_recorded() && cutting_)
+      if (contact_recorded() && cutting_ && sever_beside(step + 1, to))
+        beside = step + 1;
+      else if (contact_recorded() && cutting_)
         timed("cut", [&] { record_sever(rec, step + 1, disp_[cur]); });
     }
   }
   // The samples of the substeps whose contact the force pass did, after the last.
   if (to == total && contact_in_force_) timed("contact: rows", [&] { record_fused_rows(rec); });
+}
+
+bool GpuSolver::sever_beside(int64_t step, int64_t to) const {
+  // Not where the stress pass writes more than D (principal, tearing) or the band follows it,
+  // nor with no stress pass to wait for (or an epoch of 0, which means none).
+  return options_.sever_beside_stress && step < to && !tearing_ && !principal_ && !band_built() &&
+         stress_count_ > 0 && cut_pass(step) != 0u;
 }
 
 namespace {
@@ -410,6 +450,9 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
   // The advance's log starts empty (begin_contact empties it for cuts).
   if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
+  // No epoch of an earlier advance (cut_pass_ goes back with a restored state) for a sever
+  // beside the stress pass to take for its own.
+  if (cutting_) rec_[0]->fill(stress_done_, 0, sizeof(uint32_t), sizeof(uint32_t));
   // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
   if (force_count_ == 0) {
     if (!tools_.empty()) {

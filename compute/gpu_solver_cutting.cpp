@@ -28,6 +28,21 @@ bool by_pair(const SeveredPair& a, const SeveredPair& b) {
   return a.i != b.i ? a.i < b.i : a.j < b.j;
 }
 
+// A PassTimer pointer off for a scope and back on at its end, also when the scope throws.
+class TimerOff {
+ public:
+  TimerOff(PassTimer*& timer, bool off) : timer_(timer), kept_(timer) {
+    if (off) timer = nullptr;
+  }
+  ~TimerOff() { timer_ = kept_; }
+  TimerOff(const TimerOff&) = delete;
+  TimerOff& operator=(const TimerOff&) = delete;
+
+ private:
+  PassTimer*& timer_;
+  PassTimer* const kept_;
+};
+
 }  // namespace
 
 void GpuSolver::prepare_cutting() {
@@ -146,8 +161,10 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
   return static_cast<uint32_t>(std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_));
 }
 
-void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
+void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside) {
   const uint32_t row = cut_table_row(step);
+  // Beside the stress pass, record_steps times the two as one.
+  const TimerOff parts(part_timer_, beside);
   // record_steps put a barrier after the contact: the samples of this substep are written.
   if (!contact_fused() && !resist_fused()) {  // else tool_contact or tool_resist emptied it
     part_begin(rec, "cut: reset");
@@ -165,10 +182,17 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                        log_capacity_,
                        cut_pass(step),
                        count_,
+                       beside ? cut_pass(step) : 0u,  // record_stress's epoch
+                       lanes_for(Gather::Stress, uint32_t(stress_count_)),
+                       uint32_t(stress_count_),
+                       GpuSolver::push(0, 0.0f).weights,
                        0u,
                        0u};
   // A blade with a threshold keeps sides (sample_in_sever_): else the pass without them.
-  dispatch_indirect(rec, sample_in_sever_ ? kernels_->sever_sided : kernels_->sever, push,
+  const Pipeline& sever =
+      beside ? (sample_in_sever_ ? kernels_->sever_sided_beside : kernels_->sever_beside)
+             : (sample_in_sever_ ? kernels_->sever_sided : kernels_->sever);
+  dispatch_indirect(rec, sever, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
                      {"Disp", disp},
@@ -188,7 +212,10 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp) {
                      {"Ainv", ainv_},
                      {"Resid", resid_},
                      {"Done", cut_done_},
-                     {"Sides", cut_sides_}},
+                     {"Sides", cut_sides_},
+                     {"Stress", stress_},
+                     {"StressList", stress_list_},
+                     {"StressDone", stress_done_}},
                     contact_count_, sizeof(ContactCount));
   part_end(rec);
 }
@@ -267,8 +294,16 @@ void GpuSolver::finish_cutting() {
   cut_log_.invalidate();
   uvec4 header;
   std::memcpy(&header, cut_log_.mapped(), sizeof header);
-  const uint32_t found = header.x;
-  if (found == 0) return;
+  if (header.x > 0) take_cut_log(header.x);
+  if ((header.y & kCutLogStressMissed) != 0)
+    throw VulkanError(ctx_->info().name +
+                      ": the cut's sever beside the stress pass found that pass not run (this "
+                      "driver does not run a dispatch beside the one recorded before it); the "
+                      "stress after the cut is not to be trusted. Run with "
+                      "PHYXEL_SEVER_BESIDE_STRESS=0 (the sever in a pass of its own)");
+}
+
+void GpuSolver::take_cut_log(uint32_t found) {
   std::vector<SeveredPair> fresh;
   if (found <= log_capacity_) {
     std::vector<uvec4> entries(found);

@@ -84,9 +84,3 @@ void precompute_listed() {
   for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x)
     precompute_phyxel(dirty[1u + e], true);
 }
-
-// Call from every invocation after its pass's work: the workgroup that finishes last reruns
-// the precompute of the phyxels in the dirty list (none most substeps: no dependent dispatch).
-void precompute_dirty_list() {
-  if (finished_last()) precompute_listed();
-}

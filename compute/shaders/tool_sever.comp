@@ -13,8 +13,12 @@
 // t in any order. A pair is tested against a blade only where its segment meets the ball around
 // all that blade can sever this substep (blade_ball). Then the workgroup that finishes last
 // reruns the precompute of the phyxels put in the dirty list (none most substeps: no dependent
-// dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). Positions relative
-// to the motion table's origin.
+// dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). Beside the stress
+// pass (p.stress_epoch != 0: no barrier between them), it then waits for that pass's end (at
+// most kSeverStressWaitSpins polls, else kCutLogStressMissed in the log) and redoes the stress
+// of those phyxels (solver_stress.glsl, the same sums in the same order), which the pass may
+// have computed from the pairs and precompute before the cut. Positions relative to the motion
+// table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -43,12 +47,21 @@ layout(std430, binding = kSeverBindingCount) readonly buffer Count {
   ContactCount count;
   SeverGroups sever;  // tool_broad_scan's: the lanes per candidate
 };
-layout(std430, binding = kSeverBindingLocal) buffer Local { vec4 local_pos[]; };
+layout(std430, binding = kSeverBindingLocal) coherent buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kSeverBindingClasses) readonly buffer Classes { SolverClass classes[]; };
-layout(std430, binding = kSeverBindingAinv) writeonly buffer Ainv { vec4 ainv[]; };
-layout(std430, binding = kSeverBindingResid) writeonly buffer Resid { vec4 resid[]; };
+// Coherent: the redo of the stress beside the stress pass reads what the precompute wrote.
+layout(std430, binding = kSeverBindingAinv) coherent buffer Ainv { vec4 ainv[]; };
+layout(std430, binding = kSeverBindingResid) coherent buffer Resid { vec4 resid[]; };
 layout(std430, binding = kSeverBindingDone) coherent buffer Done { uint done; };
 layout(std430, binding = kSeverBindingSides) buffer Sides { uint sides[]; };
+layout(std430, binding = kSeverBindingStress) coherent writeonly buffer Stress { vec4 stress[]; };
+layout(std430, binding = kSeverBindingStressList) readonly buffer StressList {
+  uint stress_list[];
+};
+layout(std430, binding = kSeverBindingStressDone) coherent buffer StressDone {
+  uint stress_done;
+  uint stress_finished;  // solver_stress's epoch, once its pass is written
+};
 
 const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
 // Whether a blade may keep sides (one with a threshold): GpuSolver picks the pipeline.
@@ -113,6 +126,7 @@ bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
 }
 
 #include "pair_edit.glsl"
+#include "solver_stress.glsl"
 
 // Whether the tool's blade cuts in this substep: its sample presses the edge in, or the point
 // (a stab), with at least its threshold (cut_force of engine/solver/cutting.cpp).
@@ -382,6 +396,76 @@ void sever_unsided(LaneStart s, uint lanes) {
   }
 }
 
+// Whether phyxel x is in the stress pass's list (ascending).
+bool in_stress_list(uint x) {
+  uint lo = 0u, hi = p.stress_count;
+  while (lo < hi) {
+    const uint mid = (lo + hi) / 2u;
+    if (stress_list[mid] < x) lo = mid + 1u; else hi = mid;
+  }
+  return lo < p.stress_count && stress_list[lo] == x;
+}
+
+// solver_stress's D_i by one invocation: lane q's sum over neighbours q, q + lanes, ..., then
+// the lanes' sums added in lane order, as that pass does.
+void redo_stress(uint i) {
+  const uint fl = flags[i];
+  const SolverClass cls = classes[fl >> kFlagClassShift];
+  const vec4 li = local_pos[i];
+  const vec3 ui = disp[i].xyz;
+  const bool stored = stored_weights(p.stress_weights, fl);
+  const uint first = offset[i], end = offset[i + 1u];
+  mat3 m = mat3(0.0);
+  for (uint q = 0u; q < p.stress_lanes; ++q) {
+    mat3 lane_m = mat3(0.0);
+    for (uint k = first + q; k < end; k += p.stress_lanes) {
+      const uint j = nbr_index(k);
+      const vec3 x = local_pos[j].xyz - li.xyz;
+      const float w = stored ? pair_weight(k) : poly6_weight(dot(x, x), cls.kernel);
+      add_stress_pair(lane_m, w, disp[j].xyz - ui, x);
+    }
+    if (q == 0u) m = lane_m; else m += lane_m;
+  }
+  Strain s;
+  mat3 piola;
+  store_stress(i, fl, cls, li.w, ui, m, s, piola);
+}
+
+shared bool stress_seen;  // the wait's outcome, for every invocation of the last workgroup
+
+// By the last workgroup, after the dirty list's precompute: once the stress pass beside this one
+// has written all its stress, that of the dirty phyxels in its list from their new pairs.
+void redo_dirty_stress() {
+  const uint dirtied = dirty[0];
+  if (p.stress_epoch == 0u || dirtied == 0u) return;  // uniform
+  memoryBarrierBuffer();  // the precompute's writes
+  barrier();
+  // Bounded: Vulkan does not promise that the stress pass, recorded first, runs beside or
+  // before this one. Where the wait runs out, the log's header says so (the host throws after
+  // the advance) and the redo is skipped.
+  if (gl_LocalInvocationIndex == 0u) {
+    // Once a wait of the advance ran out, none waits again (one timeout an advance). Seen is
+    // what the loop read, not its count: llvmpipe ends any loop after 65 535 iterations.
+    bool seen = false;
+    const bool missed = atomicAdd(cut_log[0].y, 0u) != 0u;
+    for (uint spins = 0u; !missed && spins < kSeverStressWaitSpins; ++spins) {
+      if (atomicAdd(stress_finished, 0u) == p.stress_epoch) {
+        seen = true;
+        break;
+      }
+    }
+    stress_seen = seen;
+    if (!seen) atomicOr(cut_log[0].y, kCutLogStressMissed);
+  }
+  barrier();
+  if (!stress_seen) return;  // uniform (shared)
+  memoryBarrierBuffer();
+  for (uint e = gl_LocalInvocationIndex; e < dirtied; e += gl_WorkGroupSize.x) {
+    const uint i = dirty[1u + e];
+    if (in_stress_list(i)) redo_stress(i);
+  }
+}
+
 void main() {
   const uint invocation = PHYXEL_GLOBAL_INDEX;
   const uint lanes = sever.lanes;
@@ -395,5 +479,8 @@ void main() {
     else if (severing)
       sever_unsided(s, lanes);
   }
-  precompute_dirty_list();
+  if (finished_last()) {
+    precompute_listed();
+    redo_dirty_stress();
+  }
 }

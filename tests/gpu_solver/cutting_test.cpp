@@ -5,7 +5,8 @@
 // severs the CPU's pairs; two GPU runs give the same bits; a cut along a lattice plane and a
 // second crossing cut leave every value finite; blades past the first 8 (no ball around them)
 // sever as the CPU; tool_resist summing its own samples, and tool_contact_reduce summing them
-// beside the sever, give the bits of the passes they replace.
+// beside the sever, give the bits of the passes they replace, and so does the sever beside the
+// stress pass.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -469,12 +470,12 @@ Scene cut_and_pull(double threshold) {
   return scene;
 }
 
-// 96 steps of `scene` with the default options and with `other`: the same severed pairs, u,
-// grip and samples, to the bit.
+// 96 steps of `scene` with `base` (the default options) and with `other`: the same severed
+// pairs, u, grip and samples, to the bit.
 void expect_the_same_bits(Context& ctx, const Scene& scene, const GpuSolverOptions& other,
-                          const char* tag) {
+                          const char* tag, const GpuSolverOptions& base = {}) {
   const PhyxelSet set = sample_scene(scene);
-  GpuSolver a(ctx, set, scene.simulation.gravity);
+  GpuSolver a(ctx, set, scene.simulation.gravity, base);
   GpuSolver b(ctx, set, scene.simulation.gravity, other);
   const CutRun f = run(a, scene, 96);
   const CutRun s = run(b, scene, 96);
@@ -482,6 +483,8 @@ void expect_the_same_bits(Context& ctx, const Scene& scene, const GpuSolverOptio
   EXPECT_GT(a.held_phyxels(1).size(), 4u);
   EXPECT_EQ(a.held_phyxels(1), b.held_phyxels(1));
   EXPECT_EQ(pair_set(f.severed), pair_set(s.severed));
+  ASSERT_EQ(f.severed.size(), s.severed.size());
+  for (size_t k = 0; k < f.severed.size(); ++k) EXPECT_EQ(f.severed[k].t, s.severed[k].t) << k;
   EXPECT_EQ(f.alive, s.alive);
   ASSERT_EQ(f.u.size(), s.u.size());
   for (size_t i = 0; i < f.u.size(); ++i) ASSERT_EQ(f.u[i], s.u[i]) << i;
@@ -542,6 +545,31 @@ TEST_F(GpuSolverTest, ContactAndHoldInTheForcePassGiveToolContactsBits) {
   GpuSolverOptions after;
   after.contact_in_force = false;
   expect_the_same_bits(ctx(), scene, after, "in force");
+}
+
+// The sever beside the stress pass (GpuSolverOptions::sever_beside_stress: its last workgroup
+// redoes the stress of the phyxels it cut pairs of) against its own pass between the force and
+// stress passes: the same bits, with 4 lanes a phyxel (the redo's order of the sums), for a
+// blade without a threshold and one with (kept sides), while the jaws pull the beam's end.
+TEST_F(GpuSolverTest, TheSeverBesideTheStressPassGivesTheBitsOfItsOwnPass) {
+  GpuSolverOptions beside;
+  beside.lanes = 4;
+  GpuSolverOptions own = beside;
+  own.sever_beside_stress = false;
+  Scene scene = cut_and_pull(0.0);
+  double peak = 0;  // the blade's largest force, for a threshold it reaches
+  {
+    GpuSolver gpu(ctx(), sample_scene(scene), scene.simulation.gravity, beside);
+    for (const ToolContactSample& s : run(gpu, scene, 48).samples)
+      peak = std::max(peak, s.force.norm());
+    bool fused = false;
+    for (const PassTime& t : gpu.profile(2, scene.simulation.dt))
+      fused = fused || t.name == "stress+cut";
+    EXPECT_TRUE(fused) << "the sever was not beside the stress pass";
+  }
+  expect_the_same_bits(ctx(), scene, own, "beside", beside);
+  scene.tools[0].blade.threshold = 0.05 * peak;
+  expect_the_same_bits(ctx(), scene, own, "sided", beside);
 }
 
 }  // namespace
