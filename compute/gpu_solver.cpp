@@ -409,7 +409,7 @@ bool GpuSolver::sever_beside(int64_t step, int64_t to) const {
   // Not where the stress pass writes more than D (principal, tearing) or the band follows it,
   // nor with no stress pass to wait for (or an epoch of 0, which means none).
   return options_.sever_beside_stress && step < to && !tearing_ && !principal_ && !band_built() &&
-         stress_count_ > 0 && cut_pass(step) != 0u;
+         stress_count_ > 0 && count_ <= options_.sever_beside_max_phyxels && cut_pass(step) != 0u;
 }
 
 namespace {

@@ -119,6 +119,11 @@ struct GpuSolverOptions {
   // constructor): for a driver that does not run the stress pass beside or before the sever,
   // where the sever's bounded wait runs out and the advance throws a VulkanError saying so.
   bool sever_beside_stress = true;
+  // Only up to this many phyxels in the solver: beside the stress pass, the sever's last workgroup
+  // redoes the stress of every phyxel it cut pairs of, which grows with the cut's face. H200,
+  // breast_resection: +10 % at 10 579 phyxels, +1.3 % at 35 829, +1.7 % at 84 769, -5.8 % at
+  // 165 565 (docs/performance.md).
+  uint32_t sever_beside_max_phyxels = 100000;
   // Tests only, with sever_beside_stress: the sever recorded before its stress pass (a barrier
   // between), as a driver that ran it first would: its wait runs out, the advance throws.
   bool sever_before_stress = false;
