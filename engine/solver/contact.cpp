@@ -128,10 +128,14 @@ double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolM
   return fastest;
 }
 
-Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {
+namespace {
+
+Bounds tools_swept(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion,
+                   bool blades_only) {
   Bounds b;
   for (size_t k = 0; k < motion.size() && !tools.empty(); ++k) {
     const ContactTool& t = tools[k % tools.size()];
+    if (blades_only && !t.blade.cuts()) continue;
     Bounds swept = tool_bounds(t.shape, motion[k].from);
     swept.extend(tool_bounds(t.shape, motion[k].to));
     if (t.suction.sucks()) swept.grow(t.suction.reach);  // what its mouth pulls on
@@ -139,6 +143,17 @@ Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<Too
     b.extend(swept);
   }
   return b;
+}
+
+}  // namespace
+
+Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {
+  return tools_swept(tools, motion, false);
+}
+
+Bounds blade_swept_bounds(const std::vector<ContactTool>& tools,
+                          const std::vector<ToolMotion>& motion) {
+  return tools_swept(tools, motion, true);
 }
 
 }  // namespace phyxel
