@@ -222,9 +222,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
   size_t contact_candidates() const override { return candidates_; }
-  // The candidates tool_sever ran over in the last advance: those within the cutting blades'
-  // swept bounds (blade_swept_bounds) where no blade keeps sides, else all of them.
-  size_t sever_candidates() const { return sever_candidates_; }
   // Graspers, with CpuSolver's semantics (engine/solver/grasper.h): after each substep's
   // contact reduction, tool_grasp captures (in the substep the jaws close), holds and reduces
   // the grip's force into the sample (gpu_solver_grasp.cpp); nothing is read back during the
@@ -554,7 +551,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   layout::vec4 contact_origin_{};           // the motion table's frame: rest bounds centre (float)
   bool broad_pending_ = false;              // the broad phase to run at the next advance
   size_t candidates_ = 0;                   // of the last advance (read with its samples)
-  size_t sever_candidates_ = 0;             // SeverGroups.total of the last advance
   std::vector<ToolContactSample> samples_;  // of the last advance
   bool contact_active_ = false;             // contact passes recorded in this advance
   uint32_t candidate_capacity_ = 0;         // elements of the candidate buffers
@@ -563,14 +559,11 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
     return (std::max<uint32_t>(candidate_capacity_, 1) + PHYXEL_WORKGROUP_SIZE - 1) /
            PHYXEL_WORKGROUP_SIZE;
   }
-  // tool_sever over the blades' own candidates (sever_list_): no blade keeps sides.
-  bool sever_own_list() const { return cutting_ && !sample_in_sever_; }
   Buffer tool_shapes_;      // ContactToolShape per tool
   Buffer motion_table_;     // ContactMotion [substep][tool]; motion_upload_ stages it
   Buffer candidate_list_;   // uint[capacity]: the broad phase's phyxels, ascending
-  Buffer sever_list_;       // uint[capacity]: those within the blades' bounds (sever_own_list)
   Buffer contact_count_;    // Readback, indirect: ContactCount of the broad phase
-  Buffer broad_groups_;     // uint per broad-phase workgroup: hits, then offsets (twice)
+  Buffer broad_groups_;     // uint per broad-phase workgroup: hits, then offsets
   Buffer candidate_force_;  // vec4[2 tools][partial_capacity()]: per workgroup, force and range
   Buffer contact_flag_;     // uint per phyxel: 1 where a tool touched it in the last substep
   Buffer contact_done_;     // uint: tool_contact's finished workgroups (kContactFuseReduce)

@@ -113,8 +113,6 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     rec_[0]->fill(contact_count_, 0, sizeof(ContactCount), sizeof(uint32_t));  // no sever
     rec_[0]->fill(contact_count_, 1, sizeof(ContactCount) + offsetof(SeverGroups, y),
                   3 * sizeof(uint32_t));
-    rec_[0]->fill(contact_count_, 0, sizeof(ContactCount) + offsetof(SeverGroups, total),
-                  sizeof(uint32_t));
     rec_[0]->fill(contact_done_, 0);
     rec_[0]->submit_and_wait();
   }
@@ -178,17 +176,11 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
           MemoryIntent::Device, "contact force per workgroup of candidates");
   const uint32_t wg = kernels_->broad_phase.workgroup_size()[0];
   const uint32_t groups = (n + wg - 1) / wg;
-  // The candidates', then the blades' counts (sever_own_list).
-  reserve(ctx, broad_groups_, 2 * std::max<uint64_t>(groups, 1) * sizeof(uint32_t),
+  reserve(ctx, broad_groups_, std::max<uint64_t>(groups, 1) * sizeof(uint32_t),
           MemoryIntent::Device, "contact broad phase per workgroup");
-  const bool own = sever_own_list();
-  if (own)
-    reserve(ctx, sever_list_, cap * sizeof(uint32_t), MemoryIntent::Device,
-            "sever candidates within the blades' bounds");
   record_max_norms(rec);
   rec.barrier();
   const Bounds b = swept_bounds(tools_, motion_);
-  const Bounds blades = blade_swept_bounds(tools_, motion_);
   BroadPhasePush push{
       {float(b.min.x()), float(b.min.y()), float(b.min.z()),
        float(cut_candidate_reach(tools_, contact_spacing_, max_support_))},
@@ -196,9 +188,7 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
       n,
       0u,
       groups,
-      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_))),
-      {float(blades.min.x()), float(blades.min.y()), float(blades.min.z()), own ? 1.0f : 0.0f},
-      {float(blades.max.x()), float(blades.max.y()), float(blades.max.z()), 0.0f}};
+      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_)))};
   auto pass = [&](uint32_t mode) {
     push.mode = mode;
     dispatch(rec, kernels_->broad_phase, push,
@@ -209,8 +199,7 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
               {"MaxNorm", max_norm_readback_},
               {"Group", broad_groups_},
               {"Out", candidate_list_},
-              {"Slot", candidate_slot_},
-              {"Blade", own ? sever_list_ : candidate_list_}},  // unwritten without
+              {"Slot", candidate_slot_}},
              groups * wg);
   };
   pass(0);
@@ -434,10 +423,6 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
   ContactCount count;
   std::memcpy(&count, contact_count_.mapped(), sizeof count);
   candidates_ = count.total;
-  SeverGroups sever;
-  std::memcpy(&sever, static_cast<const char*>(contact_count_.mapped()) + sizeof count,
-              sizeof sever);
-  sever_candidates_ = sever.total;
   if (contact_active_ && ran) {
     samples_buffer_.invalidate();
     // Two rows per sample (tool_contact_reduce): force and count, the contacts' axial range.

@@ -193,7 +193,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bo
       beside ? (sample_in_sever_ ? kernels_->sever_sided_beside : kernels_->sever_beside)
              : (sample_in_sever_ ? kernels_->sever_sided : kernels_->sever);
   dispatch_indirect(rec, sever, push,
-                    {{"List", sever_own_list() ? sever_list_ : candidate_list_},
+                    {{"List", candidate_list_},
                      {"Rest", rest_},
                      {"Disp", disp},
                      {"Offset", nbr_offset_},

@@ -143,22 +143,16 @@ struct BroadPhasePush {
   uint mode;         // 0: count per workgroup; 1: write
   uint groups;       // workgroups of tool_broad_phase (entries of group[])
   float tool_speed;  // m/s: the fastest point of a tool over the chunk (contact_margin)
-  // The cutting blades' swept bounds (xyz; world, m): tool_sever's own list of the candidates
-  // within them (grown by the same margin) where blade_lo.w != 0, else it takes all.
-  vec4 blade_lo;
-  vec4 blade_hi;
 };
-PHYXEL_ASSERT_SIZE(BroadPhasePush, 80);
+PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
 PHYXEL_CONST uint kBroadBindingList = 0;  // force list
 PHYXEL_CONST uint kBroadBindingRest = 1;
 PHYXEL_CONST uint kBroadBindingDisp = 2;
 PHYXEL_CONST uint kBroadBindingFlags = 3;
 PHYXEL_CONST uint kBroadBindingMaxNorm = 4;  // vec4 (max |u|, max |v|, 0, 0)
-// uint per workgroup: hits (mode 0), offset (1); then (blade_lo.w != 0) the same for the blades'
-PHYXEL_CONST uint kBroadBindingGroup = 5;
-PHYXEL_CONST uint kBroadBindingOut = 6;    // candidate list
-PHYXEL_CONST uint kBroadBindingSlot = 7;   // uint per phyxel: its candidate slot, or ~0 (mode 1)
-PHYXEL_CONST uint kBroadBindingBlade = 8;  // the blades' candidates (blade_lo.w != 0), ascending
+PHYXEL_CONST uint kBroadBindingGroup = 5;    // uint per workgroup: hits (mode 0), offset (1)
+PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
+PHYXEL_CONST uint kBroadBindingSlot = 7;     // uint per phyxel: its candidate slot, or ~0 (mode 1)
 // tool_broad_scan: {group, count}
 PHYXEL_CONST uint kBroadScanBindingGroup = 0;
 PHYXEL_CONST uint kBroadScanBindingCount = 1;
@@ -219,12 +213,8 @@ struct SeverGroups {
   uint z;
   uint lanes;  // invocations per candidate: kSeverMaxLanes, halved while the candidates times
                // the lanes exceed kSeverInvocations (at least 1)
-  uint total;  // tool_sever's candidates: the blades' list's, else ContactCount's total
-  uint pad0;
-  uint pad1;
-  uint pad2;
 };
-PHYXEL_ASSERT_SIZE(SeverGroups, 32);
+PHYXEL_ASSERT_SIZE(SeverGroups, 16);
 
 // ---------------------------------------------------------------------------------------
 // Graspers (compute/gpu_solver_grasp.cpp; shaders/tool_grasp.comp mirrors
@@ -319,9 +309,7 @@ PHYXEL_ASSERT_SIZE(CutQuad, 112);
 // list (once each, by kFlagCutDirty). The workgroup that finishes last (Done counts them) runs
 // solver_precompute's per-phyxel work over the dirty list (pair_edit.glsl: a short list with
 // several lanes loading each phyxel's pairs). Its indirect dispatch follows the
-// ContactCount in the candidates' count buffer (tool_broad_scan: SeverGroups). Where no blade
-// keeps sides it runs over the blades' own candidates (tool_broad_phase's second list: none
-// where no blade is near, so no workgroup), else over all the candidates (the sides kept).
+// ContactCount in the candidates' count buffer (tool_broad_scan: SeverGroups).
 // A few candidates' pairs are tested all at once (a pair's test at a time, latency-bound); many
 // candidates fill the card with fewer lanes each, which repeat less of a candidate's setup.
 // Its workgroup is wider than the others': the last one reruns the dirty list's precompute
@@ -355,7 +343,7 @@ PHYXEL_ASSERT_SIZE(SeverPush, 64);
 // not wait; GpuSolver::finish_cutting throws.
 PHYXEL_CONST uint kSeverStressWaitSpins = 1u << 22;
 PHYXEL_CONST uint kCutLogStressMissed = 1u;
-PHYXEL_CONST uint kSeverBindingList = 0;  // candidates (SeverGroups.total)
+PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
 PHYXEL_CONST uint kSeverBindingRest = 1;
 PHYXEL_CONST uint kSeverBindingDisp = 2;
 PHYXEL_CONST uint kSeverBindingOffset = 3;

@@ -2,9 +2,7 @@
 // counts each workgroup's hits into group[g]; mode 1 (after tool_broad_scan turned the counts
 // into offsets) writes the hits at group[g] + their rank in the workgroup, and each entry's
 // slot (~0: none) into candidate_slot (solver_force_tear's contact). Both modes decide a hit
-// from the same inputs, so they agree; the list comes out ascending. With blade_lo.w != 0 the
-// hits within the cutting blades' bounds (grown by the same margin) are counted and written the
-// same way into group[groups + g] and blade_list (tool_sever's candidates).
+// from the same inputs, so they agree; the list comes out ascending.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -20,22 +18,15 @@ layout(std430, binding = kBroadBindingMaxNorm) readonly buffer MaxNorm { vec4 ma
 layout(std430, binding = kBroadBindingGroup) buffer Group { uint group[]; };
 layout(std430, binding = kBroadBindingOut) writeonly buffer Out { uint candidates[]; };
 layout(std430, binding = kBroadBindingSlot) writeonly buffer Slot { uint candidate_slot[]; };
-layout(std430, binding = kBroadBindingBlade) writeonly buffer Blade { uint blade_list[]; };
 
-// Ranks of both lists in one word: the candidates' in the low half, the blades' in the high.
 shared uint rank[PHYXEL_WORKGROUP_SIZE];
-
-bool inside(vec3 x, vec3 lo, vec3 hi, float margin) {
-  return all(greaterThanEqual(x, lo - margin)) && all(lessThanEqual(x, hi + margin));
-}
 
 void main() {
   const uint g = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
   if (g >= p.groups) return;  // whole workgroups only, before any barrier
   const uint t = gl_LocalInvocationID.x;
   const uint slot = g * PHYXEL_WORKGROUP_SIZE + t;
-  const bool blades = p.blade_lo.w != 0.0;
-  bool hit = false, blade = false;
+  bool hit = false;
   uint i = 0u;
   if (slot < p.count) {
     i = list[slot];
@@ -45,11 +36,11 @@ void main() {
     // A non-finite margin (a diverging run) takes every phyxel, as contact_candidates does.
     const bool all_in = isnan(margin) || isinf(margin);
     hit = (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u &&
-          (all_in || inside(x, p.lo.xyz, p.hi.xyz, margin));
-    blade = hit && blades && (all_in || inside(x, p.blade_lo.xyz, p.blade_hi.xyz, margin));
+          (all_in || (all(greaterThanEqual(x, p.lo.xyz - margin)) &&
+                      all(lessThanEqual(x, p.hi.xyz + margin))));
   }
   // Inclusive scan of the hits over the workgroup (Hillis-Steele, fixed order).
-  rank[t] = (hit ? 1u : 0u) | (blade ? 0x10000u : 0u);
+  rank[t] = hit ? 1u : 0u;
   barrier();
   for (uint d = 1u; d < PHYXEL_WORKGROUP_SIZE; d <<= 1u) {
     const uint add = t >= d ? rank[t - d] : 0u;
@@ -58,15 +49,11 @@ void main() {
     barrier();
   }
   if (p.mode == 0u) {
-    if (t == PHYXEL_WORKGROUP_SIZE - 1u) {
-      group[g] = rank[t] & 0xFFFFu;
-      if (blades) group[p.groups + g] = rank[t] >> 16;
-    }
+    if (t == PHYXEL_WORKGROUP_SIZE - 1u) group[g] = rank[t];
   } else if (slot < p.count) {
     // Every phyxel of the list gets its slot (or none), for solver_force_tear's contact.
-    const uint at = group[g] + (rank[t] & 0xFFFFu) - 1u;
+    const uint at = group[g] + rank[t] - 1u;
     if (hit) candidates[at] = i;
     candidate_slot[i] = hit ? at : 0xFFFFFFFFu;
-    if (blade) blade_list[group[p.groups + g] + (rank[t] >> 16) - 1u] = i;
   }
 }

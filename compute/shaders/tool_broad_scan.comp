@@ -1,9 +1,7 @@
 // The broad phase's workgroup counts into exclusive offsets (tool_broad_phase), in one
 // workgroup: thread t scans a contiguous run of the counts, a fixed tree over the threads'
 // totals gives each run's start. Writes the total, tool_contact's indirect dispatch and
-// tool_sever's (SeverGroups.lanes invocations per candidate). With blade_lo.w != 0 the blades'
-// counts after the candidates' (group[groups + g]) the same way, and tool_sever's dispatch
-// over the blades' candidates only (no workgroup where no blade is near).
+// tool_sever's (SeverGroups.lanes invocations per candidate).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -19,11 +17,10 @@ layout(std430, binding = kBroadScanBindingCount) writeonly buffer Count {
 
 shared uint run_total[PHYXEL_WORKGROUP_SIZE];
 
-// group[base, base + p.groups) into exclusive offsets; the total (every thread's).
-uint scan_counts(uint base) {
+void main() {
   const uint t = gl_LocalInvocationID.x;
   const uint per = (p.groups + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
-  const uint first = base + min(t * per, p.groups), last = base + min(t * per + per, p.groups);
+  const uint first = min(t * per, p.groups), last = min(first + per, p.groups);
   uint sum = 0u;
   for (uint k = first; k < last; ++k) sum += group[k];
   run_total[t] = sum;
@@ -40,15 +37,8 @@ uint scan_counts(uint base) {
     group[k] = offset;
     offset += hits;
   }
-  const uint total = run_total[PHYXEL_WORKGROUP_SIZE - 1u];
-  barrier();  // run_total is read before a second scan writes it
-  return total;
-}
-
-void main() {
-  const uint total = scan_counts(0u);
-  const uint severed = p.blade_lo.w != 0.0 ? scan_counts(p.groups) : total;
-  if (gl_LocalInvocationID.x == PHYXEL_WORKGROUP_SIZE - 1u) {
+  if (t == PHYXEL_WORKGROUP_SIZE - 1u) {
+    const uint total = run_total[t];
     count.total = total;
     // As dispatch() spreads groups over y past 65535 (PHYXEL_GLOBAL_INDEX); at least one,
     // whose last workgroup writes the samples (kContactFuseReduce).
@@ -57,9 +47,9 @@ void main() {
     count.groups_y = (groups + 65534u) / 65535u;
     count.groups_z = 1u;
     uint lanes = kSeverMaxLanes;
-    while (lanes > 1u && severed * lanes > kSeverInvocations) lanes /= 2u;
-    const uint sever_groups = (severed * lanes + kSeverWorkgroupSize - 1u) / kSeverWorkgroupSize;
+    while (lanes > 1u && total * lanes > kSeverInvocations) lanes /= 2u;
+    const uint sever_groups = (total * lanes + kSeverWorkgroupSize - 1u) / kSeverWorkgroupSize;
     sever = SeverGroups(min(sever_groups, 65535u), max((sever_groups + 65534u) / 65535u, 1u), 1u,
-                        lanes, severed, 0u, 0u, 0u);
+                        lanes);
   }
 }

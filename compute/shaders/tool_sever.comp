@@ -13,13 +13,12 @@
 // t in any order. A pair is tested against a blade only where its segment meets the ball around
 // all that blade can sever this substep (blade_ball). Then the workgroup that finishes last
 // reruns the precompute of the phyxels put in the dirty list (none most substeps: no dependent
-// dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). The list is the
-// cutting blades' own candidates where no blade keeps sides (GpuSolver::record_sever), else
-// all of them. Beside the stress pass (p.stress_epoch != 0: no barrier between them), it then
-// waits for that pass's end (at most kSeverStressWaitSpins polls, else kCutLogStressMissed in
-// the log) and redoes the stress of those phyxels (solver_stress.glsl, the same sums in the
-// same order), which the pass may have computed from the pairs and precompute before the cut.
-// Positions relative to the motion table's origin.
+// dispatch; kSeverWorkgroupSize lanes, several per phyxel for a short list). Beside the stress
+// pass (p.stress_epoch != 0: no barrier between them), it then waits for that pass's end (at
+// most kSeverStressWaitSpins polls, else kCutLogStressMissed in the log) and redoes the stress
+// of those phyxels (solver_stress.glsl, the same sums in the same order), which the pass may
+// have computed from the pairs and precompute before the cut. Positions relative to the motion
+// table's origin.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -46,7 +45,7 @@ layout(std430, binding = kSeverBindingDirty) coherent buffer Dirty { uint dirty[
 layout(std430, binding = kSeverBindingLog) buffer Log { uvec4 cut_log[]; };
 layout(std430, binding = kSeverBindingCount) readonly buffer Count {
   ContactCount count;
-  SeverGroups sever;  // tool_broad_scan's: the lanes per candidate, the list's length
+  SeverGroups sever;  // tool_broad_scan's: the lanes per candidate
 };
 layout(std430, binding = kSeverBindingLocal) coherent buffer Local { vec4 local_pos[]; };
 layout(std430, binding = kSeverBindingClasses) readonly buffer Classes { SolverClass classes[]; };
@@ -374,7 +373,7 @@ struct LaneStart {
 
 LaneStart lane_start(uint slot, uint lane) {
   LaneStart s = LaneStart(0u, vec3(0.0), 0u, 0u, 0u, 0u, vec3(0.0));
-  if (slot >= sever.total) return s;
+  if (slot >= count.total) return s;
   s.i = list[slot];
   if (kSeverSided) return s;  // sever_candidate loads the rest
   s.xi = position(s.i);
@@ -474,7 +473,7 @@ void main() {
   const uint lane = invocation % lanes;
   const LaneStart s = lane_start(slot, lane);
   const bool severing = any_tool_severs();  // every invocation: it fills blade_ball
-  if (slot < sever.total) {
+  if (slot < count.total) {
     if (kSeverSided)
       sever_candidate(s.i, lane, lanes, severing);
     else if (severing)

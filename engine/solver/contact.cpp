@@ -128,14 +128,10 @@ double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolM
   return fastest;
 }
 
-namespace {
-
-Bounds tools_swept(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion,
-                   bool blades_only) {
+Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {
   Bounds b;
   for (size_t k = 0; k < motion.size() && !tools.empty(); ++k) {
     const ContactTool& t = tools[k % tools.size()];
-    if (blades_only && !t.blade.cuts()) continue;
     Bounds swept = tool_bounds(t.shape, motion[k].from);
     swept.extend(tool_bounds(t.shape, motion[k].to));
     if (t.suction.sucks()) swept.grow(t.suction.reach);  // what its mouth pulls on
@@ -143,17 +139,6 @@ Bounds tools_swept(const std::vector<ContactTool>& tools, const std::vector<Tool
     b.extend(swept);
   }
   return b;
-}
-
-}  // namespace
-
-Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {
-  return tools_swept(tools, motion, false);
-}
-
-Bounds blade_swept_bounds(const std::vector<ContactTool>& tools,
-                          const std::vector<ToolMotion>& motion) {
-  return tools_swept(tools, motion, true);
 }
 
 }  // namespace phyxel

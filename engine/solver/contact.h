@@ -122,10 +122,5 @@ double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolM
 
 // Union of the tools' bounds over a chunk's motions (substeps x tools, row-major).
 Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion);
-// The same over the tools whose blade cuts only (empty without one): the GPU's sever runs
-// over the candidates within it (tool_broad_phase's second list), which hold every phyxel of a
-// pair the blades can reach in the chunk, as the whole list does for contact_margin.
-Bounds blade_swept_bounds(const std::vector<ContactTool>& tools,
-                          const std::vector<ToolMotion>& motion);
 
 }  // namespace phyxel
