@@ -6,7 +6,6 @@
 // with weight 0, which the step passes read for phyxels flagged kFlagPairsEdited. After the
 // advance, the log of severed pairs is read back once, sorted and appended to the host's log.
 #include <algorithm>
-#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -193,37 +192,6 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bo
   const Pipeline& sever =
       beside ? (sample_in_sever_ ? kernels_->sever_sided_beside : kernels_->sever_beside)
              : (sample_in_sever_ ? kernels_->sever_sided : kernels_->sever);
-  static const bool direct =
-      std::getenv("PHYXEL_SEVER_DIRECT") && std::string(std::getenv("PHYXEL_SEVER_DIRECT")) == "1";
-  if (beside && direct) {
-    dispatch(rec, sever, push,
-             {{"List", candidate_list_},
-              {"Rest", rest_},
-              {"Disp", disp},
-              {"Offset", nbr_offset_},
-              {"IndexLo", nbr_index_.lo()},
-              {"WeightLo", weight_.lo()},
-              {"Flags", flags_},
-              {"Quads", cut_quads_},
-              {"Samples", apart ? cut_quads_ : samples_buffer_},
-              {"Dirty", cut_dirty_},
-              {"Log", cut_log_},
-              {"Count", contact_count_},
-              {"IndexHi", nbr_index_.hi()},
-              {"WeightHi", weight_.hi()},
-              {"Local", local_},
-              {"Classes", classes_},
-              {"Ainv", ainv_},
-              {"Resid", resid_},
-              {"Done", cut_done_},
-              {"Sides", cut_sides_},
-              {"Stress", stress_},
-              {"StressList", stress_list_},
-              {"StressDone", stress_done_}},
-             std::max(kSeverInvocations, candidate_capacity_));
-    part_end(rec);
-    return;
-  }
   dispatch_indirect(rec, sever, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
