@@ -102,7 +102,8 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-      if (marking && cuts && !crosses && held_mark_[k] && w_[k] != Real(0)) {
+      if (marking && cuts && !crosses && held_mark_[k] && w_[k] != Real(0) &&
+          sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band), edge.normal, xi, xj)) {
         sever(i, k, 0.5f);  // held since the last separation, off the plane now
         touched.push_back(i);
         touched.push_back(j);
