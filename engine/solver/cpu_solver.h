@@ -251,8 +251,6 @@ class CpuSolver {
   // [tool][phyxel] side entries (cutting.h, side_entry), then [tool][phyxel] the normals they
   // were learned on (pack_side_normal), as the GPU's side buffer.
   std::vector<uint32_t> blade_side_;
-  // Per pair slot: the edge held it (crossing, sides allowing) since the blade's last separation.
-  std::vector<uint8_t> held_mark_;
   uint32_t cut_pass_ = 0;  // substeps counted for the side entries
 
   // The SCNI band: its cells and quads (double), and the boxes in Real with their stress.

@@ -82,14 +82,6 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       return true;
     return resists && edge_passes(p, q, edge, t);
   };
-  // A separation severs the pairs its edge held since the previous one (tried, CPU only).
-  const bool marking = sided && resists;
-  if (held_mark_.size() != nbr_.index.size()) held_mark_.assign(nbr_.index.size(), 0);
-  auto held_pair = [&](const Vec3& p, const Vec3& q, bool canonical) {
-    double th = 0, be = 0, dir = 0;
-    return canonical ? edge_holds(p, q, edge, &th, &be, &dir)
-                     : edge_holds(q, p, edge, &th, &be, &dir);
-  };
   for (const uint32_t i : candidates_) {
     const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
     const uint32_t start = sided ? side_at_start(sides[i], cut_pass_) : kSideNone;
@@ -102,16 +94,6 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-      if (marking && cuts && !crosses && held_mark_[k] && w_[k] != Real(0) &&
-          sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band), edge.normal, xi, xj)) {
-        sever(i, k, 0.5f);  // held since the last separation, off the plane now
-        touched.push_back(i);
-        touched.push_back(j);
-        continue;
-      }
-      if (marking && !cuts && w_[k] != Real(0) && held_pair(xi, xj, i < j) &&
-          sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band), edge.normal, xi, xj))
-        held_mark_[k] = 1;
       if (!crosses || (sided && !sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band),
                                              edge.normal, xi, xj)))
         continue;
@@ -127,7 +109,6 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
     // Learned in this pass (no reader needs it before the next): the plane it was learned on.
     if (start == kSideNone && after != kSideNone) learned[i] = pack_side_normal(edge.normal);
   }
-  if (marking && cuts) std::fill(held_mark_.begin(), held_mark_.end(), uint8_t(0));
   // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
   // not at pairs only carried past the reach.
   if (cuts && band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
