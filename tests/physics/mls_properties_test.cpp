@@ -12,7 +12,7 @@
 namespace phyxel {
 namespace {
 
-using Solver = CpuSolver<double>;
+using DoubleSolver = CpuSolver<double>;
 
 // A box with surface, edge and corner phyxels, so the one-sided stencils are covered too.
 PhyxelSet small_box(double h_factor = 2.0, double poisson = 0.3) {
@@ -20,11 +20,11 @@ PhyxelSet small_box(double h_factor = 2.0, double poisson = 0.3) {
                                       test::tissue(1e6, poisson), h_factor));
 }
 
-void set_field(Solver& s, const PhyxelSet& set, const Eigen::Matrix3d& g, const Vec3& t) {
+void set_field(DoubleSolver& s, const PhyxelSet& set, const Eigen::Matrix3d& g, const Vec3& t) {
   for (size_t i = 0; i < set.size(); ++i) s.displacement()[i] = g * set.rest[i] + t;
 }
 
-double max_force(const Solver& s) {
+double max_force(const DoubleSolver& s) {
   double m = 0;
   for (const auto& f : s.force()) m = std::max(m, f.norm());
   return m;
@@ -33,7 +33,7 @@ double max_force(const Solver& s) {
 TEST(MlsPatch, LinearDisplacementFieldIsReproducedExactly) {
   for (double hf : {2.0, 2.5, 3.0}) {
     const PhyxelSet set = small_box(hf);
-    Solver solver(set, Vec3::Zero());
+    DoubleSolver solver(set, Vec3::Zero());
     ASSERT_EQ(solver.regularised_count(), 0u);
     std::mt19937 rng(7);
     for (int trial = 0; trial < 3; ++trial) {
@@ -50,7 +50,7 @@ TEST(MlsPatch, LinearDisplacementFieldIsReproducedExactly) {
 TEST(MlsPatch, UniformStrainGivesNoInternalForceInside) {
   // A homogeneous deformation is an equilibrium state away from the boundary.
   const PhyxelSet set = small_box();
-  Solver solver(set, Vec3::Zero());
+  DoubleSolver solver(set, Vec3::Zero());
   Eigen::Matrix3d g;
   g << 0.05, 0.01, 0, 0.01, -0.02, 0.003, 0, 0.003, 0.01;
   set_field(solver, set, g, Vec3::Zero());
@@ -71,7 +71,7 @@ TEST(MlsPatch, UniformStrainGivesNoInternalForceInside) {
 
 TEST(RigidMotion, TranslationAndLargeRotationsGiveZeroStrainAndForce) {
   const PhyxelSet set = small_box();
-  Solver solver(set, Vec3::Zero());
+  DoubleSolver solver(set, Vec3::Zero());
   // Force scale: a 1 % stretch.
   set_field(solver, set, Eigen::Vector3d(0.01, 0, 0).asDiagonal(), Vec3::Zero());
   solver.compute_forces();
@@ -89,7 +89,7 @@ TEST(RigidMotion, TranslationAndLargeRotationsGiveZeroStrainAndForce) {
 
 TEST(ForceBalance, InternalForcesSumToZero) {
   const PhyxelSet set = small_box();
-  Solver solver(set, Vec3::Zero());
+  DoubleSolver solver(set, Vec3::Zero());
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> d(-0.002, 0.002);
   for (auto& u : solver.displacement()) u = Vec3(d(rng), d(rng), d(rng));
@@ -102,8 +102,8 @@ TEST(ForceBalance, InternalForcesSumToZero) {
 // Central differences of the energy against the forces, relative 1e-6.
 // `prepare` edits the solver first (severs pairs).
 void expect_force_is_minus_energy_gradient(const PhyxelSet& set, double amplitude,
-                                           const std::function<void(Solver&)>& prepare = {}) {
-  Solver solver(set, Vec3::Zero());
+                                           const std::function<void(DoubleSolver&)>& prepare = {}) {
+  DoubleSolver solver(set, Vec3::Zero());
   if (prepare) prepare(solver);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> d(-amplitude, amplitude);
@@ -146,14 +146,14 @@ TEST(EnergyConsistency, HoldsWithRegularisedMomentMatrices) {
   const PhyxelSet set = sample_scene(
       test::box_scene(Vec3(0, 0, 0), Vec3(0.015, 0.0125, 0.001), 0.0025, test::tissue()),
       SamplingOptions{false});
-  Solver solver(set, Vec3::Zero());
+  DoubleSolver solver(set, Vec3::Zero());
   ASSERT_EQ(solver.regularised_count(), set.size());
   expect_force_is_minus_energy_gradient(set, 2e-4);
 }
 
 // Severs every pair crossing the plane x = x_cut, and every pair of phyxel `lone` but its first:
 // a crack through the box, and a phyxel left hanging by one pair (rank-one moment matrix).
-void crack(Solver& solver, const PhyxelSet& set, double x_cut, uint32_t lone) {
+void crack(DoubleSolver& solver, const PhyxelSet& set, double x_cut, uint32_t lone) {
   std::vector<SeveredPair> pairs;
   const NeighbourLists& nbr = solver.neighbours();
   for (uint32_t i = 0; i < set.size(); ++i)
@@ -182,7 +182,7 @@ TEST(EnergyConsistency, HoldsForDamagedPhyxels) {
   // hanging by one pair.
   const PhyxelSet set = small_box(2.0, 0.3);
   const uint32_t lone = static_cast<uint32_t>(set.size() / 2);
-  expect_force_is_minus_energy_gradient(set, 2e-4, [&](Solver& solver) {
+  expect_force_is_minus_energy_gradient(set, 2e-4, [&](DoubleSolver& solver) {
     crack(solver, set, 0.0101, lone);
     ASSERT_GT(solver.severed_count(), 50u);
   });
@@ -190,7 +190,7 @@ TEST(EnergyConsistency, HoldsForDamagedPhyxels) {
 
 TEST(Damage, PhyxelsAwayFromACrackAreUnchanged) {
   const PhyxelSet set = small_box(2.0, 0.3);
-  Solver intact(set, Vec3::Zero()), cracked(set, Vec3::Zero());
+  DoubleSolver intact(set, Vec3::Zero()), cracked(set, Vec3::Zero());
   const uint32_t lone = static_cast<uint32_t>(set.size() / 2);
   crack(cracked, set, 0.0101, lone);
   // Away from the crack nothing changed: the same uniform stretch, the same forces.
@@ -218,7 +218,7 @@ TEST(Damage, PhyxelsAwayFromACrackAreUnchanged) {
 TEST(Regularisation, SparseNeighbourhoodsStayFinite) {
   // Support radius just above sqrt(2) s: 18 neighbours inside, few at the corners.
   const PhyxelSet set = small_box(1.45);
-  Solver solver(set, Vec3::Zero());
+  DoubleSolver solver(set, Vec3::Zero());
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> d(-0.003, 0.003);
   for (auto& u : solver.displacement()) u = Vec3(d(rng), d(rng), d(rng));

@@ -18,11 +18,13 @@
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
 
 namespace fs = std::filesystem;
+using test::read_json;
 
 // A multiple of twice the tool chunk (64 substeps; the scene's steps have one): the checkpoint
 // half-way and the end fall on the aspirator's grid, so the stopped run is the uninterrupted
@@ -39,13 +41,6 @@ constexpr long kRssGrowthKib = 4096;
 // the set's buckets grow by doubling) and by at most this besides.
 constexpr long kHeapBytesPerSeveredPair = 128;
 constexpr long kHeapSlackBytes = 64 * 1024;
-
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return nlohmann::json::parse(ss.str());
-}
 
 int soak(const std::string& args, const fs::path& dir) {
   const std::string command =

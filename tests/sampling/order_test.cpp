@@ -12,17 +12,17 @@
 namespace phyxel::test {
 namespace {
 
-constexpr double kS = 0.0025;
+constexpr double kOrderSpacing = 0.0025;
 
 // A box with a fixed face and a load on the other, and a sphere: two objects, two materials.
 Scene two_objects() {
-  ObjectDesc block = object("block", box(Vec3::Zero(), Vec3(0.02, 0.0125, 0.01)), kS);
+  ObjectDesc block = object("block", box(Vec3::Zero(), Vec3(0.02, 0.0125, 0.01)), kOrderSpacing);
   block.fixed.push_back(box(Vec3(-1, -1, -1), Vec3(0.0001, 1, 1)));
   Load pull;
   pull.region = box(Vec3(0.0199, -1, -1), Vec3(1, 1, 1));
   pull.force = Vec3(0.01, 0, -0.02);
   block.loads.push_back(pull);
-  ObjectDesc ball = object("ball", sphere(Vec3(0.05, 0, 0), 0.008), kS);
+  ObjectDesc ball = object("ball", sphere(Vec3(0.05, 0, 0), 0.008), kOrderSpacing);
   ball.material.young = 3e4;
   Scene scene = scene_of({block, ball});
   scene.simulation.gravity = Vec3(0, 0, -9.81);
@@ -42,11 +42,11 @@ TEST(PhyxelOrder, MortonIsAPermutationWithinEachObjectInZOrder) {
   // The block's first eight phyxels are the 2 x 2 x 2 cube at its lowest corner, in the order
   // (x, y, z) bits 000, 100, 010, 110, 001, ...
   for (uint32_t k = 0; k < 8; ++k) {
-    const Vec3 want = kS * Vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    const Vec3 want = kOrderSpacing * Vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
     EXPECT_LT((set.rest[order[k]] - want).norm(), 1e-12) << k;
   }
   // Then the next 2 x 2 x 2 cube along x.
-  EXPECT_LT((set.rest[order[8]] - Vec3(2 * kS, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((set.rest[order[8]] - Vec3(2 * kOrderSpacing, 0, 0)).norm(), 1e-12);
 }
 
 TEST(PhyxelOrder, PermutingMovesEveryArrayAndTheLoads) {

@@ -9,10 +9,10 @@
 namespace phyxel::test {
 namespace {
 
-constexpr double kS = 0.0025;
+constexpr double kRegionSpacing = 0.0025;
 
-ObjectDesc beam() {
-  return object("beam", box(Vec3::Zero(), Vec3(0.1, 0.02, 0.02)), kS);
+ObjectDesc region_beam() {
+  return object("beam", box(Vec3::Zero(), Vec3(0.1, 0.02, 0.02)), kRegionSpacing);
 }
 
 Inclusion inclusion(const std::string& name, const Shape& shape, double density) {
@@ -24,12 +24,12 @@ Inclusion inclusion(const std::string& name, const Shape& shape, double density)
 }
 
 TEST(Inclusions, MaterialsAreObjectsThenInclusionsAndLaterInclusionsWin) {
-  ObjectDesc a = beam();
+  ObjectDesc a = region_beam();
   // A tumour, and a vessel box that overlaps it at x >= 0.05.
   a.inclusions.push_back(inclusion("tumour", sphere(Vec3(0.05, 0.01, 0.01), 0.006), 1100));
   a.inclusions.push_back(
       inclusion("vessel", box(Vec3(0.05, 0.0, 0.0075), Vec3(0.1, 0.02, 0.0125)), 1200));
-  ObjectDesc b = object("b", box(Vec3(1, 0, 0), Vec3(1.01, 0.01, 0.01)), kS);
+  ObjectDesc b = object("b", box(Vec3(1, 0, 0), Vec3(1.01, 0.01, 0.01)), kRegionSpacing);
   b.material = tissue(900);
   b.inclusions.push_back(inclusion("core", box(Vec3(1, 0, 0), Vec3(1.005, 0.01, 0.01)), 1300));
   const PhyxelSet set = sample_scene(scene_of({a, b}));
@@ -58,9 +58,9 @@ TEST(Inclusions, MaterialsAreObjectsThenInclusionsAndLaterInclusionsWin) {
 }
 
 TEST(Fixed, PhyxelsInAnyFixedRegionAreFixed) {
-  ObjectDesc a = beam();
-  a.fixed.push_back(box(Vec3(-1, -1, -1), Vec3(0, 1, 1)));     // the x = 0 face
-  a.fixed.push_back(sphere(Vec3(0.1, 0.02, 0.02), 0.5 * kS));  // one corner
+  ObjectDesc a = region_beam();
+  a.fixed.push_back(box(Vec3(-1, -1, -1), Vec3(0, 1, 1)));                 // the x = 0 face
+  a.fixed.push_back(sphere(Vec3(0.1, 0.02, 0.02), 0.5 * kRegionSpacing));  // one corner
   const PhyxelSet set = sample_scene(scene_of({a}));
   int fixed = 0;
   for (size_t i = 0; i < set.size(); ++i) {
@@ -73,7 +73,7 @@ TEST(Fixed, PhyxelsInAnyFixedRegionAreFixed) {
 }
 
 TEST(Loads, ForceIsSpreadByVolumeAndSumsToTheLoad) {
-  ObjectDesc a = beam();
+  ObjectDesc a = region_beam();
   Load end;  // the x = 0.1 end face: 9 x 9 phyxels of volume s^3/2, s^3/4, s^3/8
   end.region = box(Vec3(0.1, -1, -1), Vec3(1, 1, 1));
   end.force = Vec3(0.3, -2.0, 0.7);
@@ -89,9 +89,9 @@ TEST(Loads, ForceIsSpreadByVolumeAndSumsToTheLoad) {
     // Region volumes: the end face 0.02 x 0.02 x s/2; the top strip (x = 0.05 .. 0.1: 20.5
     // cells, as the x = 0.05 cell is whole) 20.5 s x 0.02 x s/2.
     if (std::abs(p.x() - 0.1) < 1e-12)
-      expected += end.force * set.volume[i] / (0.02 * 0.02 * kS / 2);
+      expected += end.force * set.volume[i] / (0.02 * 0.02 * kRegionSpacing / 2);
     if (p.x() >= 0.05 - 1e-12 && std::abs(p.z() - 0.02) < 1e-12)
-      expected += top.force * set.volume[i] / (20.5 * kS * 0.02 * kS / 2);
+      expected += top.force * set.volume[i] / (20.5 * kRegionSpacing * 0.02 * kRegionSpacing / 2);
     EXPECT_NEAR((set.external_force[i] - expected).norm(), 0, 1e-12) << "phyxel " << i;
     total += set.external_force[i];
   }
@@ -99,8 +99,8 @@ TEST(Loads, ForceIsSpreadByVolumeAndSumsToTheLoad) {
 }
 
 TEST(SamplingErrors, FixedRegionWithoutPhyxelsNamesItsPath) {
-  ObjectDesc a = beam();
-  ObjectDesc b = object("b", box(Vec3(1, 0, 0), Vec3(1.01, 0.01, 0.01)), kS);
+  ObjectDesc a = region_beam();
+  ObjectDesc b = object("b", box(Vec3(1, 0, 0), Vec3(1.01, 0.01, 0.01)), kRegionSpacing);
   b.fixed.push_back(box(Vec3(1, 0, 0), Vec3(1.01, 0.01, 0)));
   b.fixed.push_back(box(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1)));  // covers only object a
   const std::string message = scene_error([&] { sample_scene(scene_of({a, b})); });
@@ -110,7 +110,7 @@ TEST(SamplingErrors, FixedRegionWithoutPhyxelsNamesItsPath) {
 }
 
 TEST(SamplingErrors, LoadRegionWithoutPhyxelsNamesItsPath) {
-  ObjectDesc a = beam();
+  ObjectDesc a = region_beam();
   a.loads.resize(2);
   a.loads[0].region = box(Vec3::Zero(), Vec3(0.01, 0.01, 0.01));
   a.loads[1].region = sphere(Vec3(0.05, 0.05, 0.05), 0.01);
@@ -121,7 +121,7 @@ TEST(SamplingErrors, LoadRegionWithoutPhyxelsNamesItsPath) {
 }
 
 TEST(SamplingErrors, InclusionWithoutPhyxelsNamesItsPath) {
-  ObjectDesc a = beam();
+  ObjectDesc a = region_beam();
   a.inclusions.push_back(inclusion("tumour", sphere(Vec3(0.05, 0.01, 0.01), 0.004), 1100));
   // Between lattice points: no site within 1 mm of (1.25, 1.25, 1.25) mm.
   a.inclusions.push_back(inclusion("speck", sphere(Vec3(0.00125, 0.00125, 0.00125), 0.001), 1));
@@ -131,7 +131,7 @@ TEST(SamplingErrors, InclusionWithoutPhyxelsNamesItsPath) {
 }
 
 TEST(SamplingErrors, MeshShapeWithoutASurface) {
-  ObjectDesc a = beam();
+  ObjectDesc a = region_beam();
   Shape unloaded;
   unloaded.type = Shape::Type::Mesh;
   unloaded.path = "liver.obj";
@@ -143,15 +143,15 @@ TEST(SamplingErrors, MeshShapeWithoutASurface) {
 }
 
 TEST(SamplingErrors, ObjectWithoutPhyxelsNamesShapeAndSpacing) {
-  ObjectDesc a = beam();
-  ObjectDesc b = object("inverted", box(Vec3(0.01, 0, 0), Vec3(0, 0.01, 0.01)), kS);
+  ObjectDesc a = region_beam();
+  ObjectDesc b = object("inverted", box(Vec3(0.01, 0, 0), Vec3(0, 0.01, 0.01)), kRegionSpacing);
   const std::string message = scene_error([&] { sample_scene(scene_of({a, b})); });
   EXPECT_NE(message.find("test_scene.json: objects[1].shape: "), std::string::npos) << message;
   EXPECT_NE(message.find("objects[1].spacing"), std::string::npos) << message;
 }
 
 TEST(SamplingErrors, BadSpacingAndHugeLatticesAreRefused) {
-  ObjectDesc a = beam();
+  ObjectDesc a = region_beam();
   a.spacing = 0;
   std::string message = scene_error([&] { sample_scene(scene_of({a})); });
   EXPECT_NE(message.find("objects[0].spacing: "), std::string::npos) << message;

@@ -3,6 +3,7 @@
 // folder removed when the scope ends).
 #pragma once
 
+#include <exception>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -26,5 +27,16 @@ struct Ran {
 };
 // `phyxel ARGS --quiet` with stdout dropped and stderr written to `err_file`.
 Ran run_phyxel(const std::string& args, const std::filesystem::path& err_file);
+
+// The message of the E that `f()` throws, or "no error" when it returns.
+template <class E = std::exception, class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "no error";
+}
 
 }  // namespace phyxel::test

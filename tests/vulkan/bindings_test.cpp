@@ -11,10 +11,13 @@
 
 #include "compute/gpu_solver_kernels.h"
 #include "compute/kernels.h"
+#include "tests/support/support.h"
 #include "vulkan_test.h"
 
 namespace phyxel::gpu {
 namespace {
+
+using phyxel::test::error_of;
 
 // A SPIR-V module assembled word by word (only what the reader looks at).
 class ModuleBuilder {
@@ -75,15 +78,6 @@ std::vector<SpirvBinding> storage_buffers(uint32_t count) {
   for (uint32_t i = 0; i < count; ++i)
     out.push_back({0, i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, ""});
   return out;
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 std::vector<std::string> names_of(const Pipeline& p) {

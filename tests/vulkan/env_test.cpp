@@ -9,23 +9,15 @@
 
 #include "compute/env.h"
 #include "tests/support/scoped_env.h"
+#include "tests/support/support.h"
 
 namespace phyxel::gpu {
 namespace {
 
+using phyxel::test::error_of;
 using phyxel::test::ScopedEnv;
 
 constexpr const char* kName = "PHYXEL_ENV_TEST_VALUE";
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const EnvError& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 std::optional<int64_t> seconds() {
   return env_number(kName, 1, 86400, "seconds", "the default (120)");
@@ -45,7 +37,7 @@ TEST(Env, ASwitchIsOnUnlessZero) {
 TEST(Env, ASwitchRefusesAnythingElseNamingTheVariable) {
   for (const char* bad : {"off", "false", "2", "00", " 0", "yes"}) {
     const ScopedEnv env(kName, bad);
-    EXPECT_EQ(error_of([] { env_switch(kName); }),
+    EXPECT_EQ(error_of<EnvError>([] { env_switch(kName); }),
               std::string(kName) + "='" + bad +
                   "' is neither 0 (off) nor 1 (on); unset it for the default (on)");
   }
@@ -68,7 +60,7 @@ TEST(Env, ANumberIsReadWithinItsRange) {
 TEST(Env, ANumberRefusesAnythingElseNamingTheVariable) {
   for (const char* bad : {"0", "-5", "2m", "86401", "1.5", "x", "99999999999999999999"}) {
     const ScopedEnv env(kName, bad);
-    const std::string message = error_of([] { seconds(); });
+    const std::string message = error_of<EnvError>([] { seconds(); });
     EXPECT_EQ(message, std::string(kName) + "='" + bad +
                            "' is not a whole number of seconds from 1 to 86400; unset it for "
                            "the default (120)");

@@ -9,25 +9,17 @@
 #include "app/commands.h"
 #include "compute/instance.h"
 #include "tests/support/scoped_env.h"
+#include "tests/support/support.h"
 #include "vulkan_test.h"
 
 namespace phyxel::gpu {
 namespace {
 
+using phyxel::test::error_of;
 using phyxel::test::ScopedEnv;
 
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const VulkanError& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 TEST(Loader, MissingLoaderIsAClearError) {
-  const std::string message = error_of([] {
+  const std::string message = error_of<VulkanError>([] {
     ContextOptions options;
     options.loader_path = "/nonexistent/libvulkan.so.1";
     Context unused(options);
@@ -47,14 +39,16 @@ TEST(Loader, EnvironmentOverridesTheDefaultPath) {
   const ScopedEnv env("PHYXEL_VULKAN_LOADER", "/nonexistent/loader.so");
   EXPECT_EQ(vulkan_loader_path(), "/nonexistent/loader.so");
   EXPECT_EQ(vulkan_loader_path("/explicit.so"), "/explicit.so");
-  EXPECT_NE(error_of([] { Instance unused; }).find("no Vulkan loader (/nonexistent/loader.so)"),
+  EXPECT_NE(error_of<VulkanError>([] {
+              Instance unused;
+            }).find("no Vulkan loader (/nonexistent/loader.so)"),
             std::string::npos);
 }
 
 TEST(Loader, LibraryThatIsNoLoaderIsRejected) {
   InstanceOptions options;
   options.loader_path = "libm.so.6";
-  const std::string message = error_of([&] { Instance unused(options); });
+  const std::string message = error_of<VulkanError>([&] { Instance unused(options); });
   EXPECT_NE(message.find("is not a Vulkan loader"), std::string::npos) << message;
 }
 
@@ -62,7 +56,7 @@ TEST(Loader, NoDriverIsOneLineSuggestingCpu) {
   test_context_options();  // settles the environment first; the driver list is then replaced
   const ScopedEnv files("VK_DRIVER_FILES", "/nonexistent/icd.json");
   const ScopedEnv names("VK_ICD_FILENAMES", "/nonexistent/icd.json");
-  const std::string message = error_of([] { Context unused(ContextOptions{}); });
+  const std::string message = error_of<VulkanError>([] { Context unused(ContextOptions{}); });
   EXPECT_NE(message.find("no Vulkan device found"), std::string::npos) << message;
   EXPECT_NE(message.find("--device cpu"), std::string::npos) << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
@@ -73,14 +67,17 @@ TEST(Loader, MissingValidationLayerNamesThePackage) {
   const ScopedEnv layers("VK_LAYER_PATH", "/nonexistent");
   InstanceOptions options;
   options.validation = true;
-  const std::string message = error_of([&] { Instance unused(options); });
+  const std::string message = error_of<VulkanError>([&] { Instance unused(options); });
   EXPECT_NE(message.find("VK_LAYER_KHRONOS_validation"), std::string::npos) << message;
   EXPECT_NE(message.find("vulkan-validationlayers"), std::string::npos) << message;
 }
 
 TEST(VkCheck, NamesTheCallTheLineAndTheResult) {
-  const int line = __LINE__ + 1;
-  const std::string message = error_of([] { VK_CHECK(VkResult(VK_ERROR_INITIALIZATION_FAILED)); });
+  int line = 0;
+  const std::string message = error_of<VulkanError>([&] {
+    line = __LINE__ + 1;
+    VK_CHECK(VkResult(VK_ERROR_INITIALIZATION_FAILED));
+  });
   EXPECT_NE(message.find("VkResult(VK_ERROR_INITIALIZATION_FAILED)"), std::string::npos);
   EXPECT_NE(message.find("loader_test.cpp:" + std::to_string(line)), std::string::npos) << message;
   EXPECT_NE(message.find("with VK_ERROR_INITIALIZATION_FAILED"), std::string::npos) << message;
@@ -124,7 +121,7 @@ TEST(Info, ListsTheDevices) {
 
 TEST(Info, WithoutLoaderThrowsTheClearMessage) {
   const ScopedEnv env("PHYXEL_VULKAN_LOADER", "/nonexistent/libvulkan.so.1");
-  const std::string message = error_of([] { app::info_command({}); });
+  const std::string message = error_of<VulkanError>([] { app::info_command({}); });
   EXPECT_NE(message.find("no Vulkan loader"), std::string::npos) << message;
 }
 
