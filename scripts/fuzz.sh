@@ -78,7 +78,8 @@ fuzz_target() {
   grep -E '==ERROR|SUMMARY:|Test unit written' "build-fuzz/$target.log" | head -20 || true
 }
 
-jobs="${PHYXEL_FUZZ_JOBS:-$(nproc)}"
+# nproc answers OMP_NUM_THREADS (1, exported above) when it is set: the cores without it.
+jobs="${PHYXEL_FUZZ_JOBS:-$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)}"
 before=0
 for target in "${targets[@]}"; do
   mkdir -p "build-fuzz/artifacts/$target"
