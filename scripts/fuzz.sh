@@ -2,8 +2,8 @@
 # Fuzzes the scene, OBJ and checkpoint readers and the haptic protocol's decoder with libFuzzer
 # for a bounded time each. CI runs it for 60 s a target (scripts/dev.sh test) with
 # PHYXEL_FUZZ_FAIL=1: a finding then fails the run. PHYXEL_FUZZ_SEED fixes libFuzzer's seed
-# (CI: 1, so a run explores the same inputs each time; unset or 0: a new seed every run). Every run replays what fuzzing found before
-# (tests/scene/fuzz_regressions_test.cpp).
+# (CI: 1, so a run explores the same inputs each time; unset or 0: a new seed every run). Every
+# test run replays what fuzzing found before (tests/scene/fuzz_regressions_test.cpp).
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #   default 300 s, fuzz_scene fuzz_obj fuzz_checkpoint fuzz_haptic
 # Needs clang and libclang-rt-14-dev (libFuzzer). Builds build-fuzz (clang, ASan + UBSan,
@@ -11,8 +11,9 @@
 # Targets run side by side, as many at a time as the machine has cores (PHYXEL_FUZZ_JOBS to
 # change it; each target one process, -fork=1), so two cores fuzz four targets a minute each in
 # two minutes of wall. Crashes do not stop a run (-ignore_crashes=1); they land in
-# build-fuzz/artifacts/TARGET/, the grown corpus in build-fuzz/corpus/TARGET/ (kept between runs). Move each finding to tests/data/fuzz/TARGET/
-# with its fix: the regression test replays every file there.
+# build-fuzz/artifacts/TARGET/, the grown corpus in build-fuzz/corpus/TARGET/ (kept between
+# runs). Move each finding to tests/data/fuzz/TARGET/ with its fix: the regression test replays
+# every file there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
