@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "compute/context.h"
+#include "tests/support/support.h"
 #include "vulkan_test.h"
 
 namespace phyxel::gpu {
@@ -32,12 +33,7 @@ std::vector<DeviceInfo> mixed_devices() {
 }
 
 std::string select_error(const std::vector<DeviceInfo>& devices, const std::string& spec) {
-  try {
-    select_device(devices, spec);
-  } catch (const VulkanError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test::error_of<VulkanError>([&] { select_device(devices, spec); });
 }
 
 TEST(SelectDevice, GpuPrefersDiscreteThenIntegratedThenVirtualThenCpu) {
