@@ -156,6 +156,8 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   ainv_ = device(2 * n * sizeof(vec4), "moment inverse");
   resid_ = device(2 * n * sizeof(vec4), "moment residual");
   stress_ = device(3 * n * sizeof(vec4), "stress D");
+  stress_done_ = device(2 * sizeof(uint32_t), "stress workgroups done");
+  upload(ctx, stress_done_, std::vector<uint32_t>(2, 0u));
   nbr_offset_ = device((n + 1) * sizeof(uint32_t), "neighbour offsets");
   energy_ = device(n * sizeof(vec4), "energy per phyxel");
   const uint64_t level1 = (n + kScanBlock - 1) / kScanBlock;
@@ -259,12 +261,12 @@ uint32_t GpuSolver::lanes_for(Gather pass, uint32_t count) const {
 
 // With the principal stress on, the same gather also writes it (and the tensor while tearing);
 // buffers not written are bound by stand-ins of the right kind.
-void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
+void GpuSolver::record_stress(Recorder& rec, const Buffer& disp, uint32_t epoch) {
   const uint32_t n = static_cast<uint32_t>(stress_count_);
   const uint32_t mode = !principal_ ? kStressOnly
                         : tearing_  ? kStressWithTensor
                                     : kStressWithPrincipal;
-  const StepPush pc = push(n, 0.0f, mode, lanes_for(Gather::Stress, n));
+  const StressPush pc{push(n, 0.0f, mode, lanes_for(Gather::Stress, n)), epoch};
   const Buffer& principal = principal_ ? principal_stress_ : von_mises_;
   dispatch(rec, kernels_->stress, pc,
            {{"Offset", nbr_offset_},
@@ -281,8 +283,9 @@ void GpuSolver::record_stress(Recorder& rec, const Buffer& disp) {
             {"Principal", principal},
             {"Cauchy", tearing_ ? cauchy_ : energy_},
             {"IndexHi", nbr_index_.hi()},
-            {"WeightHi", weight_.hi()}},
-           n * pc.lanes);
+            {"WeightHi", weight_.hi()},
+            {"Done", stress_done_}},
+           n * pc.step.lanes);
   record_band(rec, disp);  // while the band has cells
 }
 
@@ -329,7 +332,7 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     if (whole) timer->end(rec);
     rec.barrier();
   };
-  int64_t beside = -1;  // the substep whose sever is in one dispatch with its stress pass
+  int64_t beside = -1;  // the substep whose sever waits for its stress pass
   for (int64_t step = from; step < to; ++step) {
     if (step == 0) {
       const int target = (total - 1) % 2 == 0 ? 0 : 1;
@@ -353,7 +356,13 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
       }
     }
     if (beside == step) {
-      timed("stress+cut", [&] { record_sever(rec, step, disp_[cur], true); });
+      timed("stress+cut", [&] {
+        const bool first = options_.sever_before_stress;  // a test's: the wait runs out
+        if (first) record_sever(rec, step, disp_[cur], true);
+        if (first) rec.barrier();
+        record_stress(rec, disp_[cur], cut_pass(step));
+        if (!first) record_sever(rec, step, disp_[cur], true);
+      });
     } else {
       timed("stress", [&] { record_stress(rec, disp_[cur]); });
     }
@@ -398,9 +407,9 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 
 bool GpuSolver::sever_beside(int64_t step, int64_t to) const {
   // Not where the stress pass writes more than D (principal, tearing) or the band follows it,
-  // nor with no stress pass.
+  // nor with no stress pass to wait for (or an epoch of 0, which means none).
   return options_.sever_beside_stress && step < to && !tearing_ && !principal_ && !band_built() &&
-         stress_count_ > 0 && count_ <= options_.sever_beside_max_phyxels;
+         stress_count_ > 0 && count_ <= options_.sever_beside_max_phyxels && cut_pass(step) != 0u;
 }
 
 namespace {
@@ -441,6 +450,9 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
   // The advance's log starts empty (begin_contact empties it for cuts).
   if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
+  // No epoch of an earlier advance (cut_pass_ goes back with a restored state) for a sever
+  // beside the stress pass to take for its own.
+  if (cutting_) rec_[0]->fill(stress_done_, 0, sizeof(uint32_t), sizeof(uint32_t));
   // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
   if (force_count_ == 0) {
     if (!tools_.empty()) {

@@ -112,17 +112,21 @@ struct GpuSolverOptions {
   // blade with a threshold > 0): tool_contact_reduce sums them beside the sever, off the
   // substep's chain of dependent passes; the same bits. Tests turn it off to compare.
   bool sums_apart = true;
-  // Cutting without tearing, band or principal stress: a substep's sever beside its stress pass,
-  // both in one dispatch (tool_sever_stress: the stress pass's workgroups, then the sever's; the
-  // last to finish redoes the stress of the phyxels the sever cut pairs of), one dependent pass
-  // less a substep; the same bits. Tests turn it off to compare. $PHYXEL_SEVER_BESIDE_STRESS "0"
-  // turns it off (GpuSolver's constructor).
+  // Cutting without tearing, band or principal stress: a substep's sever beside its stress pass
+  // (no barrier between them; the sever's last workgroup redoes the stress of the phyxels it
+  // cut pairs of once that pass is done), one dependent pass less a substep; the same bits.
+  // Tests turn it off to compare. $PHYXEL_SEVER_BESIDE_STRESS "0" turns it off (GpuSolver's
+  // constructor): for a driver that does not run the stress pass beside or before the sever,
+  // where the sever's bounded wait runs out and the advance throws a VulkanError saying so.
   bool sever_beside_stress = true;
   // Only up to this many phyxels in the solver: beside the stress pass, the sever's last workgroup
   // redoes the stress of every phyxel it cut pairs of, which grows with the cut's face. H200,
   // breast_resection: +10 % at 10 579 phyxels, +1.3 % at 35 829, +1.7 % at 84 769, -5.8 % at
   // 165 565 (docs/performance.md).
   uint32_t sever_beside_max_phyxels = 100000;
+  // Tests only, with sever_beside_stress: the sever recorded before its stress pass (a barrier
+  // between), as a driver that ran it first would: its wait runs out, the advance throws.
+  bool sever_before_stress = false;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -353,7 +357,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void part_end(Recorder& rec) {
     if (part_timer_) part_timer_->end(rec);
   }
-  void record_stress(Recorder& rec, const Buffer& disp);
+  // epoch != 0: the pass signals its end with it (StressPush), for a sever beside it.
+  void record_stress(Recorder& rec, const Buffer& disp, uint32_t epoch = 0);
   // Whether substep `step`'s sever goes beside its stress pass (sever_beside_stress), in a
   // piece of the advance that ends before substep `to`.
   bool sever_beside(int64_t step, int64_t to) const;
@@ -402,17 +407,14 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void prepare_blade_sides();             // set_tools: every blade's side entries, none kept
   uint32_t cut_pass(int64_t step) const;  // SeverPush.pass of a substep of the advance
   void upload_cut_quads(Recorder& rec);
-  // beside: with that substep's stress pass in one dispatch (tool_sever_stress; sever_beside).
+  // beside: recorded after that substep's stress pass with no barrier between (sever_beside).
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside = false);
-  // tool_sever_stress's workgroups of the stress pass (SeverPush.stress_groups).
-  uint32_t sever_stress_groups() const;
-  // Its indirect dispatch (tool_broad_scan's mode kBroadScanSeverStress), in an advance that cuts.
-  void record_sever_stress_groups(Recorder& rec);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
   uint32_t cut_table_row(int64_t step) const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.
   void record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp);
-  // The cut log's header after an advance: the pairs cut or torn.
+  // The cut log's header after an advance: the pairs cut or torn, and a VulkanError where a
+  // sever beside the stress pass found that pass not run (kCutLogStressMissed).
   void finish_cutting();
   void take_cut_log(uint32_t found);  // the log's `found` pairs into severed_
   // Graspers (gpu_solver_grasp.cpp): the grip buffers for set_tools, and the capture, hold and
@@ -492,6 +494,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer ainv_;           // 2 vec4
   Buffer resid_;          // 2 vec4
   Buffer stress_;         // D_i, 3 vec4 (w: u_i, as the stress pass read it)
+  Buffer stress_done_;    // uint: the stress pass's workgroups done, its last epoch (StressPush)
   Buffer nbr_offset_;     // N + 1
   PairBuffer nbr_index_;  // pairs, in two parts past one binding (pair_buffers.glsl)
   PairBuffer weight_;     // pairs

@@ -94,7 +94,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
             MemoryIntent::Device, "contact candidate slot per phyxel");
     if (!contact_count_)
       contact_count_ =
-          Buffer(ctx, sizeof(ContactCount) + 2 * sizeof(SeverGroups), MemoryIntent::Readback,
+          Buffer(ctx, sizeof(ContactCount) + sizeof(SeverGroups), MemoryIntent::Readback,
                  "contact candidate count", VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
     if (!contact_done_)
       contact_done_ =
@@ -279,7 +279,6 @@ void GpuSolver::begin_contact(int64_t substeps, double dt) {
             MemoryIntent::Device, "contact rows' partials per 64 candidates");
   }
   if (cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));  // the advance's log starts empty
-  if (cutting_ && contact_active_ && options_.sever_beside_stress) record_sever_stress_groups(rec);
 }
 
 uint32_t GpuSolver::contact_motion_row(int64_t step) const {

@@ -1,5 +1,7 @@
 #include "compute/gpu_solver_kernels.h"
 
+#include "compute/instance.h"
+
 #include <cstdint>
 
 #include "phyxel_spv/nbr_cells.spv.h"
@@ -29,7 +31,6 @@
 #include "phyxel_spv/tool_grasp.spv.h"
 #include "phyxel_spv/tool_resist.spv.h"
 #include "phyxel_spv/tool_sever.spv.h"
-#include "phyxel_spv/tool_sever_stress.spv.h"
 
 namespace phyxel::gpu {
 
@@ -70,20 +71,20 @@ void SolverKernels::make_pair_pipelines(Context& ctx) {
   nbr_pairs = make(PHYXEL_SHADER(nbr_pairs), 13, sizeof(NbrPush));
   if (ctx.float64()) nbr_pairs_f64 = make(PHYXEL_SHADER(nbr_pairs_f64), 13, sizeof(NbrPush));
   precompute = make(PHYXEL_SHADER(solver_precompute), 12, sizeof(PrecomputePush));
-  stress = make(PHYXEL_SHADER(solver_stress), 15, sizeof(StepPush));
+  stress = make(PHYXEL_SHADER(solver_stress), 16, sizeof(StressPush));
   force = make(PHYXEL_SHADER(solver_force), 15, sizeof(StepPush));
   energy = make(PHYXEL_SHADER(solver_energy), 13, sizeof(StepPush));
   von_mises = make(PHYXEL_SHADER(solver_von_mises), 13, sizeof(StepPush));
   force_tear = make(PHYXEL_SHADER(solver_force_tear), 29, sizeof(ForceTearPush));
   force_contact = make(PHYXEL_SHADER(solver_force_contact), 28, sizeof(ForceTearPush));
   sever =
-      Pipeline(ctx, PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush), {}, {spec[0], spec[1], 0u});
+      Pipeline(ctx, PHYXEL_SHADER(tool_sever), 23, sizeof(SeverPush), {}, {spec[0], spec[1], 0u});
   sever_sided =
-      Pipeline(ctx, PHYXEL_SHADER(tool_sever), 20, sizeof(SeverPush), {}, {spec[0], spec[1], 1u});
-  sever_stress = Pipeline(ctx, PHYXEL_SHADER(tool_sever_stress), 25, sizeof(SeverPush), {},
-                          {spec[0], spec[1], 0u});
-  sever_sided_stress = Pipeline(ctx, PHYXEL_SHADER(tool_sever_stress), 25, sizeof(SeverPush), {},
-                                {spec[0], spec[1], 1u});
+      Pipeline(ctx, PHYXEL_SHADER(tool_sever), 23, sizeof(SeverPush), {}, {spec[0], spec[1], 1u});
+  ShaderCode beside = PHYXEL_SHADER(tool_sever);
+  beside.name = kSeverBesideStressPipeline;
+  sever_beside = Pipeline(ctx, beside, 23, sizeof(SeverPush), {}, {spec[0], spec[1], 0u});
+  sever_sided_beside = Pipeline(ctx, beside, 23, sizeof(SeverPush), {}, {spec[0], spec[1], 1u});
   resist = make(PHYXEL_SHADER(tool_resist), 18, sizeof(ResistPush));
   edit = make(PHYXEL_SHADER(solver_edit), 8, sizeof(EditPush));
 }

@@ -45,8 +45,8 @@ class SolverKernels {
   Pipeline broad_scan;      // layout::BroadPhasePush; kBroadScan* bindings
   Pipeline sever;           // layout::SeverPush; kSever* bindings (over the candidates)
   Pipeline sever_sided;     // the same where a blade keeps sides (a threshold > 0)
-  // Both with the stress pass in their dispatch (tool_sever_stress: GpuSolver's sever beside it).
-  Pipeline sever_stress, sever_sided_stress;
+  // Both beside the stress pass (kSeverBesideStressPipeline: their own name for validation).
+  Pipeline sever_beside, sever_sided_beside;
   Pipeline resist;  // layout::ResistPush; kResist* bindings (over the candidates)
   Pipeline grasp;   // layout::GraspPush; kGrasp* bindings (candidates, grip or a tool)
   Pipeline near;    // layout::NearPush; kNear* bindings (aspiration's reads)

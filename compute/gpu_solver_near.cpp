@@ -22,10 +22,9 @@ void GpuSolver::ensure_near_buffers() {
   const uint64_t groups = std::max<uint64_t>((uint64_t{count_} + wg - 1) / wg, 1);
   const uint64_t n = std::max<uint64_t>(count_, 1);
   near_groups_ = Buffer(*ctx_, groups * 4, MemoryIntent::Device, "near: hits per workgroup");
-  // tool_broad_scan writes a SeverGroups after the count too (unread here), and its block holds
-  // a second (tool_sever_stress's, unwritten here).
-  near_count_ = Buffer(*ctx_, sizeof(ContactCount) + 2 * sizeof(SeverGroups),
-                       MemoryIntent::Readback, "near: count");
+  // tool_broad_scan writes a SeverGroups after the count too (unread here).
+  near_count_ = Buffer(*ctx_, sizeof(ContactCount) + sizeof(SeverGroups), MemoryIntent::Readback,
+                       "near: count");
   near_ids_ = Buffer(*ctx_, n * 4, MemoryIntent::Readback, "near: ids");
   near_state_ = Buffer(*ctx_, n * sizeof(vec4), MemoryIntent::Readback, "near: u, principal");
 }

@@ -248,6 +248,16 @@ PHYXEL_CONST uint kStressBindingPrincipal = 11;  // float per phyxel
 PHYXEL_CONST uint kStressBindingCauchy = 12;     // vec4[2 N]
 PHYXEL_CONST uint kStressBindingIndexHi = 13;
 PHYXEL_CONST uint kStressBindingWeightHi = 14;
+// uint: workgroups done, then the epoch of the last pass that signalled its end (StressPush).
+PHYXEL_CONST uint kStressBindingDone = 15;
+// solver_stress's push: with epoch != 0 the pass's last workgroup writes it into Done[1] once
+// every stress of the pass is written (tool_sever beside it waits for it to redo the stress of
+// the phyxels it severed pairs of: GpuSolver's sever beside the stress pass).
+struct StressPush {
+  StepPush step;
+  uint epoch;
+};
+PHYXEL_ASSERT_SIZE(StressPush, 24);
 PHYXEL_CONST uint kStressOnly = 0u;           // StepPush.mode of solver_stress
 PHYXEL_CONST uint kStressWithPrincipal = 1u;  // ... and the largest principal stress
 PHYXEL_CONST uint kStressWithTensor = 2u;     // ... and the Cauchy tensor (tearing)

@@ -206,9 +206,7 @@ struct ContactCount {
 };
 PHYXEL_ASSERT_SIZE(ContactCount, 16);
 // tool_broad_scan writes after the ContactCount: tool_sever's indirect dispatch (lanes
-// invocations per candidate; none without candidates); after that, in its mode
-// kBroadScanSeverStress, tool_sever_stress's (x, y spread as dispatch() does, lanes: the stress
-// pass's workgroups first).
+// invocations per candidate; none without candidates).
 struct SeverGroups {
   uint x;
   uint y;
@@ -217,9 +215,6 @@ struct SeverGroups {
                // the lanes exceed kSeverInvocations (at least 1)
 };
 PHYXEL_ASSERT_SIZE(SeverGroups, 16);
-// tool_broad_scan's mode (BroadPhasePush.mode) that only writes tool_sever_stress's dispatch:
-// BroadPhasePush.groups stress workgroups, then the SeverGroups' x y workgroups of the sever.
-PHYXEL_CONST uint kBroadScanSeverStress = 2u;
 
 // ---------------------------------------------------------------------------------------
 // Graspers (compute/gpu_solver_grasp.cpp; shaders/tool_grasp.comp mirrors
@@ -330,16 +325,24 @@ struct SeverPush {
   uint log_capacity;
   uint pass;     // the substep's count for the side entries (engine cutting.h side_entry)
   uint phyxels;  // the stride of the side entries [tool][phyxel]
-  // tool_sever_stress: the stress pass's workgroups, first in the dispatch (0 in tool_sever), over
-  // its list (of stress_count, ascending) with its lanes and weights mode (StepPush); the last
-  // workgroup redoes the stress of the dirty list's phyxels in that list.
-  uint stress_groups;
+  // Beside the stress pass (stress_epoch != 0, its StressPush.epoch): the last workgroup waits
+  // for that pass's end, then redoes the stress of the dirty list's phyxels in its list (of
+  // stress_count, ascending) with its lanes and weights mode (StepPush).
+  uint stress_epoch;
   uint stress_lanes;
   uint stress_count;
   uint stress_weights;
   uint pad0, pad1;
 };
 PHYXEL_ASSERT_SIZE(SeverPush, 64);
+// The most polls of that pass's epoch (Vulkan does not promise that the pass recorded first runs
+// beside or before the sever): an atomic's round trip (~0.1-1 us) makes it 0.4 s or more on a
+// GPU, far past a stress pass (7 us on the breast, ms at tens of millions of phyxels); llvmpipe
+// ends any loop after 65 535 iterations (milliseconds). Where they run out, the sever sets
+// kCutLogStressMissed in the log header's y, skips the redo, and the advance's later severs do
+// not wait; GpuSolver::finish_cutting throws.
+PHYXEL_CONST uint kSeverStressWaitSpins = 1u << 22;
+PHYXEL_CONST uint kCutLogStressMissed = 1u;
 PHYXEL_CONST uint kSeverBindingList = 0;  // candidates
 PHYXEL_CONST uint kSeverBindingRest = 1;
 PHYXEL_CONST uint kSeverBindingDisp = 2;
@@ -350,7 +353,7 @@ PHYXEL_CONST uint kSeverBindingFlags = 6;
 PHYXEL_CONST uint kSeverBindingQuads = 7;    // CutQuad [row][tool]
 PHYXEL_CONST uint kSeverBindingSamples = 8;  // vec4 [substep][tool]: force on the tool
 PHYXEL_CONST uint kSeverBindingDirty = 9;    // uint: count, then phyxels
-// uvec4: (count, 0, 0, 0), then (i, j, t bits, torn)
+// uvec4: (count, kCutLogStressMissed or 0, 0, 0), then (i, j, t bits, torn)
 PHYXEL_CONST uint kSeverBindingLog = 10;
 PHYXEL_CONST uint kSeverBindingCount = 11;  // ContactCount, then SeverGroups
 PHYXEL_CONST uint kSeverBindingIndexHi = 12;
@@ -361,13 +364,9 @@ PHYXEL_CONST uint kSeverBindingAinv = 16;
 PHYXEL_CONST uint kSeverBindingResid = 17;
 PHYXEL_CONST uint kSeverBindingDone = 18;    // workgroups done (solver_force_tear's too); 0 between
 PHYXEL_CONST uint kSeverBindingSides = 19;   // uint [tool][phyxel]: side entries (blade_edge.glsl)
-// tool_sever_stress only: the stress pass's D (vec4[3 N]), its list, the pair weights (float)
-// and local positions as it reads them.
-PHYXEL_CONST uint kSeverBindingStress = 20;
-PHYXEL_CONST uint kSeverBindingStressList = 21;
-PHYXEL_CONST uint kSeverBindingStressWeight = 22;
-PHYXEL_CONST uint kSeverBindingStressWeightHi = 23;
-PHYXEL_CONST uint kSeverBindingStressLocal = 24;
+PHYXEL_CONST uint kSeverBindingStress = 20;  // beside the stress pass: its D (vec4[3 N])
+PHYXEL_CONST uint kSeverBindingStressList = 21;  // ... its list
+PHYXEL_CONST uint kSeverBindingStressDone = 22;  // ... its Done (kStressBindingDone)
 
 // tool_resist: over the candidates, after tool_contact and before tool_contact_reduce (the
 // CPU twin is CpuSolver::apply_edge_resistance): each candidate that is neither fixed nor

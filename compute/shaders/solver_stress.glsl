@@ -1,8 +1,6 @@
-// The stress pass's arithmetic per phyxel, shared by solver_stress and tool_sever_stress (the
-// pass in the sever's dispatch, and the redo of the stress of the phyxels the sever cut pairs
-// of: the same expressions, the same bits). Include after solver_mls.glsl and the buffers ainv,
-// resid and stress; with PHYXEL_STRESS_GATHER, also after offset, disp, flags, classes,
-// stress_list, pair_buffers.glsl, float stress_pair_weight(uint k) and vec4 stress_local(uint x).
+// The stress pass's arithmetic per phyxel, shared by solver_stress and tool_sever's redo of the
+// stress of the phyxels it severed pairs of beside that pass (the same expressions: the same
+// bits). Include after solver_mls.glsl and the buffers ainv, resid and stress.
 #ifndef PHYXEL_SOLVER_STRESS_GLSL
 #define PHYXEL_SOLVER_STRESS_GLSL
 
@@ -28,54 +26,5 @@ void store_stress(uint i, uint fl, SolverClass cls, float kappa, vec3 ui, mat3 m
   stress[3u * i + 1u] = vec4(d[1], ui.y);
   stress[3u * i + 2u] = vec4(d[2], ui.z);
 }
-
-#ifdef PHYXEL_STRESS_GATHER
-// Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 then adds the
-// lanes' sums in lane order (a fixed order: reruns are bit-identical).
-shared mat3 partial_m[gl_WorkGroupSize.x];
-
-// Invocation `invocation` of the stress pass over stress_list[0, count), `lanes` a phyxel (every
-// invocation of the workgroup calls it: a barrier where lanes > 1). Whether it stored D_i (lane
-// 0 of a phyxel in the list); then i, s and piola are phyxel i's.
-bool stress_pass_phyxel(uint invocation, uint lanes, uint count, uint weights, out uint i,
-                        out Strain s, out mat3 piola) {
-  const uint slot = invocation / lanes;
-  const uint lane = invocation % lanes;
-  const bool in_pass = slot < count;
-  i = 0u;
-  uint fl = 0u;
-  SolverClass cls;
-  vec4 li = vec4(0.0);
-  vec3 ui = vec3(0.0);
-  mat3 m = mat3(0.0);
-  if (in_pass) {
-    i = stress_list[slot];
-    fl = flags[i];
-    cls = classes[fl >> kFlagClassShift];
-    li = stress_local(i);
-    ui = disp[i].xyz;
-    const bool stored = stored_weights(weights, fl);
-    const uint end = offset[i + 1u];
-    uint k = offset[i] + lane;
-    uint next = k < end ? nbr_index(k) : 0u;
-    for (; k < end; k += lanes) {
-      const uint j = next;
-      if (k + lanes < end) next = nbr_index(k + lanes);  // in flight while j is gathered
-      const vec3 x = stress_local(j).xyz - li.xyz;
-      const float w = stored ? stress_pair_weight(k) : poly6_weight(dot(x, x), cls.kernel);
-      add_stress_pair(m, w, disp[j].xyz - ui, x);
-    }
-  }
-  if (lanes > 1u) {  // uniform: every invocation of the workgroup reaches the barrier
-    partial_m[gl_LocalInvocationIndex] = m;
-    barrier();
-    if (lane != 0u || !in_pass) return false;
-    for (uint q = 1u; q < lanes; ++q) m += partial_m[gl_LocalInvocationIndex + q];
-  }
-  if (!in_pass) return false;
-  store_stress(i, fl, cls, li.w, ui, m, s, piola);
-  return true;
-}
-#endif  // PHYXEL_STRESS_GATHER
 
 #endif  // PHYXEL_SOLVER_STRESS_GLSL

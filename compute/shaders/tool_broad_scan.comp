@@ -1,9 +1,7 @@
 // The broad phase's workgroup counts into exclusive offsets (tool_broad_phase), in one
 // workgroup: thread t scans a contiguous run of the counts, a fixed tree over the threads'
 // totals gives each run's start. Writes the total, tool_contact's indirect dispatch and
-// tool_sever's (SeverGroups.lanes invocations per candidate). Mode kBroadScanSeverStress (after
-// that, in every advance that cuts: the stress pass's workgroups change between advances) only
-// writes tool_sever_stress's: p.groups workgroups of the stress pass, then the sever's.
+// tool_sever's (SeverGroups.lanes invocations per candidate).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -12,25 +10,15 @@ layout(local_size_x = PHYXEL_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Push { BroadPhasePush p; };
 layout(std430, binding = kBroadScanBindingGroup) buffer Group { uint group[]; };
-layout(std430, binding = kBroadScanBindingCount) buffer Count {
+layout(std430, binding = kBroadScanBindingCount) writeonly buffer Count {
   ContactCount count;
   SeverGroups sever;
-  SeverGroups sever_stress;  // mode kBroadScanSeverStress
 };
 
 shared uint run_total[PHYXEL_WORKGROUP_SIZE];
 
-// As dispatch() spreads groups over y past 65535 (PHYXEL_GLOBAL_INDEX).
-SeverGroups spread(uint groups, uint lanes) {
-  return SeverGroups(min(groups, 65535u), max((groups + 65534u) / 65535u, 1u), 1u, lanes);
-}
-
 void main() {
   const uint t = gl_LocalInvocationID.x;
-  if (p.mode == kBroadScanSeverStress) {  // uniform
-    if (t == 0u) sever_stress = spread(p.groups + sever.x * sever.y, p.groups);
-    return;
-  }
   const uint per = (p.groups + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
   const uint first = min(t * per, p.groups), last = min(first + per, p.groups);
   uint sum = 0u;
@@ -61,6 +49,7 @@ void main() {
     uint lanes = kSeverMaxLanes;
     while (lanes > 1u && total * lanes > kSeverInvocations) lanes /= 2u;
     const uint sever_groups = (total * lanes + kSeverWorkgroupSize - 1u) / kSeverWorkgroupSize;
-    sever = spread(sever_groups, lanes);
+    sever = SeverGroups(min(sever_groups, 65535u), max((sever_groups + 65534u) / 65535u, 1u), 1u,
+                        lanes);
   }
 }
