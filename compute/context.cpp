@@ -93,9 +93,6 @@ Context::Context(const ContextOptions& options)
   if (push_descriptors_) extensions.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
   if (memory_budget_) extensions.push_back(VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
   if (info_.portability_subset) extensions.push_back("VK_KHR_portability_subset");
-  // Optional: where absent, dispatches are recorded unconditionally.
-  conditional_rendering_ = info_.conditional_rendering;
-  if (conditional_rendering_) extensions.push_back(VK_EXT_CONDITIONAL_RENDERING_EXTENSION_NAME);
 
   auto features =
       vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
@@ -105,10 +102,6 @@ Context::Context(const ContextOptions& options)
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES);
   atomic64.shaderBufferInt64Atomics = info_.int64_atomics ? VK_TRUE : VK_FALSE;
   features.pNext = &atomic64;
-  auto conditional = vk_struct<VkPhysicalDeviceConditionalRenderingFeaturesEXT>(
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_CONDITIONAL_RENDERING_FEATURES_EXT);
-  conditional.conditionalRendering = VK_TRUE;
-  if (conditional_rendering_) atomic64.pNext = &conditional;
 
   // The compute family's queues: the solver's, then the frame queue's.
   const float priorities[2] = {1.0f, 1.0f};
@@ -135,9 +128,6 @@ Context::Context(const ContextOptions& options)
   try {
     fn_ = load_device_functions(ifn, device_);
     if (push_descriptors_ && fn_.vkCmdPushDescriptorSetKHR == nullptr) push_descriptors_ = false;
-    if (fn_.vkCmdBeginConditionalRenderingEXT == nullptr ||
-        fn_.vkCmdEndConditionalRenderingEXT == nullptr)
-      conditional_rendering_ = false;
     fn_.vkGetDeviceQueue(device_, info_.compute_queue_family, 0, &queue_);
     if (queue_count == 2)
       fn_.vkGetDeviceQueue(device_, info_.transfer_queue_family, 0, &transfer_queue_);

@@ -73,8 +73,6 @@ class Context {
   // Whether dispatch() pushes its descriptors (the extension on and no cache).
   bool pushes_descriptors() const { return push_descriptors_ && !options_.descriptor_cache; }
   bool memory_budget() const { return memory_budget_; }
-  // VK_EXT_conditional_rendering enabled (Recorder::begin_conditional).
-  bool conditional_rendering() const { return conditional_rendering_; }
   bool float64() const { return info_.float64; }
   bool int64() const { return info_.int64; }
   bool int64_atomics() const { return info_.int64_atomics; }
@@ -147,7 +145,6 @@ class Context {
   uint32_t device_heap_ = 0;
   bool push_descriptors_ = false;
   bool memory_budget_ = false;
-  bool conditional_rendering_ = false;
   std::atomic<uint64_t> allocated_{0};
   uint64_t allocations_ = 0;
   uint64_t test_fail_alloc_after_ = UINT64_MAX;

@@ -69,7 +69,6 @@ DeviceInfo query_device_info(const InstanceFunctions& fn, VkPhysicalDevice devic
   info.push_descriptor = has(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
   info.memory_budget = has(VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
   info.portability_subset = has("VK_KHR_portability_subset");
-  const bool conditional = has(VK_EXT_CONDITIONAL_RENDERING_EXTENSION_NAME);
 
   VkPhysicalDeviceProperties base{};
   fn.vkGetPhysicalDeviceProperties(device, &base);
@@ -109,11 +108,8 @@ DeviceInfo query_device_info(const InstanceFunctions& fn, VkPhysicalDevice devic
   info.min_storage_buffer_offset_alignment = limits.minStorageBufferOffsetAlignment;
   info.timestamp_period_ns = limits.timestampPeriod;
 
-  auto conditional_features = vk_struct<VkPhysicalDeviceConditionalRenderingFeaturesEXT>(
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_CONDITIONAL_RENDERING_FEATURES_EXT);
   auto atomic64 = vk_struct<VkPhysicalDeviceShaderAtomicInt64Features>(
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES,
-      conditional ? &conditional_features : nullptr);
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES);
   // The Vulkan 1.2 struct only where 1.2 is there (else unusable anyway).
   auto features = vk_struct<VkPhysicalDeviceFeatures2>(
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
@@ -122,7 +118,6 @@ DeviceInfo query_device_info(const InstanceFunctions& fn, VkPhysicalDevice devic
   info.float64 = features.features.shaderFloat64 == VK_TRUE;
   info.int64 = features.features.shaderInt64 == VK_TRUE;
   info.int64_atomics = info.int64 && atomic64.shaderBufferInt64Atomics == VK_TRUE;
-  info.conditional_rendering = conditional && conditional_features.conditionalRendering == VK_TRUE;
 
   // Prefer a universal (graphics + compute) family: the renderer reads the solver's buffers
   // on the same queue, so no queue-family ownership transfers are needed.

@@ -40,8 +40,6 @@ struct DeviceInfo {
   bool push_descriptor = false;       // VK_KHR_push_descriptor
   bool memory_budget = false;         // VK_EXT_memory_budget
   bool portability_subset = false;    // VK_KHR_portability_subset (must then be enabled)
-  // VK_EXT_conditional_rendering with its conditionalRendering feature (dispatches too).
-  bool conditional_rendering = false;
 
   bool timestamps() const { return timestamp_valid_bits > 0 && timestamp_period_ns > 0; }
   // Why Phyxel cannot run on it ("" when it can): Vulkan below 1.2, or no compute queue.

@@ -74,14 +74,12 @@ void GpuSolver::check_capacity(const Context& ctx, uint64_t phyxels, uint64_t pa
 
 namespace {
 
-// The options with the environment's say: $PHYXEL_SEVER_BESIDE_STRESS and
-// $PHYXEL_SEVER_SKIP_IDLE "0" turn sever_beside_stress and sever_skip_idle off (a malformed
-// value is a VulkanError, as the context's variables).
+// The options with the environment's say: $PHYXEL_SEVER_BESIDE_STRESS "0" turns
+// sever_beside_stress off (a malformed value is a VulkanError, as the context's variables).
 GpuSolverOptions with_env(GpuSolverOptions options) {
   try {
     options.sever_beside_stress =
         options.sever_beside_stress && env_switch("PHYXEL_SEVER_BESIDE_STRESS");
-    options.sever_skip_idle = options.sever_skip_idle && env_switch("PHYXEL_SEVER_SKIP_IDLE");
   } catch (const EnvError& e) {
     throw VulkanError(e.what());
   }

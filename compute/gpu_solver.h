@@ -29,7 +29,6 @@
 #include <functional>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -128,12 +127,6 @@ struct GpuSolverOptions {
   // Tests only, with sever_beside_stress: the sever recorded before its stress pass (a barrier
   // between), as a driver that ran it first would: its wait runs out, the advance throws.
   bool sever_before_stress = false;
-  // Where no blade keeps sides: no sever dispatch in a chunk whose candidates all lie outside
-  // the cutting blades' swept bounds grown by the broad phase's margin (a predicate the
-  // broad phase writes, read by VK_EXT_conditional_rendering; without the extension the sever is
-  // always dispatched). Such a sever severs nothing and writes nothing: the same bits. Tests
-  // turn it off to compare. $PHYXEL_SEVER_SKIP_IDLE "0" turns it off.
-  bool sever_skip_idle = true;
 };
 
 // A^-1 of one phyxel as the GPU computed it (symmetric: xx xy xz yy yz zz).
@@ -272,9 +265,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // tool_sever; read back and written only for checkpoints.
   std::vector<std::vector<BladeSide>> blade_sides() override;
   void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override;
-  // Tests: the last chunk's predicate of the sever (sever_skip_idle): whether a candidate lay
-  // near a blade; nullopt where the sever is dispatched unconditionally.
-  std::optional<bool> sever_near_blade();
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -421,8 +411,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside = false);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
   uint32_t cut_table_row(int64_t step) const;
-  // Whether the sever is dispatched under the broad phase's predicate (sever_skip_idle).
-  bool sever_skips_idle() const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.
   void record_resist(Recorder& rec, int64_t step, float dt, const Buffer& disp);
   // The cut log's header after an advance: the pairs cut or torn, and a VulkanError where a
@@ -575,7 +563,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer motion_table_;     // ContactMotion [substep][tool]; motion_upload_ stages it
   Buffer candidate_list_;   // uint[capacity]: the broad phase's phyxels, ascending
   Buffer contact_count_;    // Readback, indirect: ContactCount of the broad phase
-  Buffer sever_near_;       // uint, conditional rendering: a candidate is near a blade (chunk)
   Buffer broad_groups_;     // uint per broad-phase workgroup: hits, then offsets
   Buffer candidate_force_;  // vec4[2 tools][partial_capacity()]: per workgroup, force and range
   Buffer contact_flag_;     // uint per phyxel: 1 where a tool touched it in the last substep

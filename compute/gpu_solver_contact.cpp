@@ -46,33 +46,6 @@ void reserve(Context& ctx, Buffer& b, uint64_t bytes, MemoryIntent intent, const
   b = Buffer(ctx, std::max(bytes, b ? 2 * b.size() : uint64_t{0}), intent, name);
 }
 
-void extend(Bounds& b, const Vec3& x, double radius) {
-  b.extend(Bounds{x - Vec3::Constant(radius), x + Vec3::Constant(radius)});
-}
-
-// Bounds of all the cutting tools can sever over a chunk's motions (substeps x tools; the last
-// pose held after them): their shapes, the quads they sweep (tool_sever's, ahead by the reach)
-// and the blades themselves, grown by the body's radius (its strip).
-Bounds blade_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion,
-                    double spacing) {
-  Bounds b;
-  for (size_t k = 0; k < motion.size() && !tools.empty(); ++k) {
-    const ContactTool& t = tools[k % tools.size()];
-    if (!t.blade.cuts()) continue;
-    const ToolMotion& m = motion[k];
-    const double reach = blade_reach(t.blade, spacing);
-    const double radius = t.shape.type == ToolShape::Type::Capsule ? t.shape.radius : 0.0;
-    for (const ToolPose& pose : {m.from, m.to}) {
-      b.extend(tool_bounds(t.shape, pose));
-      extend(b, pose.position, radius);
-      extend(b, pose.position + t.blade.length * pose.axis, radius);
-    }
-    for (const ToolPose& from : {m.from, m.to})
-      for (const Vec3& corner : swept_quad(t.blade, from, m.to, reach).corner) extend(b, corner, 0);
-  }
-  return b;
-}
-
 }  // namespace
 
 void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
@@ -126,9 +99,6 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     if (!contact_done_)
       contact_done_ =
           Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "contact workgroups done");
-    if (!sever_near_ && cutting_ && options_.sever_skip_idle && ctx.conditional_rendering())
-      sever_near_ = Buffer(ctx, sizeof(uint32_t), MemoryIntent::Device, "sever near a blade",
-                           VK_BUFFER_USAGE_CONDITIONAL_RENDERING_BIT_EXT);
   }
   if (cutting_) prepare_cutting();
   if (cutting_) prepare_blade_sides();
@@ -144,7 +114,6 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
     rec_[0]->fill(contact_count_, 1, sizeof(ContactCount) + offsetof(SeverGroups, y),
                   3 * sizeof(uint32_t));
     rec_[0]->fill(contact_done_, 0);
-    if (sever_near_) rec_[0]->fill(sever_near_, 1);  // the sever runs until a broad phase
     rec_[0]->submit_and_wait();
   }
 }
@@ -209,16 +178,9 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
   const uint32_t groups = (n + wg - 1) / wg;
   reserve(ctx, broad_groups_, std::max<uint64_t>(groups, 1) * sizeof(uint32_t),
           MemoryIntent::Device, "contact broad phase per workgroup");
-  const bool near = sever_skips_idle();
-  if (near) {  // after the last chunk's conditional reads
-    rec.barrier(VK_PIPELINE_STAGE_CONDITIONAL_RENDERING_BIT_EXT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                VK_ACCESS_TRANSFER_WRITE_BIT);
-    rec.fill(sever_near_, 0);
-  }
   record_max_norms(rec);
   rec.barrier();
   const Bounds b = swept_bounds(tools_, motion_);
-  const Bounds blades = blade_bounds(tools_, motion_, contact_spacing_);
   BroadPhasePush push{
       {float(b.min.x()), float(b.min.y()), float(b.min.z()),
        float(cut_candidate_reach(tools_, contact_spacing_, max_support_))},
@@ -226,9 +188,7 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
       n,
       0u,
       groups,
-      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_))),
-      {float(blades.min.x()), float(blades.min.y()), float(blades.min.z()), near ? 1.0f : 0.0f},
-      {float(blades.max.x()), float(blades.max.y()), float(blades.max.z()), 0.0f}};
+      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_)))};
   auto pass = [&](uint32_t mode) {
     push.mode = mode;
     dispatch(rec, kernels_->broad_phase, push,
@@ -239,8 +199,7 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
               {"MaxNorm", max_norm_readback_},
               {"Group", broad_groups_},
               {"Out", candidate_list_},
-              {"Slot", candidate_slot_},
-              {"SeverNear", near ? sever_near_ : candidate_slot_}},  // unwritten without
+              {"Slot", candidate_slot_}},
              groups * wg);
   };
   pass(0);
@@ -251,10 +210,6 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
   pass(1);
   rec.fill(contact_flag_, 0);  // no stale contact from the last list
   rec.indirect_barrier();
-  if (near)
-    rec.barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_CONDITIONAL_RENDERING_BIT_EXT,
-                VK_ACCESS_CONDITIONAL_RENDERING_READ_BIT_EXT);
 }
 
 void GpuSolver::begin_contact(int64_t substeps, double dt) {

@@ -2,13 +2,11 @@
 // engine/solver/cutting.h). Per substep, after the contact reduction and in the same command
 // buffer: the dirty list's header reset (unless tool_contact emptied it) and tool_sever over the
 // candidates (indirect), whose last workgroup reruns the precompute of the phyxels it put in the
-// dirty list (no dependent dispatch where nothing was severed); none at all in a chunk with no
-// candidate near a blade (sever_skips_idle). Severed pairs keep their CSR slots with weight 0,
-// which the step passes read for phyxels flagged kFlagPairsEdited. After the advance, the log of
-// severed pairs is read back once, sorted and appended to the host's log.
+// dirty list (no dependent dispatch where nothing was severed). Severed pairs keep their CSR slots
+// with weight 0, which the step passes read for phyxels flagged kFlagPairsEdited. After the
+// advance, the log of severed pairs is read back once, sorted and appended to the host's log.
 #include <algorithm>
 #include <cstring>
-#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -194,9 +192,6 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bo
   const Pipeline& sever =
       beside ? (sample_in_sever_ ? kernels_->sever_sided_beside : kernels_->sever_beside)
              : (sample_in_sever_ ? kernels_->sever_sided : kernels_->sever);
-  // No dispatch where the broad phase found no candidate near a blade (sever_skip_idle).
-  const bool skips = sever_skips_idle();
-  if (skips) rec.begin_conditional(sever_near_);
   dispatch_indirect(rec, sever, push,
                     {{"List", candidate_list_},
                      {"Rest", rest_},
@@ -222,19 +217,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bo
                      {"StressList", stress_list_},
                      {"StressDone", stress_done_}},
                     contact_count_, sizeof(ContactCount));
-  if (skips) rec.end_conditional();
   part_end(rec);
-}
-
-std::optional<bool> GpuSolver::sever_near_blade() {
-  settle();
-  if (!sever_skips_idle()) return std::nullopt;
-  return download<uint32_t>(*ctx_, sever_near_, 1)[0] != 0u;
-}
-
-bool GpuSolver::sever_skips_idle() const {
-  // A blade keeping sides refreshes every candidate's side entries in each sever.
-  return sever_near_ && cutting_ && !sample_in_sever_;
 }
 
 void GpuSolver::record_sums_apart(Recorder& rec) {

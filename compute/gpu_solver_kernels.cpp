@@ -48,7 +48,7 @@ SolverKernels::SolverKernels(Context& ctx, bool pairs_split, uint32_t pairs_lo)
       motion(ctx, PHYXEL_SHADER(solver_motion), 4, sizeof(MotionPush)),
       contact(ctx, PHYXEL_SHADER(tool_contact), 21, sizeof(ContactPush)),
       contact_reduce(ctx, PHYXEL_SHADER(tool_contact_reduce), 8, sizeof(ContactReducePush)),
-      broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 9, sizeof(BroadPhasePush)),
+      broad_phase(ctx, PHYXEL_SHADER(tool_broad_phase), 8, sizeof(BroadPhasePush)),
       broad_scan(ctx, PHYXEL_SHADER(tool_broad_scan), 2, sizeof(BroadPhasePush)),
       grasp(ctx, PHYXEL_SHADER(tool_grasp), 14, sizeof(GraspPush)),
       near(ctx, PHYXEL_SHADER(solver_near), 6, sizeof(NearPush)),

@@ -129,21 +129,6 @@ void Recorder::fill(const Buffer& dst, uint32_t value, VkDeviceSize offset, VkDe
   ctx_->fn().vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);
 }
 
-void Recorder::begin_conditional(const Buffer& predicate, VkDeviceSize offset) {
-  if (!recording_ || !ctx_->conditional_rendering())
-    throw VulkanError("Recorder '" + name_ + "': begin_conditional() while not recording or " +
-                      "without VK_EXT_conditional_rendering");
-  auto info = vk_struct<VkConditionalRenderingBeginInfoEXT>(
-      VK_STRUCTURE_TYPE_CONDITIONAL_RENDERING_BEGIN_INFO_EXT);
-  info.buffer = predicate.handle();
-  info.offset = offset;
-  ctx_->fn().vkCmdBeginConditionalRenderingEXT(cmd_, &info);
-}
-
-void Recorder::end_conditional() {
-  ctx_->fn().vkCmdEndConditionalRenderingEXT(cmd_);
-}
-
 void Recorder::submit(VkSemaphore wait_for, VkSemaphore signal) {
   if (!recording_) throw VulkanError("Recorder '" + name_ + "': submit() while not recording");
   const DeviceFunctions& fn = ctx_->fn();

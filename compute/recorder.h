@@ -51,12 +51,6 @@ class Recorder {
   void barrier(VkPipelineStageFlags src_stages, VkAccessFlags src_access,
                VkPipelineStageFlags dst_stages, VkAccessFlags dst_access);
 
-  // The dispatches between these two run only where the 32-bit word at `offset` of
-  // `predicate` (made with VK_BUFFER_USAGE_CONDITIONAL_RENDERING_BIT_EXT) is nonzero when
-  // begin_conditional executes (VK_EXT_conditional_rendering: Context::conditional_rendering).
-  void begin_conditional(const Buffer& predicate, VkDeviceSize offset = 0);
-  void end_conditional();
-
   // vkCmdCopyBuffer; bytes = VK_WHOLE_SIZE copies all of src from src_offset.
   void copy(const Buffer& src, const Buffer& dst, VkDeviceSize bytes = VK_WHOLE_SIZE,
             VkDeviceSize src_offset = 0, VkDeviceSize dst_offset = 0);

@@ -83,8 +83,6 @@
 
 #define PHYXEL_VK_DEVICE_FUNCTIONS_OPTIONAL(X) \
   X(vkCmdPushDescriptorSetKHR)                 \
-  X(vkCmdBeginConditionalRenderingEXT)         \
-  X(vkCmdEndConditionalRenderingEXT)           \
   X(vkSetDebugUtilsObjectNameEXT)
 
 namespace phyxel::gpu {

@@ -143,12 +143,8 @@ struct BroadPhasePush {
   uint mode;         // 0: count per workgroup; 1: write
   uint groups;       // workgroups of tool_broad_phase (entries of group[])
   float tool_speed;  // m/s: the fastest point of a tool over the chunk (contact_margin)
-  // The cutting blades' swept bounds (xyz; world, m) where blade_lo.w != 0: mode 1 sets the
-  // sever's predicate where a candidate lies within them grown by the margin.
-  vec4 blade_lo;
-  vec4 blade_hi;
 };
-PHYXEL_ASSERT_SIZE(BroadPhasePush, 80);
+PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
 PHYXEL_CONST uint kBroadBindingList = 0;  // force list
 PHYXEL_CONST uint kBroadBindingRest = 1;
 PHYXEL_CONST uint kBroadBindingDisp = 2;
@@ -157,8 +153,6 @@ PHYXEL_CONST uint kBroadBindingMaxNorm = 4;  // vec4 (max |u|, max |v|, 0, 0)
 PHYXEL_CONST uint kBroadBindingGroup = 5;    // uint per workgroup: hits (mode 0), offset (1)
 PHYXEL_CONST uint kBroadBindingOut = 6;      // candidate list
 PHYXEL_CONST uint kBroadBindingSlot = 7;     // uint per phyxel: its candidate slot, or ~0 (mode 1)
-// uint: set to 1 (mode 1, blade_lo.w != 0) where a candidate is near a blade, else left (0)
-PHYXEL_CONST uint kBroadBindingSeverNear = 8;
 // tool_broad_scan: {group, count}
 PHYXEL_CONST uint kBroadScanBindingGroup = 0;
 PHYXEL_CONST uint kBroadScanBindingCount = 1;

@@ -2,9 +2,7 @@
 // counts each workgroup's hits into group[g]; mode 1 (after tool_broad_scan turned the counts
 // into offsets) writes the hits at group[g] + their rank in the workgroup, and each entry's
 // slot (~0: none) into candidate_slot (solver_force_tear's contact). Both modes decide a hit
-// from the same inputs, so they agree; the list comes out ascending. With blade_lo.w != 0,
-// mode 1 also sets sever_near where a candidate lies within the cutting blades' swept bounds
-// grown by the margin (GpuSolver::record_sever: no sever dispatch of the chunk without).
+// from the same inputs, so they agree; the list comes out ascending.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -20,7 +18,6 @@ layout(std430, binding = kBroadBindingMaxNorm) readonly buffer MaxNorm { vec4 ma
 layout(std430, binding = kBroadBindingGroup) buffer Group { uint group[]; };
 layout(std430, binding = kBroadBindingOut) writeonly buffer Out { uint candidates[]; };
 layout(std430, binding = kBroadBindingSlot) writeonly buffer Slot { uint candidate_slot[]; };
-layout(std430, binding = kBroadBindingSeverNear) writeonly buffer SeverNear { uint sever_near; };
 
 shared uint rank[PHYXEL_WORKGROUP_SIZE];
 
@@ -29,7 +26,7 @@ void main() {
   if (g >= p.groups) return;  // whole workgroups only, before any barrier
   const uint t = gl_LocalInvocationID.x;
   const uint slot = g * PHYXEL_WORKGROUP_SIZE + t;
-  bool hit = false, near_blade = false;
+  bool hit = false;
   uint i = 0u;
   if (slot < p.count) {
     i = list[slot];
@@ -41,10 +38,6 @@ void main() {
     hit = (flags[i] & (kFlagFixed | kFlagRemoved)) == 0u &&
           (all_in || (all(greaterThanEqual(x, p.lo.xyz - margin)) &&
                       all(lessThanEqual(x, p.hi.xyz + margin))));
-    // A pair a blade reaches has both ends within the margin of its bounds (cut_candidate_reach).
-    near_blade = hit && p.blade_lo.w != 0.0 &&
-                 (all_in || (all(greaterThanEqual(x, p.blade_lo.xyz - margin)) &&
-                             all(lessThanEqual(x, p.blade_hi.xyz + margin))));
   }
   // Inclusive scan of the hits over the workgroup (Hillis-Steele, fixed order).
   rank[t] = hit ? 1u : 0u;
@@ -62,6 +55,5 @@ void main() {
     const uint at = group[g] + rank[t] - 1u;
     if (hit) candidates[at] = i;
     candidate_slot[i] = hit ? at : 0xFFFFFFFFu;
-    if (near_blade) sever_near = 1u;  // any writer: the same word
   }
 }
