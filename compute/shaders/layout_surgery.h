@@ -332,7 +332,8 @@ struct SeverPush {
   uint stress_lanes;
   uint stress_count;
   uint stress_weights;
-  uint pad0, pad1;
+  uint marks;  // 1: the side buffer holds a held mark per pair slot (blade_edge.glsl)
+  uint pad1;
 };
 PHYXEL_ASSERT_SIZE(SeverPush, 64);
 // The most polls of that pass's epoch (Vulkan does not promise that the pass recorded first runs

@@ -242,5 +242,80 @@ TEST(BladeSide, ASideLapsesOnceTheBladesPlaneHasTurnedFromTheOneItWasLearnedOn) 
   EXPECT_EQ(side_after_lapse(kSidePlus, kSidePlus, kSideMinus), kSidePlus);
 }
 
+// Keep one side at a separation (cutting.h, held_pair_severed): a blade with a tiny threshold
+// (its first substep separates) moves along +x at y = 1 mm with its tip at z = 6 mm, above the
+// pair (i, j) of (-4, 2, 4) and (-4, 0, 4) mm, which crosses the blade's plane below the tip: no
+// crossing rule takes it. i is kept on +n (y), j on -n, or none (`j_side`); `marked` puts the
+// pair's held marks (a checkpoint's). Whether the first substep severed it.
+bool held_pair_cut_at_a_separation(bool marked, uint32_t j_side) {
+  Scene scene = test::box_scene(Vec3(-0.012, -0.006, 0), Vec3(0.012, 0.006, 0.010), 0.002,
+                                test::tissue(5000, 0.45, 20));
+  scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.0015)));
+  scene.simulation.dt = 2.4e-4;
+  ToolDesc blade = test::crossing_scalpel(0, 0.006, 0.02, 0.0, 0.16, 1e-9);
+  blade.path = {{0.0, Vec3(-0.004, 0.001, 0.006), Vec3::UnitZ()},
+                {0.16, Vec3(0.006, 0.001, 0.006), Vec3::UnitZ()}};
+  blade.blade.edge = Vec3::UnitX();
+  scene.tools.push_back(blade);
+  const PhyxelSet set = sample_scene(scene);
+  auto at = [&](const Vec3& x) {
+    for (uint32_t k = 0; k < set.size(); ++k)
+      if ((set.rest[k] - x).norm() < 1e-9) return k;
+    ADD_FAILURE() << "no phyxel at " << x.transpose();
+    return uint32_t(0);
+  };
+  const uint32_t i = at(Vec3(-0.004, 0.002, 0.004)), j = at(Vec3(-0.004, 0, 0.004));
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  test::ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
+  const uint32_t normal = pack_side_normal(Vec3::UnitY());  // the blade's: axis x edge
+  std::vector<BladeSide> kept = {{i, kSidePlus, normal}};
+  if (j_side != kSideNone) kept.push_back({j, j_side, normal});
+  solver.restore_blade_sides(0, kept);
+  if (marked) solver.restore_held_marks({{i, j, 1u}, {j, i, 1u}});
+  run.run(1);
+  EXPECT_GT(solver.severed_count(), 0u);         // a separation
+  for (const HeldMark& m : solver.held_marks())  // read and cleared by it
+    EXPECT_FALSE((m.i == i && m.j == j) || (m.i == j && m.j == i));
+  for (const SeveredPair& p : solver.severed_log())
+    if (p.i == std::min(i, j) && p.j == std::max(i, j)) return true;
+  return false;
+}
+
+TEST(BladeSide, ASeparationSeversAPairHeldSinceTheLastOneWhereItsPhyxelsAreKeptApart) {
+  EXPECT_TRUE(held_pair_cut_at_a_separation(true, kSideMinus));
+  EXPECT_FALSE(held_pair_cut_at_a_separation(false, kSideMinus));  // not held: no crossing
+  // A phyxel without a side keeps its held pairs (it may have held them on both sides).
+  EXPECT_FALSE(held_pair_cut_at_a_separation(true, kSideNone));
+}
+
+// Below the threshold the edge marks the pairs it holds; at threshold 0 nothing is marked.
+TEST(BladeSide, TheEdgeMarksThePairsItHoldsBelowTheThreshold) {
+  for (const double threshold : {100.0, 0.0}) {
+    Scene scene = test::box_scene(Vec3(-0.012, -0.006, 0), Vec3(0.012, 0.006, 0.010), 0.002,
+                                  test::tissue(5000, 0.45, 20));
+    scene.objects[0].fixed.push_back(test::box_shape(Vec3(-1, -1, -1), Vec3(1, 1, 0.0015)));
+    ToolDesc blade = test::crossing_scalpel(0, 0.004, 0.02, 0.0, 0.16, threshold);
+    blade.path = {{0.0, Vec3(-0.004, 0.001, 0.004), Vec3::UnitZ()},
+                  {0.16, Vec3(0.006, 0.001, 0.004), Vec3::UnitZ()}};
+    blade.blade.edge = Vec3::UnitX();
+    scene.tools.push_back(blade);
+    const PhyxelSet set = sample_scene(scene);
+    CpuSolver<double> solver(set, scene.simulation.gravity);
+    test::ToolStepper<double> run(solver, scene.tools, 2.4e-4);
+    run.run(20);
+    const std::vector<HeldMark> marks = solver.held_marks();
+    if (threshold == 0) {
+      EXPECT_TRUE(marks.empty());
+      continue;
+    }
+    EXPECT_GT(marks.size(), 10u);
+    for (const HeldMark& m : marks) {
+      EXPECT_EQ(m.bits, 1u);
+      // The blade's plane y = 1 mm lies between the pair's phyxels at rest.
+      EXPECT_LT((set.rest[m.i].y() - 0.001) * (set.rest[m.j].y() - 0.001), 0.0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace phyxel
