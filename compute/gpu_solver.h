@@ -265,8 +265,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // tool_sever; read back and written only for checkpoints.
   std::vector<std::vector<BladeSide>> blade_sides() override;
   void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override;
-  std::vector<HeldMark> held_marks() override;
-  void restore_held_marks(const std::vector<HeldMark>& marks) override;
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -471,7 +469,6 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // and the grasper whose grip's forces that pass subtracts (kContactNoGrasp: none).
   int64_t sums_pending_ = -1;
   uint32_t sums_grasp_ = 0xFFFFFFFFu;
-  bool held_marks_ = false;       // cut_sides_ holds a held mark per pair slot (a threshold)
   bool sample_in_sever_ = false;  // a blade with a threshold > 0: tool_sever reads the sample
   void record_sums_apart(Recorder& rec);
 

@@ -63,12 +63,9 @@ void GpuSolver::prepare_cutting() {
   if (alive_.empty()) alive_.assign(pairs_, 1);
 }
 
-// The side entries [tool][phyxel], then the normals they were learned on, then where a blade
-// has a threshold (sample_in_sever_) a held mark per pair slot (blade_edge.glsl).
+// The side entries [tool][phyxel], then the normals they were learned on (blade_edge.glsl).
 void GpuSolver::prepare_blade_sides() {
-  held_marks_ = sample_in_sever_;
-  const uint64_t entries =
-      std::max<uint64_t>(1, 2 * uint64_t{count_} * tools_.size() + (held_marks_ ? pairs_ : 0));
+  const uint64_t entries = std::max<uint64_t>(1, 2 * uint64_t{count_} * tools_.size());
   cut_sides_ =
       Buffer(*ctx_, entries * sizeof(uint32_t), MemoryIntent::Device, "blade side entries");
   upload(*ctx_, cut_sides_, std::vector<uint32_t>(entries, 0u));
@@ -114,37 +111,6 @@ void GpuSolver::restore_blade_sides(const std::vector<std::vector<BladeSide>>& k
       entries[(nt + t) * count_ + b.phyxel] = b.normal;
     }
   upload(*ctx_, cut_sides_, entries);
-}
-
-std::vector<HeldMark> GpuSolver::held_marks() {
-  settle();
-  std::vector<HeldMark> marks;
-  if (!cutting_ || !held_marks_) return marks;
-  const uint64_t base = 2 * uint64_t{count_} * tools_.size();
-  const std::vector<uint32_t> words =
-      download<uint32_t>(*ctx_, cut_sides_, pairs_, base * sizeof(uint32_t));
-  const std::vector<uint8_t> alive = pair_alive();
-  for (uint32_t i = 0; i < count_; ++i)
-    for (uint32_t k = neighbours_.offset[i]; k < neighbours_.offset[i + 1]; ++k)
-      if (words[k] != 0 && alive[k]) marks.push_back({i, neighbours_.index[k], words[k]});
-  return marks;
-}
-
-void GpuSolver::restore_held_marks(const std::vector<HeldMark>& marks) {
-  settle();
-  if (marks.empty()) return;
-  if (!cutting_ || !held_marks_)
-    throw std::invalid_argument("GpuSolver::restore_held_marks: no blade with a threshold");
-  std::vector<uint32_t> words(pairs_, 0u);
-  for (const HeldMark& m : marks) {
-    const size_t k =
-        m.i < count_ && m.j < count_ ? neighbours_.slot(m.i, m.j) : NeighbourLists::kNoSlot;
-    if (k == NeighbourLists::kNoSlot)
-      throw std::invalid_argument("GpuSolver::restore_held_marks: phyxels " + std::to_string(m.i) +
-                                  " and " + std::to_string(m.j) + " are not neighbours");
-    words[k] = m.bits;
-  }
-  upload(*ctx_, cut_sides_, words, 2 * uint64_t{count_} * tools_.size() * sizeof(uint32_t));
 }
 
 void GpuSolver::upload_cut_quads(Recorder& rec) {
@@ -220,7 +186,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bo
                        lanes_for(Gather::Stress, uint32_t(stress_count_)),
                        uint32_t(stress_count_),
                        GpuSolver::push(0, 0.0f).weights,
-                       held_marks_ ? 1u : 0u,
+                       0u,
                        0u};
   // A blade with a threshold keeps sides (sample_in_sever_): else the pass without them.
   const Pipeline& sever =

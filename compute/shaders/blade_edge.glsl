@@ -173,18 +173,4 @@ bool sides_allow(uint side_i, uint side_j, vec3 n, vec3 xi, vec3 xj) {
   return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
 }
 
-// Held marks (engine/solver/cutting.h, held_pair_severed): after the side entries and their
-// normals, a word per pair slot, bit `tool` where the blade's edge held the pair since its last
-// separation (the first kHeldMarkTools blades; GpuSolver allocates them where a blade has a
-// threshold).
-const uint kHeldMarkTools = 32u;
-
-uint held_mark_index(uint tools, uint phyxels, uint slot) {
-  return 2u * tools * phyxels + slot;
-}
-
-bool held_pair_severed(uint side_i, uint side_j, vec3 n, vec3 xi, vec3 xj) {
-  return side_i != kSideNone && side_j != kSideNone && sides_allow(side_i, side_j, n, xi, xj);
-}
-
 #endif

@@ -332,8 +332,7 @@ struct SeverPush {
   uint stress_lanes;
   uint stress_count;
   uint stress_weights;
-  uint marks;  // 1: the side buffer holds a held mark per pair slot (blade_edge.glsl)
-  uint pad1;
+  uint pad0, pad1;
 };
 PHYXEL_ASSERT_SIZE(SeverPush, 64);
 // The most polls of that pass's epoch (Vulkan does not promise that the pass recorded first runs

@@ -282,57 +282,17 @@ void claim_pair(uint i, uint j, uint k, float t) {
   log_severed(lo, hi, t, 0u);
 }
 
-// A pair of a blade with a threshold that its crossing rules leave (CpuSolver's
-// held_since_separation): below the threshold marked where the edge holds it (the sides
-// allowing), at a separation severed where it was marked and its phyxels are kept apart
-// (held_pair_severed), at t 0.5, unless a tool before it takes it. Only this lane writes slot
-// k's mark.
-void held_since_separation(uint tool, CutQuad quad, bool cuts, bool marked, uint i, vec3 xi,
-                           uint j, vec3 xj, uint k) {
-  if (pair_weight_bits(k) == 0u) return;
-  const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
-  if (cuts) {
-    if (marked &&
-        held_pair_severed(side_of(tool, quad, i, xi), side_of(tool, quad, j, xj), normal, xi, xj) &&
-        !earlier_tool_takes(tool, i, xi, j, xj))
-      claim_pair(i, j, k, 0.5);
-    return;
-  }
-  if (!(quad.resist.x > 0.0) || !blade_may_sever(tool, quad, xi, xj)) return;  // the ball: exact
-  const EdgeFrame f = edge_frame(quad);
-  float t, behind, direction;
-  const bool holds = i < j ? edge_holds(xi, xj, f, t, behind, direction)
-                           : edge_holds(xj, xi, f, t, behind, direction);
-  if (holds && sides_allow(side_of(tool, quad, i, xi), side_of(tool, quad, j, xj), normal, xi, xj)) {
-    const uint at = held_mark_index(p.tools, p.phyxels, k);
-    sides[at] |= 1u << tool;
-  }
-}
-
 // Pair slot k of candidate i (at xi) against one tool: severed unless a tool before it takes
 // it or the invocation of its other side claimed it first (the atomic exchange of the lower
 // index's slot). Returns the side it cuts i to (kSideNone if the blade does not take it); a
 // pair severed before counts, so the side does not depend on which invocation ran first.
-// `marks`: whether the blade keeps held marks (a blade with a threshold among the first
-// kHeldMarkTools), which a separation reads and clears.
-uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k, bool marks) {
+uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
   const bool sided = quad.edge.w > 0.0;
   if (!sided && pair_weight_bits(k) == 0u) return kSideNone;
   const uint j = nbr_index(k);
   const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
-  bool marked = false;
-  const bool cuts = blade_cuts(tool, quad);
-  if (marks && cuts) {
-    const uint at = held_mark_index(p.tools, p.phyxels, k);
-    const uint word = sides[at];
-    marked = (word & (1u << tool)) != 0u;
-    if (marked) sides[at] = word & ~(1u << tool);
-  }
   float t;
-  if (!blade_takes(quad, tool, i, xi, j, xj, t)) {
-    if (marks) held_since_separation(tool, quad, cuts, marked, i, xi, j, xj, k);
-    return kSideNone;
-  }
+  if (!blade_takes(quad, tool, i, xi, j, xj, t)) return kSideNone;
   const uint side =
       sided ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj) : kSideNone;
   if (pair_weight_bits(k) == 0u || earlier_tool_takes(tool, i, xi, j, xj)) return side;
@@ -373,10 +333,9 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
     const uint start = sided ? side_at_start(sides[tool * p.phyxels + i], p.pass) : kSideNone;
     const uint side_i = sided ? side_of(tool, quad, i, xi) : kSideNone;
     uint cut_to = kSideNone;
-    const bool marks = sided && p.marks != 0u && tool < kHeldMarkTools;
     if (severing && tool_severs(quad, blade_cuts(tool, quad)))
       for (uint k = offset[i] + lane; k < end; k += lanes)
-        cut_to |= sever_pair(tool, quad, i, xi, k, marks);
+        cut_to |= sever_pair(tool, quad, i, xi, k);
     if (sided)  // every substep: the side stays kept
       merge_side(tool, i, start, side_i, cut_to, edge_frame(quad).normal);
   }

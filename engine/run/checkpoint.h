@@ -74,9 +74,6 @@ struct Checkpoint {
   // Per tool, the sides its blade keeps (engine/solver/cutting.h, BladeSide; empty without a
   // blade or in a checkpoint written before them or before their normals: none kept).
   std::vector<std::vector<BladeSide>> blade_sides;
-  // The live pairs the blades' edges held since their last separation (cutting.h, HeldMark;
-  // empty in a checkpoint written before them: the blades mark again from the next substep).
-  std::vector<HeldMark> held_marks;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

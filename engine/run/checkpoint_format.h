@@ -35,7 +35,6 @@ enum Section : uint32_t {
   kCutBand = 14,      // the SCNI band: its quads, counts and cells (CutBandState)
   kBladeSides = 15,   // per tool: the phyxels its blade keeps on one side, and the side
   kSideNormals = 16,  // per kept side of kBladeSides: the plane's normal it was learned on
-  kHeldMarks = 17,    // the live pairs the blades' edges held since their last separation
 };
 inline constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 inline constexpr size_t kChecksumBytes = 8;
@@ -144,7 +143,7 @@ class Reader {
   std::string file_;
 };
 
-// The surgical state, sections kCuts to kHeldMarks in file order: the cuts and the scalpels'
+// The surgical state, sections kCuts to kSideNormals in file order: the cuts and the scalpels'
 // statistics, tears, grips, the aspirator, the cut band and the blades' kept sides and planes.
 void write_surgery_sections(Writer& w, const Checkpoint& c);
 // Reads section `tag` into `c` when it is one of those; skips any other (not read).

@@ -54,17 +54,6 @@ void read_side_normals(Reader& r, Checkpoint& c) {
   }
 }
 
-void read_held_marks(Reader& r, Checkpoint& c) {
-  const uint64_t n = r.get<uint64_t>();
-  r.need_items(n, 3 * sizeof(uint32_t));  // a corrupt count: refused, not allocated
-  c.held_marks.resize(n);
-  for (HeldMark& m : c.held_marks) {
-    m.i = r.get<uint32_t>();
-    m.j = r.get<uint32_t>();
-    m.bits = r.get<uint32_t>();
-  }
-}
-
 void read_grips(Reader& r, Checkpoint& c) {
   const uint64_t tools = r.get<uint64_t>();
   for (uint64_t t = 0; t < tools; ++t) {
@@ -177,15 +166,6 @@ void write_surgery_sections(Writer& w, const Checkpoint& c) {
     w.put_array(normals);
   }
   w.end_section();
-
-  w.begin_section(kHeldMarks);
-  w.put<uint64_t>(c.held_marks.size());
-  for (const HeldMark& m : c.held_marks) {
-    w.put<uint32_t>(m.i);
-    w.put<uint32_t>(m.j);
-    w.put<uint32_t>(m.bits);
-  }
-  w.end_section();
 }
 
 void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -245,9 +225,6 @@ void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
       break;
     case kSideNormals:  // after kBladeSides
       read_side_normals(r, c);
-      break;
-    case kHeldMarks:
-      read_held_marks(r, c);
       break;
     default:  // a section this version does not know: skipped
       break;

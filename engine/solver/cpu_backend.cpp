@@ -116,10 +116,6 @@ class CpuBackend final : public SolverWithAllFacets {
   void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override {
     for (size_t t = 0; t < sides.size(); ++t) solver_->restore_blade_sides(t, sides[t]);
   }
-  std::vector<HeldMark> held_marks() override { return solver_->held_marks(); }
-  void restore_held_marks(const std::vector<HeldMark>& marks) override {
-    solver_->restore_held_marks(marks);
-  }
 
  private:
   int threads_;

@@ -327,9 +327,6 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   for (const ContactTool& t : tools_) grasping_ = grasping_ || t.grasp.grasps();
   grips_.assign(tools_.size(), Grip{});
   blade_side_.assign(cutting_ ? 2 * tools_.size() * size() : 0, 0u);
-  bool sided = false;  // a blade with a threshold keeps sides and held marks
-  for (const ContactTool& t : tools_) sided = sided || (t.blade.cuts() && t.blade.threshold > 0);
-  held_marks_.assign(sided ? w_.size() : 0, 0u);
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();

@@ -108,10 +108,6 @@ class CpuSolver {
   size_t tool_count() const { return tools_.size(); }
   std::vector<BladeSide> blade_sides(size_t tool) const;
   void restore_blade_sides(size_t tool, const std::vector<BladeSide>& sides);
-  // The live pairs the blades' edges held since their last separation (cutting.h, HeldMark);
-  // restore puts them back (after set_tools).
-  std::vector<HeldMark> held_marks() const;
-  void restore_held_marks(const std::vector<HeldMark>& marks);
 
   // Takes the phyxels out of the physics (Solver::remove_phyxels): flags them kRemoved, sets
   // the weight of every pair touching them to 0 on both sides, reruns the precompute of their
@@ -185,12 +181,6 @@ class CpuSolver {
   uint32_t side_held(size_t tool, uint32_t i, const Vec3& x, const EdgeFrame& edge, uint32_t pass,
                      double band) const;
   void cut_with_blade(size_t tool, std::vector<uint32_t>& touched);  // apply_cuts, one blade
-  // cut_with_blade's pair (i, j) at slot k that its crossing rules leave: below the threshold
-  // marked where the edge holds it, at a separation severed where marked and kept apart
-  // (cutting.h, held_pair_severed). Whether it severed.
-  bool held_since_separation(size_t tool, const EdgeFrame& edge, bool cuts, bool marked, uint32_t i,
-                             const Vec3& xi, uint32_t side_i, uint32_t k, const Vec3& xj,
-                             double band);
   // Per tool, this substep's blade plane normal where it keeps sides (else zero); phyxel i's
   // side of it for the contact (contact_correction's keep).
   std::vector<Vec3> blade_side_normals() const;
@@ -261,9 +251,6 @@ class CpuSolver {
   // [tool][phyxel] side entries (cutting.h, side_entry), then [tool][phyxel] the normals they
   // were learned on (pack_side_normal), as the GPU's side buffer.
   std::vector<uint32_t> blade_side_;
-  // Per pair slot, bit t: blade t's edge held it since its last separation (held_pair_severed);
-  // empty where no blade has a threshold.
-  std::vector<uint32_t> held_marks_;
   uint32_t cut_pass_ = 0;  // substeps counted for the side entries
 
   // The SCNI band: its cells and quads (double), and the boxes in Real with their stress.

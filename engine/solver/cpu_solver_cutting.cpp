@@ -82,9 +82,6 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       return true;
     return resists && edge_passes(p, q, edge, t);
   };
-  // The bit of its held marks (cutting.h, held_pair_severed): 0 where it keeps none.
-  const uint32_t bit =
-      sided && tool < kHeldMarkTools && held_marks_.size() == w_.size() ? 1u << tool : 0u;
   for (const uint32_t i : candidates_) {
     const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
     const uint32_t start = sided ? side_at_start(sides[i], cut_pass_) : kSideNone;
@@ -97,17 +94,9 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
-      const bool marked = bit != 0 && cuts && (held_marks_[k] & bit) != 0;
-      if (marked) held_marks_[k] &= ~bit;  // a separation reads and clears its marks
       if (!crosses || (sided && !sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band),
-                                             edge.normal, xi, xj))) {
-        if (bit != 0 &&
-            held_since_separation(tool, edge, cuts, marked, i, xi, side_i, k, xj, band)) {
-          touched.push_back(i);
-          touched.push_back(j);
-        }
+                                             edge.normal, xi, xj)))
         continue;
-      }
       cut_to |= side_from(edge.normal, xi, xj);
       if (w_[k] == Real(0)) continue;
       sever(i, k, float(i < j ? t : 1 - t));
@@ -123,51 +112,6 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
   // not at pairs only carried past the reach.
   if (cuts && band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
-}
-
-template <class Real>
-bool CpuSolver<Real>::held_since_separation(size_t tool, const EdgeFrame& edge, bool cuts,
-                                            bool marked, uint32_t i, const Vec3& xi,
-                                            uint32_t side_i, uint32_t k, const Vec3& xj,
-                                            double band) {
-  if (w_[k] == Real(0)) return false;
-  const uint32_t j = nbr_.index[k];
-  if (cuts) {  // a separation: the pair held since the last one, its phyxels kept apart
-    if (!marked || !held_pair_severed(side_i, side_held(tool, j, xj, edge, cut_pass_, band),
-                                      edge.normal, xi, xj))
-      return false;
-    return sever(i, k, 0.5f);
-  }
-  double t = 0, behind = 0, direction = 0;  // below the threshold: held (canonical order)?
-  if (!(edge.stiffness > 0) || !(i < j ? edge_holds(xi, xj, edge, &t, &behind, &direction)
-                                       : edge_holds(xj, xi, edge, &t, &behind, &direction)))
-    return false;
-  if (sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band), edge.normal, xi, xj))
-    held_marks_[k] |= 1u << tool;
-  return false;
-}
-
-template <class Real>
-std::vector<HeldMark> CpuSolver<Real>::held_marks() const {
-  std::vector<HeldMark> marks;
-  for (uint32_t i = 0; i < size() && held_marks_.size() == w_.size(); ++i)
-    for (uint32_t k = nbr_.offset[i]; k < nbr_.offset[i + 1]; ++k)
-      if (held_marks_[k] != 0 && w_[k] != Real(0))
-        marks.push_back({i, nbr_.index[k], held_marks_[k]});
-  return marks;
-}
-
-template <class Real>
-void CpuSolver<Real>::restore_held_marks(const std::vector<HeldMark>& marks) {
-  if (!marks.empty() && held_marks_.size() != w_.size())
-    throw std::invalid_argument("restore_held_marks: no blade with a threshold keeps marks");
-  for (const HeldMark& m : marks) {
-    const size_t k = m.i < size() && m.j < size() ? nbr_.slot(m.i, m.j) : NeighbourLists::kNoSlot;
-    if (k == NeighbourLists::kNoSlot)
-      throw std::invalid_argument("restore_held_marks: phyxels " + std::to_string(m.i) + " and " +
-                                  std::to_string(m.j) + " are not neighbours");
-    held_marks_[k] = m.bits;
-  }
 }
 
 template <class Real>
@@ -350,29 +294,24 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
 }
 
 // The members defined here (the class itself is instantiated in cpu_solver.cpp).
-#define PHYXEL_CUTTING_MEMBERS(Real)                                                              \
-  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);                                \
-  template void CpuSolver<Real>::apply_cuts();                                                    \
-  template void CpuSolver<Real>::cut_with_blade(size_t, std::vector<uint32_t>&);                  \
-  template std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t) const;                     \
-  template void CpuSolver<Real>::restore_blade_sides(size_t, const std::vector<BladeSide>&);      \
-  template bool CpuSolver<Real>::held_since_separation(size_t, const EdgeFrame&, bool, bool,      \
-                                                       uint32_t, const Vec3&, uint32_t, uint32_t, \
-                                                       const Vec3&, double);                      \
-  template std::vector<HeldMark> CpuSolver<Real>::held_marks() const;                             \
-  template void CpuSolver<Real>::restore_held_marks(const std::vector<HeldMark>&);                \
-  template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                                 \
-  template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                         \
-  template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;                  \
-  template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;                  \
-  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, size_t, double)     \
-      const;                                                                                      \
-  template uint32_t CpuSolver<Real>::side_held(size_t, uint32_t, const Vec3&, const EdgeFrame&,   \
-                                               uint32_t, double) const;                           \
-  template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&);    \
-  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                      \
-  template void CpuSolver<Real>::sort_severed_from(size_t);                                       \
-  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);                    \
+#define PHYXEL_CUTTING_MEMBERS(Real)                                                            \
+  template bool CpuSolver<Real>::sever(uint32_t, uint32_t, float);                              \
+  template void CpuSolver<Real>::apply_cuts();                                                  \
+  template void CpuSolver<Real>::cut_with_blade(size_t, std::vector<uint32_t>&);                \
+  template std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t) const;                   \
+  template void CpuSolver<Real>::restore_blade_sides(size_t, const std::vector<BladeSide>&);    \
+  template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                               \
+  template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                       \
+  template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;                \
+  template double CpuSolver<Real>::plane_crossings(uint32_t, const Vec3&) const;                \
+  template Vec3 CpuSolver<Real>::held_pairs_force(uint32_t, const EdgeFrame&, size_t, double)   \
+      const;                                                                                    \
+  template uint32_t CpuSolver<Real>::side_held(size_t, uint32_t, const Vec3&, const EdgeFrame&, \
+                                               uint32_t, double) const;                         \
+  template void CpuSolver<Real>::apply_edge_resistance(Real, std::vector<ToolContactSample>&);  \
+  template void CpuSolver<Real>::precompute_touched(std::vector<uint32_t>&);                    \
+  template void CpuSolver<Real>::sort_severed_from(size_t);                                     \
+  template void CpuSolver<Real>::sever_pairs(const std::vector<SeveredPair>&);                  \
   template void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>&);
 PHYXEL_CUTTING_MEMBERS(double)
 PHYXEL_CUTTING_MEMBERS(float)

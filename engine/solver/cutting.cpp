@@ -160,11 +160,6 @@ bool sides_allow(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec
   return side_j == kSideNone || side_j == (i_from_j == kSidePlus ? kSideMinus : kSidePlus);
 }
 
-bool held_pair_severed(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec3& xi,
-                       const Vec3& xj) {
-  return side_i != kSideNone && side_j != kSideNone && sides_allow(side_i, side_j, normal, xi, xj);
-}
-
 uint32_t side_near_plane(uint32_t side, uint32_t learned, const EdgeFrame& f, const Vec3& x,
                          double band) {
   if (side == kSideNone) return side;

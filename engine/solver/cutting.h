@@ -203,22 +203,6 @@ Vec3 unpack_side_normal(uint32_t word);
 // The side a pass leaves (side_after), none where the side at its start lapsed in it.
 uint32_t side_after_lapse(uint32_t start, uint32_t held, uint32_t cut);
 
-// One side kept at a separation (docs/cutting.md, "Keep one side at a separation"): a pair a
-// blade's edge held (edge_holds, the sides allowing) in a substep below its threshold is marked
-// in its slot (bit `tool` of a word per slot, the first kHeldMarkTools blades with a threshold);
-// the blade's next separation reads and clears its marks, and severs a marked pair that its
-// crossing rules leave where both phyxels keep a side and the pair runs from each to the other
-// side (held_pair_severed). A phyxel without a side keeps its marked pairs: it may have held
-// pairs to both sides of the plane it lies on, and one separation would cut it free.
-inline constexpr uint32_t kHeldMarkTools = 32;
-bool held_pair_severed(uint32_t side_i, uint32_t side_j, const Vec3& normal, const Vec3& xi,
-                       const Vec3& xj);
-// A marked pair for checkpoints: phyxel i's slot of neighbour j, the blades' bits.
-struct HeldMark {
-  uint32_t i = 0, j = 0;
-  uint32_t bits = 0;
-};
-
 // A phyxel's kept side for one blade (checkpoints, tests): kSidePlus or kSideMinus.
 struct BladeSide {
   uint32_t phyxel = 0;

@@ -166,12 +166,6 @@ class Cutting {
   // blade), for checkpoints; restore_blade_sides puts them back after set_tools.
   virtual std::vector<std::vector<BladeSide>> blade_sides() = 0;
   virtual void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) = 0;
-  // The pairs the blades' edges held since their last separation (cutting.h, HeldMark), for
-  // checkpoints; restore_held_marks puts them back after set_tools.
-  virtual std::vector<HeldMark> held_marks() { return {}; }
-  virtual void restore_held_marks(const std::vector<HeldMark>& marks) {
-    if (!marks.empty()) throw std::invalid_argument("this solver keeps no held marks");
-  }
 
  protected:
   ~Cutting() = default;

@@ -60,24 +60,6 @@ size_t section_at(const std::string& bytes, uint32_t tag) {
   return 0;
 }
 
-// Checkpoint bytes without the sections `tags` (header count, length and checksum made right).
-std::string without_sections(const std::string& bytes, const std::vector<uint32_t>& tags) {
-  uint32_t kept = 0;
-  std::string out = bytes.substr(0, checkpoint_format::kHeaderBytes);
-  for (const SectionSpan& s : sections_of(bytes))
-    if (std::find(tags.begin(), tags.end(), s.tag) == tags.end()) {
-      out += bytes.substr(s.at, 12 + s.length);
-      ++kept;
-    }
-  out += std::string(checkpoint_format::kChecksumBytes, '\0');
-  const uint64_t length = out.size();
-  std::memcpy(out.data() + 12, &kept, sizeof kept);
-  std::memcpy(out.data() + 16, &length, sizeof length);
-  const uint64_t sum = fnv1a64(out.data(), out.size() - 8);
-  std::memcpy(out.data() + out.size() - 8, &sum, sizeof sum);
-  return out;
-}
-
 // The surgical sections' checks of what they hold: a bad blade side, a torn-flag count that
 // is not the severed pairs', side normals for other tools than the sides'. Each refusal is one line
 // naming the file and what is wrong.
@@ -89,7 +71,6 @@ TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
   c.flags = {0, 0};
   c.severed = {{0, 1, 0.25f, false}, {0, 1, 0.5f, true}};
   c.blade_sides = {{{1, kSideMinus}}};
-  c.held_marks = {{1, 0, 1u}};
   const fs::path file = dir / kCheckpointFile;
   write_checkpoint(file, c);
   const std::string bytes = read_text(file);
@@ -124,15 +105,24 @@ TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   write_bytes(file, bytes);
   EXPECT_EQ(read_checkpoint(file).blade_sides.at(0).at(0).side, kSideMinus);
-  // The held marks (section 17) come back; a checkpoint written before them has none.
-  const Checkpoint back = read_checkpoint(file);
-  ASSERT_EQ(back.held_marks.size(), 1u);
-  EXPECT_EQ(back.held_marks[0].i, 1u);
-  EXPECT_EQ(back.held_marks[0].j, 0u);
-  EXPECT_EQ(back.held_marks[0].bits, 1u);
-  write_bytes(file, without_sections(bytes, {checkpoint_format::kHeldMarks}));
-  EXPECT_TRUE(read_checkpoint(file).held_marks.empty());
-  EXPECT_EQ(read_checkpoint(file).blade_sides.at(0).at(0).side, kSideMinus);
+}
+
+// Checkpoint bytes without the sections `tags` (header count, length and checksum made right).
+std::string without_sections(const std::string& bytes, const std::vector<uint32_t>& tags) {
+  uint32_t kept = 0;
+  std::string out = bytes.substr(0, checkpoint_format::kHeaderBytes);
+  for (const SectionSpan& s : sections_of(bytes))
+    if (std::find(tags.begin(), tags.end(), s.tag) == tags.end()) {
+      out += bytes.substr(s.at, 12 + s.length);
+      ++kept;
+    }
+  out += std::string(checkpoint_format::kChecksumBytes, '\0');
+  const uint64_t length = out.size();
+  std::memcpy(out.data() + 12, &kept, sizeof kept);
+  std::memcpy(out.data() + 16, &length, sizeof length);
+  const uint64_t sum = fnv1a64(out.data(), out.size() - 8);
+  std::memcpy(out.data() + out.size() - 8, &sum, sizeof sum);
+  return out;
 }
 
 // A checkpoint with kept sides but written before their normals (section 16) resumes with no
