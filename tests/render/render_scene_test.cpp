@@ -7,6 +7,7 @@
 
 #include "engine/scene/scene.h"
 #include "tests/render/render_test_util.h"
+#include "tests/support/support.h"
 
 namespace phyxel {
 namespace {
@@ -19,12 +20,7 @@ std::string scene_json(const std::string& extra) {
 }
 
 std::string error_of(const std::string& extra, const std::filesystem::path& file = "s.json") {
-  try {
-    parse_scene(scene_json(extra), file);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test::error_of<SceneError>([&] { parse_scene(scene_json(extra), file); });
 }
 
 TEST(RenderScene, DefaultsWhenAbsent) {

@@ -11,6 +11,7 @@
 #include "render/surfels.h"
 #include "render/texture_map.h"
 #include "tests/render/render_test_util.h"
+#include "tests/support/support.h"
 
 namespace phyxel::render {
 namespace {
@@ -155,13 +156,8 @@ TEST_F(TextureFile, PngRoundTripOfNoiseAndGradientsIsExact) {
 
 TEST_F(TextureFile, BadFilesGiveOneLineNamingTheKeyAndFile) {
   const std::string context = "scenes/x.json: render.texture";
-  auto message = [&](const std::filesystem::path& file) -> std::string {
-    try {
-      load_image(file, context);
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-    return "(no error)";
+  auto message = [&](const std::filesystem::path& file) {
+    return phyxel::test::error_of<SceneError>([&] { load_image(file, context); });
   };
   const std::string missing = message(path("missing.png"));
   EXPECT_NE(missing.find(context + ": texture file \""), std::string::npos) << missing;

@@ -12,9 +12,7 @@
 
 #include <cstdint>
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "tests/physics/physics_fixtures.h"
