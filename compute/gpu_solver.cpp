@@ -357,11 +357,12 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
     }
     if (beside == step) {
       timed("stress+cut", [&] {
+        const uint32_t written = count_stress_beside();
         const bool first = options_.sever_before_stress;  // a test's: the wait runs out
-        if (first) record_sever(rec, step, disp_[cur], true);
+        if (first) record_sever(rec, step, disp_[cur], written);
         if (first) rec.barrier();
-        record_stress(rec, disp_[cur], cut_pass(step));
-        if (!first) record_sever(rec, step, disp_[cur], true);
+        record_stress(rec, disp_[cur], written);
+        if (!first) record_sever(rec, step, disp_[cur], written);
       });
     } else {
       timed("stress", [&] { record_stress(rec, disp_[cur]); });
@@ -407,9 +408,28 @@ void GpuSolver::record_steps(Recorder& rec, int64_t from, int64_t to, int64_t to
 
 bool GpuSolver::sever_beside(int64_t step, int64_t to) const {
   // Not where the stress pass writes more than D (principal, tearing) or the band follows it,
-  // nor with no stress pass to wait for (or an epoch of 0, which means none).
+  // nor with no stress pass to wait for, nor past what the count of its workgroups holds.
   return options_.sever_beside_stress && step < to && !tearing_ && !principal_ && !band_built() &&
-         stress_count_ > 0 && count_ <= options_.sever_beside_max_phyxels && cut_pass(step) != 0u;
+         stress_count_ > 0 && count_ <= options_.sever_beside_max_phyxels &&
+         stress_beside_written_ + stress_groups() <= UINT32_MAX;
+}
+
+uint64_t GpuSolver::stress_groups() const {
+  const uint32_t n = static_cast<uint32_t>(stress_count_);
+  const std::array<uint32_t, 3> g =
+      group_counts(n * lanes_for(Gather::Stress, n), kernels_->stress.workgroup_size()[0],
+                   ctx_->info().max_workgroup_count);
+  return uint64_t{g[0]} * g[1] * g[2];
+}
+
+uint32_t GpuSolver::count_stress_beside() {
+  stress_beside_written_ += stress_groups();
+  return static_cast<uint32_t>(stress_beside_written_);
+}
+
+void GpuSolver::reset_stress_beside(Recorder& rec) {
+  rec.fill(stress_done_, 0, sizeof(uint32_t), sizeof(uint32_t));
+  stress_beside_written_ = 0;
 }
 
 namespace {
@@ -452,7 +472,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
   // No epoch of an earlier advance (cut_pass_ goes back with a restored state) for a sever
   // beside the stress pass to take for its own.
-  if (cutting_) rec_[0]->fill(stress_done_, 0, sizeof(uint32_t), sizeof(uint32_t));
+  if (cutting_) reset_stress_beside(*rec_[0]);
   // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
   if (force_count_ == 0) {
     if (!tools_.empty()) {

@@ -357,8 +357,14 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void part_end(Recorder& rec) {
     if (part_timer_) part_timer_->end(rec);
   }
-  // epoch != 0: the pass signals its end with it (StressPush), for a sever beside it.
+  // epoch != 0: the pass counts its workgroups as written (StressPush), for a sever beside it
+  // that waits for the count `epoch`.
   void record_stress(Recorder& rec, const Buffer& disp, uint32_t epoch = 0);
+  // The stress pass's workgroups; the count a sever beside the next one waits for (all the
+  // advance's such passes, that one included); the count's reset, at an advance's start.
+  uint64_t stress_groups() const;
+  uint32_t count_stress_beside();
+  void reset_stress_beside(Recorder& rec);
   // Whether substep `step`'s sever goes beside its stress pass (sever_beside_stress), in a
   // piece of the advance that ends before substep `to`.
   bool sever_beside(int64_t step, int64_t to) const;
@@ -408,7 +414,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   uint32_t cut_pass(int64_t step) const;  // SeverPush.pass of a substep of the advance
   void upload_cut_quads(Recorder& rec);
   // beside: recorded after that substep's stress pass with no barrier between (sever_beside).
-  void record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside = false);
+  // stress_written != 0: beside the stress pass recorded with that epoch (count_stress_beside).
+  void record_sever(Recorder& rec, int64_t step, const Buffer& disp, uint32_t stress_written = 0);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
   uint32_t cut_table_row(int64_t step) const;
   // tool_resist between tool_contact and its reduction, where a blade has a threshold.
@@ -494,7 +501,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer ainv_;           // 2 vec4
   Buffer resid_;          // 2 vec4
   Buffer stress_;         // D_i, 3 vec4 (w: u_i, as the stress pass read it)
-  Buffer stress_done_;    // uint: the stress pass's workgroups done, its last epoch (StressPush)
+  Buffer stress_done_;    // uint: unused, the written workgroups of passes beside a sever
   Buffer nbr_offset_;     // N + 1
   PairBuffer nbr_index_;  // pairs, in two parts past one binding (pair_buffers.glsl)
   PairBuffer weight_;     // pairs
@@ -625,6 +632,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer cut_sides_;  // uint [tool][phyxel]: side entries (tool_sever)
   uint32_t cut_pass_ = 0;  // substeps counted for them (SeverPush.pass)
   uint32_t log_capacity_ = 0;
+  // What stress_done_[1] reaches at the advance's last stress pass beside a sever so far.
+  uint64_t stress_beside_written_ = 0;
   // The smallest tear strength of any class that tears (+inf if none): ForceTearPush.weakest.
   float weakest_tear_ = std::numeric_limits<float>::infinity();
   std::vector<SeveredPair> severed_;  // the log (Solver::severed_since)

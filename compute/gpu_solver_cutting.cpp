@@ -161,7 +161,9 @@ uint32_t GpuSolver::cut_table_row(int64_t step) const {
   return static_cast<uint32_t>(std::min<uint64_t>(motion_step_ + uint64_t(step), motion_steps_));
 }
 
-void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bool beside) {
+void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp,
+                             uint32_t stress_written) {
+  const bool beside = stress_written != 0;
   const uint32_t row = cut_table_row(step);
   // Beside the stress pass, record_steps times the two as one.
   const TimerOff parts(part_timer_, beside);
@@ -182,7 +184,7 @@ void GpuSolver::record_sever(Recorder& rec, int64_t step, const Buffer& disp, bo
                        log_capacity_,
                        cut_pass(step),
                        count_,
-                       beside ? cut_pass(step) : 0u,  // record_stress's epoch
+                       stress_written,  // record_stress's epoch
                        lanes_for(Gather::Stress, uint32_t(stress_count_)),
                        uint32_t(stress_count_),
                        GpuSolver::push(0, 0.0f).weights,

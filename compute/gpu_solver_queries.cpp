@@ -258,6 +258,7 @@ std::vector<PassTime> GpuSolver::profile(int64_t steps, double dt, bool per_disp
   Recorder& rec = *rec_[0];
   if (!tools_.empty()) begin_contact(steps, dt);  // its uploads go first
   if (tearing_ && !cutting_) rec.fill(cut_log_, 0, 0, sizeof(uvec4));
+  if (cutting_) reset_stress_beside(rec);
   timer.reset(rec);
   int cur = 0;
   if (per_dispatch) part_timer_ = &timer;

@@ -8,8 +8,9 @@
 // Cauchy stress sigma = P F^T / J (P itself where |J| <= 1e-12), and with kStressWithTensor the
 // symmetrised tensor for solver_force_tear: one gather of grad u for both (mls_model.h
 // max_principal_stress()). See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
-// With epoch != 0 (tool_sever beside it) the last workgroup writes the epoch into Done once
-// every workgroup's stress is written.
+// With epoch != 0 (tool_sever beside it) each workgroup counts itself in Done[1] once its
+// stress is written, by an atomic whose result it does not wait for (not the last workgroup's
+// election: that round trip cost the pass about 1 us at breast K = 1).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -42,11 +43,10 @@ layout(std430, binding = kStressBindingPrincipal) writeonly buffer Principal {
 };
 layout(std430, binding = kStressBindingCauchy) writeonly buffer Cauchy { vec4 cauchy[]; };
 layout(std430, binding = kStressBindingDone) coherent buffer Done {
-  uint done;
-  uint finished;  // the epoch of the last pass that signalled its end
+  uint done;      // unused here (tool_sever's layout)
+  uint finished;  // the workgroups of this advance's passes beside a sever that are written
 };
 
-#include "last_workgroup.glsl"
 #include "solver_stress.glsl"
 
 // Lane q of a phyxel's lanes sums neighbours q, q + lanes, ...; lane 0 then adds the
@@ -104,7 +104,9 @@ void stress_phyxel() {
 
 void main() {
   stress_phyxel();
-  // epoch: uniform, so every invocation reaches finished_last's barriers.
-  if (epoch != 0u && finished_last() && gl_LocalInvocationIndex == 0u)
-    atomicExchange(finished, epoch);
+  if (epoch != 0u) {  // uniform: every invocation reaches the barrier
+    memoryBarrierBuffer();  // this invocation's stress before the count
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) atomicAdd(finished, 1u);
+  }
 }

@@ -60,7 +60,7 @@ layout(std430, binding = kSeverBindingStressList) readonly buffer StressList {
 };
 layout(std430, binding = kSeverBindingStressDone) coherent buffer StressDone {
   uint stress_done;
-  uint stress_finished;  // solver_stress's epoch, once its pass is written
+  uint stress_finished;  // solver_stress's workgroups written (p.stress_epoch: all of them)
 };
 
 const float kCutTieTolerance = 1e-6;  // m, engine/solver/cutting.h
