@@ -9,7 +9,11 @@ CHECKPOINT: a run's checkpoint.phx (docs/checkpoint.md: sections 2, 3 and 9). SP
 spacing). Prints the live pairs joining the phyxels reachable from the carcinoma through phyxels
 inside the planned cone (apex (10, 10, 4.08) mm, axis z, half-angle 35 degrees) to those
 reachable from the fixed layer through phyxels outside it, grouped by azimuth and distance from
-the apex, then the phyxels of the piece at those pairs. Pure Python (no numpy).
+the apex, then the phyxels of the piece at those pairs. Those pairs overcount where the blade
+passed inside the planned cone (a sheet of phyxels just inside it goes with the breast), so last
+it prints the fewest live pairs whose severing would free the carcinoma (a minimum cut between
+the phyxels within 6 mm of its centre and the fixed layer; unit capacities, Edmonds-Karp). Pure
+Python (no numpy).
 """
 import lzma, math, re, struct, sys
 from collections import Counter, defaultdict, deque
@@ -51,6 +55,29 @@ def read_checkpoint(path):
 def cone_distance(x):  # m, > 0 outside the planned cone
     dx, dy, dz = (x[k] - APEX[k] for k in range(3))
     return math.hypot(dx, dy) * math.cos(HALF) - dz * math.sin(HALF)
+
+
+def min_cut(adj, sources, sinks):
+    """The fewest pairs of adj (undirected, each of capacity 1) separating sources from sinks."""
+    flow, sinks = defaultdict(int), set(sinks)
+    while True:
+        prev, todo, end = {s: None for s in sources}, deque(sources), None
+        while todo and end is None:
+            u = todo.popleft()
+            for v in adj[u]:
+                if v not in prev and flow[(u, v)] < 1:
+                    prev[v] = u
+                    if v in sinks:
+                        end = v
+                        break
+                    todo.append(v)
+        if end is None:
+            return sorted((u, v) for u in prev for v in adj[u] if v not in prev)
+        while prev[end] is not None:
+            u = prev[end]
+            flow[(u, end)] += 1
+            flow[(end, u)] -= 1
+            end = u
 
 
 def main():
@@ -96,6 +123,14 @@ def main():
               f"{1e3 * cone_distance(rest[i]):+.2f} mm at rest, {1e3 * cone_distance(cur(i)):+.2f} now; "
               f"live pairs to the piece {sum(j in piece for j in adj[i])}, "
               f"to the breast {sum(j in breast for j in adj[i])}")
+    tumour = [i for i in range(n) if math.dist(rest[i], CENTRE) < 0.006]
+    cut = min_cut(adj, tumour, [i for i in range(n) if flags[i] & 1])
+    print(f"fewest live pairs holding the carcinoma (a minimum cut): {len(cut)}")
+    for i, j in cut:
+        az = math.degrees(math.atan2(rest[i][1] - APEX[1], rest[i][0] - APEX[0])) % 360
+        print(f"  {i} - {j}: azimuth {az:.0f} deg, {1e3 * math.dist(rest[i], APEX):.1f} mm from the "
+              f"apex; cone distance {1e3 * cone_distance(rest[i]):+.2f} / {1e3 * cone_distance(rest[j]):+.2f} "
+              f"mm at rest, {1e3 * cone_distance(cur(i)):+.2f} / {1e3 * cone_distance(cur(j)):+.2f} now")
 
 
 if __name__ == '__main__':
