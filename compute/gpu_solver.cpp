@@ -470,8 +470,7 @@ void GpuSolver::advance_paused(int64_t substeps, double dt, const std::vector<in
   if (!tools_.empty()) begin_contact(substeps, dt);  // records its uploads into rec_[0]
   // The advance's log starts empty (begin_contact empties it for cuts).
   if (tearing_ && !cutting_) rec_[0]->fill(cut_log_, 0, 0, sizeof(layout::uvec4));
-  // No epoch of an earlier advance (cut_pass_ goes back with a restored state) for a sever
-  // beside the stress pass to take for its own.
+  // The count a sever beside the stress pass waits for starts anew with the advance.
   if (cutting_) reset_stress_beside(*rec_[0]);
   // Nothing moves (every object asleep, or everything fixed): the state stays as it is.
   if (force_count_ == 0) {

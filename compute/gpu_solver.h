@@ -413,8 +413,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void prepare_blade_sides();             // set_tools: every blade's side entries, none kept
   uint32_t cut_pass(int64_t step) const;  // SeverPush.pass of a substep of the advance
   void upload_cut_quads(Recorder& rec);
-  // beside: recorded after that substep's stress pass with no barrier between (sever_beside).
-  // stress_written != 0: beside the stress pass recorded with that epoch (count_stress_beside).
+  // stress_written != 0: recorded after that substep's stress pass with no barrier between
+  // (sever_beside), which was recorded with that epoch (count_stress_beside).
   void record_sever(Recorder& rec, int64_t step, const Buffer& disp, uint32_t stress_written = 0);
   // The cut table's row of substep `step` of the advance (past the chunk: the held end pose).
   uint32_t cut_table_row(int64_t step) const;

@@ -325,9 +325,10 @@ struct SeverPush {
   uint log_capacity;
   uint pass;     // the substep's count for the side entries (engine cutting.h side_entry)
   uint phyxels;  // the stride of the side entries [tool][phyxel]
-  // Beside the stress pass (stress_epoch != 0, its StressPush.epoch: the count of its written
-  // workgroups that means it has ended): the last workgroup waits for that pass's end, then redoes the stress of the dirty list's phyxels in its list (of
-  // stress_count, ascending) with its lanes and weights mode (StepPush).
+  // Beside the stress pass (stress_epoch != 0, its StressPush.epoch: the count of written
+  // workgroups at which that pass has ended): the last workgroup waits for that pass's end,
+  // then redoes the stress of the dirty list's phyxels in its list (of stress_count,
+  // ascending) with its lanes and weights mode (StepPush).
   uint stress_epoch;
   uint stress_lanes;
   uint stress_count;
