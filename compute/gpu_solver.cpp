@@ -156,8 +156,8 @@ void GpuSolver::build(const PhyxelSet& set, const Vec3& gravity) {
   ainv_ = device(2 * n * sizeof(vec4), "moment inverse");
   resid_ = device(2 * n * sizeof(vec4), "moment residual");
   stress_ = device(3 * n * sizeof(vec4), "stress D");
-  stress_done_ = device(2 * sizeof(uint32_t), "stress workgroups done");
-  upload(ctx, stress_done_, std::vector<uint32_t>(2, 0u));
+  stress_done_ = device(sizeof(uint32_t), "stress workgroups written beside a sever");
+  upload(ctx, stress_done_, std::vector<uint32_t>(1, 0u));
   nbr_offset_ = device((n + 1) * sizeof(uint32_t), "neighbour offsets");
   energy_ = device(n * sizeof(vec4), "energy per phyxel");
   const uint64_t level1 = (n + kScanBlock - 1) / kScanBlock;
@@ -428,7 +428,7 @@ uint32_t GpuSolver::count_stress_beside() {
 }
 
 void GpuSolver::reset_stress_beside(Recorder& rec) {
-  rec.fill(stress_done_, 0, sizeof(uint32_t), sizeof(uint32_t));
+  rec.fill(stress_done_, 0);
   stress_beside_written_ = 0;
 }
 

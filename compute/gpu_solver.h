@@ -501,7 +501,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer ainv_;           // 2 vec4
   Buffer resid_;          // 2 vec4
   Buffer stress_;         // D_i, 3 vec4 (w: u_i, as the stress pass read it)
-  Buffer stress_done_;    // uint: unused, the written workgroups of passes beside a sever
+  Buffer stress_done_;    // uint: the written workgroups of stress passes beside a sever
   Buffer nbr_offset_;     // N + 1
   PairBuffer nbr_index_;  // pairs, in two parts past one binding (pair_buffers.glsl)
   PairBuffer weight_;     // pairs
@@ -632,7 +632,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   Buffer cut_sides_;  // uint [tool][phyxel]: side entries (tool_sever)
   uint32_t cut_pass_ = 0;  // substeps counted for them (SeverPush.pass)
   uint32_t log_capacity_ = 0;
-  // What stress_done_[1] reaches at the advance's last stress pass beside a sever so far.
+  // What stress_done_ reaches at the advance's last stress pass beside a sever so far.
   uint64_t stress_beside_written_ = 0;
   // The smallest tear strength of any class that tears (+inf if none): ForceTearPush.weakest.
   float weakest_tear_ = std::numeric_limits<float>::infinity();

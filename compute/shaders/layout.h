@@ -248,9 +248,9 @@ PHYXEL_CONST uint kStressBindingPrincipal = 11;  // float per phyxel
 PHYXEL_CONST uint kStressBindingCauchy = 12;     // vec4[2 N]
 PHYXEL_CONST uint kStressBindingIndexHi = 13;
 PHYXEL_CONST uint kStressBindingWeightHi = 14;
-// uint: unused, then the workgroups written of the advance's passes beside a sever (StressPush).
+// uint: the workgroups written of the advance's passes beside a sever (StressPush).
 PHYXEL_CONST uint kStressBindingDone = 15;
-// solver_stress's push: with epoch != 0 each workgroup adds 1 to Done[1] once its stress is
+// solver_stress's push: with epoch != 0 each workgroup adds 1 to Done once its stress is
 // written; tool_sever beside it waits for the count `epoch` (every workgroup of the advance's
 // passes beside a sever so far) to redo the stress of the phyxels it severed pairs of
 // (GpuSolver's sever beside the stress pass).

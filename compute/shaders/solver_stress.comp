@@ -8,7 +8,7 @@
 // Cauchy stress sigma = P F^T / J (P itself where |J| <= 1e-12), and with kStressWithTensor the
 // symmetrised tensor for solver_force_tear: one gather of grad u for both (mls_model.h
 // max_principal_stress()). See engine/solver/cpu_solver.cpp, compute_forces(), first loop.
-// With epoch != 0 (tool_sever beside it) each workgroup counts itself in Done[1] once its
+// With epoch != 0 (tool_sever beside it) each workgroup counts itself in Done once its
 // stress is written, by an atomic whose result it does not wait for (not the last workgroup's
 // election: that round trip cost the pass about 1 us at breast K = 1).
 #version 450
@@ -43,7 +43,6 @@ layout(std430, binding = kStressBindingPrincipal) writeonly buffer Principal {
 };
 layout(std430, binding = kStressBindingCauchy) writeonly buffer Cauchy { vec4 cauchy[]; };
 layout(std430, binding = kStressBindingDone) coherent buffer Done {
-  uint done;      // unused here (tool_sever's layout)
   uint finished;  // the workgroups of this advance's passes beside a sever that are written
 };
 

@@ -59,7 +59,6 @@ layout(std430, binding = kSeverBindingStressList) readonly buffer StressList {
   uint stress_list[];
 };
 layout(std430, binding = kSeverBindingStressDone) coherent buffer StressDone {
-  uint stress_done;
   uint stress_finished;  // solver_stress's workgroups written (p.stress_epoch: all of them)
 };
 
