@@ -222,6 +222,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override;
   std::vector<ToolContactSample> tool_samples() override { return samples_; }
   size_t contact_candidates() const override { return candidates_; }
+  bool blades_near() const override { return blades_near_; }  // tool_broad_scan's sever groups
   // Graspers, with CpuSolver's semantics (engine/solver/grasper.h): after each substep's
   // contact reduction, tool_grasp captures (in the substep the jaws close), holds and reduces
   // the grip's force into the sample (gpu_solver_grasp.cpp); nothing is read back during the
@@ -558,6 +559,7 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   layout::vec4 contact_origin_{};           // the motion table's frame: rest bounds centre (float)
   bool broad_pending_ = false;              // the broad phase to run at the next advance
   size_t candidates_ = 0;                   // of the last advance (read with its samples)
+  bool blades_near_ = false;                // its sever dispatched workgroups
   std::vector<ToolContactSample> samples_;  // of the last advance
   bool contact_active_ = false;             // contact passes recorded in this advance
   uint32_t candidate_capacity_ = 0;         // elements of the candidate buffers

@@ -80,6 +80,7 @@ void GpuSolver::set_tools(const std::vector<ContactTool>& tools) {
   motion_steps_ = motion_step_ = 0;
   samples_.clear();
   candidates_ = 0;
+  blades_near_ = false;
   broad_pending_ = false;
   contact_active_ = false;
   contact_in_force_ = false;
@@ -180,7 +181,9 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
           MemoryIntent::Device, "contact broad phase per workgroup");
   record_max_norms(rec);
   rec.barrier();
-  const Bounds b = swept_bounds(tools_, motion_);
+  const Bounds b = swept_bounds(tools_, motion_), blades = blade_swept_bounds(tools_, motion_);
+  // w 1: the sever takes every candidate (blades_sever_in_reach_only).
+  const float every = blades_sever_in_reach_only(tools_) ? 0.0f : 1.0f;
   BroadPhasePush push{
       {float(b.min.x()), float(b.min.y()), float(b.min.z()),
        float(cut_candidate_reach(tools_, contact_spacing_, max_support_))},
@@ -188,7 +191,9 @@ void GpuSolver::record_broad_phase(Recorder& rec) {
       n,
       0u,
       groups,
-      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_)))};
+      float(tool_speed(tools_, motion_, chunk_duration_ / double(motion_steps_))),
+      {float(blades.min.x()), float(blades.min.y()), float(blades.min.z()), every},
+      {float(blades.max.x()), float(blades.max.y()), float(blades.max.z()), 0.0f}};
   auto pass = [&](uint32_t mode) {
     push.mode = mode;
     dispatch(rec, kernels_->broad_phase, push,
@@ -421,8 +426,12 @@ void GpuSolver::finish_contact(int64_t substeps, bool ran) {
   samples_.assign(size_t(substeps) * nt, ToolContactSample{});
   contact_count_.invalidate();
   ContactCount count;
+  SeverGroups sever;
   std::memcpy(&count, contact_count_.mapped(), sizeof count);
+  std::memcpy(&sever, static_cast<const char*>(contact_count_.mapped()) + sizeof count,
+              sizeof sever);
   candidates_ = count.total;
+  blades_near_ = cutting_ && sever.x != 0;
   if (contact_active_ && ran) {
     samples_buffer_.invalidate();
     // Two rows per sample (tool_contact_reduce): force and count, the contacts' axial range.

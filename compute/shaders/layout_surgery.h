@@ -143,8 +143,13 @@ struct BroadPhasePush {
   uint mode;         // 0: count per workgroup; 1: write
   uint groups;       // workgroups of tool_broad_phase (entries of group[])
   float tool_speed;  // m/s: the fastest point of a tool over the chunk (contact_margin)
+  vec4 blade_lo;     // xyz: the blades' swept bounds min (m); w: 1 where every hit is near them
+  vec4 blade_hi;     // xyz: the blades' swept bounds max (m)
 };
-PHYXEL_ASSERT_SIZE(BroadPhasePush, 48);
+PHYXEL_ASSERT_SIZE(BroadPhasePush, 80);
+// tool_broad_phase's mode 0 marks a workgroup's count with it where a hit lies within the
+// blades' swept bounds grown by the margin; tool_broad_scan dispatches no sever without one.
+PHYXEL_CONST uint kBroadBladeNear = 0x80000000u;
 PHYXEL_CONST uint kBroadBindingList = 0;  // force list
 PHYXEL_CONST uint kBroadBindingRest = 1;
 PHYXEL_CONST uint kBroadBindingDisp = 2;

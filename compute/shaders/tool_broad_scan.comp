@@ -1,7 +1,8 @@
 // The broad phase's workgroup counts into exclusive offsets (tool_broad_phase), in one
 // workgroup: thread t scans a contiguous run of the counts, a fixed tree over the threads'
 // totals gives each run's start. Writes the total, tool_contact's indirect dispatch and
-// tool_sever's (SeverGroups.lanes invocations per candidate).
+// tool_sever's (SeverGroups.lanes invocations per candidate; none where no count carries
+// kBroadBladeNear: no candidate within the blades' reach).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"
@@ -16,14 +17,21 @@ layout(std430, binding = kBroadScanBindingCount) writeonly buffer Count {
 };
 
 shared uint run_total[PHYXEL_WORKGROUP_SIZE];
+shared uint any_near;  // kBroadBladeNear where a count carries it
 
 void main() {
   const uint t = gl_LocalInvocationID.x;
   const uint per = (p.groups + PHYXEL_WORKGROUP_SIZE - 1u) / PHYXEL_WORKGROUP_SIZE;
   const uint first = min(t * per, p.groups), last = min(first + per, p.groups);
-  uint sum = 0u;
-  for (uint k = first; k < last; ++k) sum += group[k];
+  if (t == 0u) any_near = 0u;
+  barrier();
+  uint sum = 0u, near = 0u;
+  for (uint k = first; k < last; ++k) {
+    sum += group[k] & ~kBroadBladeNear;
+    near |= group[k] & kBroadBladeNear;
+  }
   run_total[t] = sum;
+  if (near != 0u) atomicOr(any_near, near);
   barrier();
   for (uint d = 1u; d < PHYXEL_WORKGROUP_SIZE; d <<= 1u) {
     const uint add = t >= d ? run_total[t - d] : 0u;
@@ -33,7 +41,7 @@ void main() {
   }
   uint offset = run_total[t] - sum;  // exclusive start of this thread's run
   for (uint k = first; k < last; ++k) {
-    const uint hits = group[k];
+    const uint hits = group[k] & ~kBroadBladeNear;
     group[k] = offset;
     offset += hits;
   }
@@ -48,7 +56,8 @@ void main() {
     count.groups_z = 1u;
     uint lanes = kSeverMaxLanes;
     while (lanes > 1u && total * lanes > kSeverInvocations) lanes /= 2u;
-    const uint sever_groups = (total * lanes + kSeverWorkgroupSize - 1u) / kSeverWorkgroupSize;
+    const uint sever_groups =
+        any_near != 0u ? (total * lanes + kSeverWorkgroupSize - 1u) / kSeverWorkgroupSize : 0u;
     sever = SeverGroups(min(sever_groups, 65535u), max((sever_groups + 65534u) / 65535u, 1u), 1u,
                         lanes);
   }

@@ -128,10 +128,16 @@ double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolM
   return fastest;
 }
 
-Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {
+namespace {
+
+// swept_bounds over the tools that `take` accepts.
+template <class Take>
+Bounds swept_bounds_of(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion,
+                       Take take) {
   Bounds b;
   for (size_t k = 0; k < motion.size() && !tools.empty(); ++k) {
     const ContactTool& t = tools[k % tools.size()];
+    if (!take(t)) continue;
     Bounds swept = tool_bounds(t.shape, motion[k].from);
     swept.extend(tool_bounds(t.shape, motion[k].to));
     if (t.suction.sucks()) swept.grow(t.suction.reach);  // what its mouth pulls on
@@ -139,6 +145,17 @@ Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<Too
     b.extend(swept);
   }
   return b;
+}
+
+}  // namespace
+
+Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion) {
+  return swept_bounds_of(tools, motion, [](const ContactTool&) { return true; });
+}
+
+Bounds blade_swept_bounds(const std::vector<ContactTool>& tools,
+                          const std::vector<ToolMotion>& motion) {
+  return swept_bounds_of(tools, motion, [](const ContactTool& t) { return t.blade.cuts(); });
 }
 
 }  // namespace phyxel

@@ -122,5 +122,9 @@ double tool_speed(const std::vector<ContactTool>& tools, const std::vector<ToolM
 
 // Union of the tools' bounds over a chunk's motions (substeps x tools, row-major).
 Bounds swept_bounds(const std::vector<ContactTool>& tools, const std::vector<ToolMotion>& motion);
+// The same over the tools with a blade (Blade::cuts): where the cut pass may sever, grown by the
+// broad phase's margin (blades_sever_in_reach_only). Empty where no tool has one.
+Bounds blade_swept_bounds(const std::vector<ContactTool>& tools,
+                          const std::vector<ToolMotion>& motion);
 
 }  // namespace phyxel

@@ -80,6 +80,7 @@ class CpuBackend final : public SolverWithAllFacets {
   void set_tool_motion(const std::vector<ToolMotion>& motion) override { motion_ = motion; }
   std::vector<ToolContactSample> tool_samples() override { return solver_->tool_samples(); }
   size_t contact_candidates() const override { return solver_->contact_candidates(); }
+  bool blades_near() const override { return solver_->blades_near(); }
   std::vector<uint32_t> held_phyxels(size_t tool) override {
     std::vector<uint32_t> held;
     for (const GripEntry& e : solver_->grip(tool).held) held.push_back(e.phyxel);

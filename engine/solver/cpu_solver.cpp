@@ -330,6 +330,7 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();
+  blades_near_ = false;
   samples_.clear();
 }
 
@@ -358,6 +359,10 @@ void CpuSolver<Real>::find_candidates() {
   const double margin = contact_margin(reach, max_v, tool_speed_, chunk_duration_);
   candidates_ = phyxel::contact_candidates<Real>(force_list_, flags_, rest_, u_,
                                                  swept_bounds(tools_, motion_), margin);
+  blades_near_ = !blades_sever_in_reach_only(tools_) ||
+                 !phyxel::contact_candidates<Real>(candidates_, flags_, rest_, u_,
+                                                   blade_swept_bounds(tools_, motion_), margin)
+                      .empty();
 }
 
 template <class Real>

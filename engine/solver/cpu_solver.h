@@ -79,6 +79,9 @@ class CpuSolver {
   // The contact force on each phyxel in the last step (N; zero where there was no contact).
   const std::vector<V3>& contact_force() const { return contact_force_; }
   size_t contact_candidates() const { return candidates_.size(); }
+  // Whether the last broad phase put a candidate within the blades' reach, so that the cut pass
+  // tests pairs in this chunk (blades_sever_in_reach_only; always with a blade's threshold).
+  bool blades_near() const { return blades_near_; }
   // Graspers (engine/solver/grasper.h): after the contacts of every step, each grasper whose
   // jaws close in the step captures the candidates within its reach, and each closed grasper
   // carries what it holds (cpu_solver_grasp.cpp). The grip of tool t (empty for other tools).
@@ -233,6 +236,7 @@ class CpuSolver {
   std::vector<ToolMotion> motion_;
   size_t motion_step_ = 0;  // substeps of motion_ consumed
   std::vector<uint32_t> candidates_;
+  bool blades_near_ = false;  // a candidate within the blades' reach (find_candidates)
   std::vector<ToolContactSample> samples_;
   std::vector<uint8_t> contact_;
   std::vector<V3> contact_force_;

@@ -82,7 +82,9 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       return true;
     return resists && edge_passes(p, q, edge, t);
   };
-  for (const uint32_t i : candidates_) {
+  static const std::vector<uint32_t> kNone;
+  // No candidate within the blades' reach in this chunk (find_candidates): no pair to test.
+  for (const uint32_t i : blades_near_ ? candidates_ : kNone) {
     const Vec3 xi = rest_d_[i] + u_[i].template cast<double>();
     const uint32_t start = sided ? side_at_start(sides[i], cut_pass_) : kSideNone;
     const uint32_t side_i = sided ? side_held(tool, i, xi, edge, cut_pass_, band) : kSideNone;

@@ -225,6 +225,12 @@ double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing
   return cuts ? reach + support : spacing;
 }
 
+bool blades_sever_in_reach_only(const std::vector<ContactTool>& tools) {
+  for (const ContactTool& t : tools)
+    if (t.blade.cuts() && t.blade.threshold != 0) return false;
+  return true;
+}
+
 double pair_area_share(double volume_sum, double s_sum) {
   return s_sum > 0 ? volume_sum / s_sum : 0.0;
 }

@@ -153,6 +153,12 @@ double pair_area_share(double volume_sum, double s_sum);
 // it and the blades' reach (the pairs a blade's quad or edge reaches, both ends).
 double cut_candidate_reach(const std::vector<ContactTool>& tools, double spacing, double support);
 
+// Whether a chunk's cut pass tests no pair where no broad-phase candidate lies within the
+// blades' swept bounds (blade_swept_bounds) grown by the broad phase's margin: where every
+// blade cuts at threshold 0. A blade with a threshold keeps its candidates' sides (and its edge
+// resists) in every substep, so its pass takes every candidate.
+bool blades_sever_in_reach_only(const std::vector<ContactTool>& tools);
+
 // One side per phyxel while a blade passes (docs/cutting.md, "One side per phyxel"). Each blade
 // with a threshold above 0 keeps, per phyxel, the side of its plane (n = axis x edge at the
 // substep's end pose) the phyxel was first cut to: kSidePlus where the partner it was cut from lay

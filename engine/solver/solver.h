@@ -103,6 +103,9 @@ class Tools {
   virtual void restore_grips(const std::vector<Grip>& grips) = 0;
   // Phyxels the broad phase handed to the narrow phase in the last advance (0 without tools).
   virtual size_t contact_candidates() const = 0;
+  // Whether the last advance's cut pass had a candidate within the blades' reach (false where
+  // it tested no pair, or no tool has a blade; cutting.h, blades_sever_in_reach_only).
+  virtual bool blades_near() const = 0;
 
  protected:
   ~Tools() = default;

@@ -6,12 +6,14 @@
 // second crossing cut leave every value finite; blades past the first 8 (no ball around them)
 // sever as the CPU; tool_resist summing its own samples, and tool_contact_reduce summing them
 // beside the sever, give the bits of the passes they replace, and so does the sever beside the
-// stress pass.
+// stress pass; a chunk whose candidates all lie beyond the blades' reach dispatches no sever,
+// as the CPU tests no pair then.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "engine/surgery/tool_track.h"
@@ -30,6 +32,8 @@ struct CutRun {
   std::vector<uint8_t> alive;
   size_t candidates = 0;
   std::vector<ToolContactSample> samples;  // every substep's
+  std::vector<uint8_t> near;               // per chunk: Tools::blades_near
+  std::vector<size_t> listed;              // per chunk: Tools::contact_candidates
 };
 
 CutRun run(Solver& solver, const Scene& scene, int64_t steps, int64_t chunk = 16) {
@@ -43,6 +47,8 @@ CutRun run(Solver& solver, const Scene& scene, int64_t steps, int64_t chunk = 16
     tools.set_tool_motion(track.motions(s, n, dt));
     solver.advance(n, dt);
     out.candidates = std::max(out.candidates, tools.contact_candidates());
+    out.near.push_back(tools.blades_near() ? 1 : 0);
+    out.listed.push_back(tools.contact_candidates());
     const std::vector<ToolContactSample> felt = tools.tool_samples();
     out.samples.insert(out.samples.end(), felt.begin(), felt.end());
   }
@@ -570,6 +576,36 @@ TEST_F(GpuSolverTest, TheSeverBesideTheStressPassGivesTheBitsOfItsOwnPass) {
   expect_the_same_bits(ctx(), scene, own, "beside", beside);
   scene.tools[0].blade.threshold = 0.05 * peak;
   expect_the_same_bits(ctx(), scene, own, "sided", beside);
+}
+
+// The scalpel parked 3 cm from the beam, then crossing it, while the jaws hold its end: the
+// chunks whose candidates (the jaws') all lie beyond the blade's reach dispatch no sever
+// (tool_broad_scan) where the CPU tests no pair, the same chunks on both; then the same cut.
+// A blade with a threshold keeps sides: its pass takes every candidate, near or not.
+TEST_F(GpuSolverTest, ChunksBeyondTheBladesReachSeverNothingAsOnTheCpu) {
+  Scene scene = cut_and_pull(0.0);
+  scene.tools[0].path = {{0.0, Vec3(0.021, -0.03, -0.003), Vec3::UnitZ()},
+                         {0.0048, Vec3(0.021, -0.03, -0.003), Vec3::UnitZ()},
+                         {0.0208, Vec3(0.021, 0.013, -0.003), Vec3::UnitZ()}};
+  auto [c, g] = cpu_and_gpu(ctx(), scene, 240);
+  ASSERT_EQ(c.near.size(), 15u);
+  std::printf("[ near     ] blades near in chunks:");
+  for (size_t k = 0; k < g.near.size(); ++k) std::printf(" %d(%zu)", g.near[k], g.listed[k]);
+  std::printf("; %zu pairs severed\n", g.severed.size());
+  EXPECT_EQ(g.near, c.near);
+  EXPECT_EQ(g.listed, c.listed);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(g.near[k], 0) << "chunk " << k;
+    EXPECT_GT(g.listed[k], 0u) << "chunk " << k << ": the jaws' candidates";
+  }
+  EXPECT_EQ(g.near.back(), 1);
+  EXPECT_GT(c.severed.size(), 20u);
+  EXPECT_EQ(pair_set(g.severed), pair_set(c.severed));
+  EXPECT_EQ(g.alive, c.alive);
+  scene.tools[0].blade.threshold = 1e-3;
+  std::tie(c, g) = cpu_and_gpu(ctx(), scene, 48);
+  EXPECT_EQ(g.near, std::vector<uint8_t>(3, 1));
+  EXPECT_EQ(c.near, g.near);
 }
 
 }  // namespace
