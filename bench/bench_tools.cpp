@@ -8,6 +8,7 @@
 #include "bench/benches.h"
 #include "bench/timing.h"
 #include "compute/gpu_solver.h"
+#include "engine/run/run_schedule.h"
 
 namespace phyxel::bench {
 
@@ -80,7 +81,7 @@ ToolBenchCase::ToolBenchCase(const std::string& device, int threads, Scene scene
 }
 
 void ToolBenchCase::run(int64_t steps) {
-  const int64_t chunk = RunOptions{}.tool_chunk_substeps;
+  const int64_t chunk = tool_chunk_substeps(RunOptions{}, set.size());
   for (int64_t left = steps; left > 0;) {
     const int64_t n = std::min(left, chunk);
     advance_with_tools(*solver, track, done, n, 1, dt);

@@ -32,7 +32,7 @@ constexpr double kCrossingSpeed = 0.5;  // m/s
 Scene crossing_blade_scene(int64_t size, bool blade);
 
 // A scene, its phyxels, its stable step and a solver with the scene's tools, stepped in chunks
-// of the run loop's size (RunOptions::tool_chunk_substeps): one broad phase and one submit
+// of the run loop's size (tool_chunk_substeps for its phyxels): one broad phase and one submit
 // per chunk, as a run that is not paced to the wall clock does.
 struct ToolBenchCase {
   ToolBenchCase(const std::string& device, int threads, Scene scene);

@@ -14,24 +14,28 @@ namespace {
 // The tool passes of a scene with tools (explain_passes).
 template <class Add>
 void explain_tools(const Scene& scene, const RunOptions& options, const TimeStepPlan& plan,
-                   size_t scalpels, Add& add) {
+                   size_t phyxels, size_t scalpels, Add& add) {
   add("    contact        %zu tool(s): after every drift, on the phyxels whose current "
       "position is near the tools' swept bounds (broad phase once per advance of at most %lld "
       "substeps); the tools' forces are summed per substep",
-      scene.tools.size(), static_cast<long long>(options.tool_chunk_substeps));
-  if (scalpels > 0)
+      scene.tools.size(), static_cast<long long>(tool_chunk_substeps(options, phyxels)));
+  if (scalpels > 0) {
     add("    cut            %zu scalpel(s): after the contact, on the same candidates (their "
         "margin grown by the support radius), the pairs crossing the blade's swept quad "
         "severed at the threshold or once the edge carries them past its reach; then the "
         "precompute of their phyxels",
         scalpels);
+    add("                   at threshold 0, none in an advance whose candidates all lie beyond "
+        "the blades' reach");
+  }
   const auto aspirators = std::count_if(scene.tools.begin(), scene.tools.end(),
                                         [](const ToolDesc& t) { return t.suction.sucks(); });
   if (aspirators > 0 && scene.tearing_possible())
     add("    suction        %zu aspirator(s): their pull in the contact pass; the fracture "
         "sphere at each mouth every %lld steps (state read back while on)",
         static_cast<size_t>(aspirators),
-        static_cast<long long>(tool_chunk_steps(scene, options, plan.substeps, plan.dt_requested)));
+        static_cast<long long>(
+            tool_chunk_steps(scene, options, phyxels, plan.substeps, plan.dt_requested)));
   else if (aspirators > 0)
     add("    suction        %zu aspirator(s): their pull in the contact pass; nothing "
         "aspirated (no material has tear_stress)",
@@ -109,7 +113,7 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
   add("  checks: finiteness and the largest speed every %lld steps%s",
       static_cast<long long>(
           check_interval(scene, options, sleeping,
-                         tool_chunk_steps(scene, options, plan.substeps, plan.dt_requested))),
+                         tool_chunk_steps(scene, options, n, plan.substeps, plan.dt_requested))),
       energies ? ", with kinetic energies (the state read back) for until_rest or sleep"
                : "; the state is read back only when a phyxel outruns the slowest wave speed");
   if (scene.output.every > 0)
@@ -124,7 +128,8 @@ std::string explain_passes(const Scene& scene, const PhyxelSet& set, Solver& sol
         static_cast<long long>(scene.render.every));
   const auto scalpels = std::count_if(scene.tools.begin(), scene.tools.end(),
                                       [](const ToolDesc& t) { return t.blade.cuts(); });
-  if (!scene.tools.empty()) explain_tools(scene, options, plan, static_cast<size_t>(scalpels), add);
+  if (!scene.tools.empty())
+    explain_tools(scene, options, plan, n, static_cast<size_t>(scalpels), add);
   // What the scene does not need, with the reason; nothing when it needs everything.
   std::string skipped;
   for (const char* part : {rendering ? "" : "render passes (render.mode none)",

@@ -158,7 +158,7 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
     principal->set_principal_stress(tearing);
   if (Tearing* tear = solver.tearing()) tear->set_tearing(tearing);
   sleeping_ = select && scene.simulation.sleep.enabled;
-  tool_chunk_ = tool_chunk_steps(scene, options, result_.plan.substeps, step_time_);
+  tool_chunk_ = tool_chunk_steps(scene, options, set.size(), result_.plan.substeps, step_time_);
   check_ = check_interval(scene, options, sleeping_, tool_chunk_);
   contacts_since_check_.assign(tools_.size(), 0u);
   if (!tools_.empty()) solver.tools()->set_tools(contact_tools(scene.tools));  // required above

@@ -23,10 +23,15 @@ bool has_grasper(const Scene& scene) {
                      [](const ToolDesc& t) { return t.grasp.grasps(); });
 }
 
-int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, int64_t substeps,
-                         double step_time) {
+int64_t tool_chunk_substeps(const RunOptions& options, size_t phyxels) {
+  if (options.tool_chunk_substeps > 0) return options.tool_chunk_substeps;
+  return phyxels <= kSmallBodyPhyxels ? kSmallToolChunk : kToolChunk;
+}
+
+int64_t tool_chunk_steps(const Scene& scene, const RunOptions& options, size_t phyxels,
+                         int64_t substeps, double step_time) {
   if (scene.tools.empty()) return 0;
-  int64_t chunk = options.tool_chunk_substeps / std::max<int64_t>(1, substeps);
+  int64_t chunk = tool_chunk_substeps(options, phyxels) / std::max<int64_t>(1, substeps);
   if (scene.tearing_possible() && step_time > 0)
     for (const ToolDesc& t : scene.tools)
       if (t.suction.sucks())

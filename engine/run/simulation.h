@@ -53,10 +53,11 @@ struct RunOptions {
   ToolTrack::PoseSource tool_pose;
   // After every step of a scene with tools: the step, its end time and per tool its record.
   std::function<void(int64_t step, double t, const std::vector<ToolStepRecord>&)> on_tool_step;
-  // Substeps per advance while tools move (the broad phase is built once per advance).
-  int64_t tool_chunk_substeps = 64;
+  // Substeps per advance while tools move (the broad phase is built once per advance); 0 picks
+  // by the body's phyxels (tool_chunk_substeps in run_schedule.h).
+  int64_t tool_chunk_substeps = 0;
   // Pace simulated time to the wall clock (interactive and haptic runs): the loop advances the
-  // steps the wall clock owes (at least one, at most tool_chunk_substeps worth) and sleeps
+  // steps the wall clock owes (at least one, at most a tool chunk) and sleeps
   // while it is ahead; RunResult says how far it fell behind.
   bool real_time = false;
   // Polled between advances: true stops the run after the current advance (signals, benches);
@@ -64,7 +65,7 @@ struct RunOptions {
   // scene without tools is cut to the steps that take about stop_poll_seconds of wall time at
   // the rate measured so far (such advances split exactly: the states are the same bit for
   // bit), so a stop is seen promptly even when a check interval takes minutes; tools already
-  // advance at most tool_chunk_substeps at a time.
+  // advance at most a tool chunk at a time.
   std::function<bool()> stop_requested;
   double stop_poll_seconds = 0.1;
   // Steps of many substeps (engine/run/long_step.h): the substeps per wall second measured on

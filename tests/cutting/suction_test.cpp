@@ -243,7 +243,8 @@ TEST(Suction, AnAspiratingRunResumesBitIdentically) {
   const Scene scene = parse_scene(test::suction_block_json(1000, true), "block.json");
   const PhyxelSet set = sample_scene(scene);
   const TimeStepPlan plan = plan_time_step(scene, set);
-  const int64_t chunk = tool_chunk_steps(scene, RunOptions{}, plan.substeps, plan.dt_requested);
+  const int64_t chunk =
+      tool_chunk_steps(scene, RunOptions{}, set.size(), plan.substeps, plan.dt_requested);
   const int64_t stop = chunk * (150 / chunk), total = 300;
   const fs::path dir = test::test_output_dir("suction_checkpoint");
   auto run = [&](const std::string& name, int64_t steps, const Checkpoint* from) {

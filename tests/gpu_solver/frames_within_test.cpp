@@ -71,7 +71,8 @@ TEST_F(GpuSolverTest, FramesInsideTheAdvancesDrawWhatSplitAdvancesDrawAndChangeN
   // Without frames an advance is a tool chunk (the checks fall on their lines); frames inside
   // end none, where split ones add one per frame.
   const TimeStepPlan plan = plan_time_step(scene, set);
-  const int64_t chunk = tool_chunk_steps(scene, RunOptions{}, plan.substeps, plan.dt_requested);
+  const int64_t chunk =
+      tool_chunk_steps(scene, RunOptions{}, set.size(), plan.substeps, plan.dt_requested);
   EXPECT_EQ(bare.advances, (300 + chunk - 1) / chunk);
   EXPECT_EQ(within.advances, bare.advances);
   EXPECT_GT(split.advances, bare.advances + 20);  // 42 frames, some on a line already
