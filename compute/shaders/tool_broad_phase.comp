@@ -1,9 +1,10 @@
 // The contact broad phase of a chunk over the force list (layout.h BroadPhasePush): mode 0
 // counts each workgroup's hits into group[g], with kBroadBladeNear where one lies within the
-// blades' swept bounds grown by the margin (CpuSolver::find_candidates' blades_near_); mode 1 (after tool_broad_scan turned the counts
-// into offsets) writes the hits at group[g] + their rank in the workgroup, and each entry's
-// slot (~0: none) into candidate_slot (solver_force_tear's contact). Both modes decide a hit
-// from the same inputs, so they agree; the list comes out ascending.
+// blades' swept bounds grown by the margin (CpuSolver::find_candidates' blades_near_); mode 1
+// (after tool_broad_scan turned the counts into offsets) writes the hits at group[g] + their
+// rank in the workgroup, and each entry's slot (~0: none) into candidate_slot
+// (solver_force_tear's contact). Both modes decide a hit from the same inputs, so they agree;
+// the list comes out ascending.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "layout.h"

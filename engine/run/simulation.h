@@ -57,8 +57,8 @@ struct RunOptions {
   // by the body's phyxels (tool_chunk_substeps in run_schedule.h).
   int64_t tool_chunk_substeps = 0;
   // Pace simulated time to the wall clock (interactive and haptic runs): the loop advances the
-  // steps the wall clock owes (at least one, at most a tool chunk) and sleeps
-  // while it is ahead; RunResult says how far it fell behind.
+  // steps the wall clock owes (at least one, at most a tool chunk) and sleeps while it is
+  // ahead; RunResult says how far it fell behind.
   bool real_time = false;
   // Polled between advances: true stops the run after the current advance (signals, benches);
   // the last state and frame are then written as at the end. While it is set, an advance of a

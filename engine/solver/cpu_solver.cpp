@@ -359,10 +359,12 @@ void CpuSolver<Real>::find_candidates() {
   const double margin = contact_margin(reach, max_v, tool_speed_, chunk_duration_);
   candidates_ = phyxel::contact_candidates<Real>(force_list_, flags_, rest_, u_,
                                                  swept_bounds(tools_, motion_), margin);
-  blades_near_ = !blades_sever_in_reach_only(tools_) ||
-                 !phyxel::contact_candidates<Real>(candidates_, flags_, rest_, u_,
-                                                   blade_swept_bounds(tools_, motion_), margin)
-                      .empty();
+  // As tool_broad_scan: no sever without a candidate, nor at threshold 0 without one in reach.
+  blades_near_ = !candidates_.empty() &&
+                 (!blades_sever_in_reach_only(tools_) ||
+                  !phyxel::contact_candidates<Real>(candidates_, flags_, rest_, u_,
+                                                    blade_swept_bounds(tools_, motion_), margin)
+                       .empty());
 }
 
 template <class Real>

@@ -581,7 +581,8 @@ TEST_F(GpuSolverTest, TheSeverBesideTheStressPassGivesTheBitsOfItsOwnPass) {
 // The scalpel parked 3 cm from the beam, then crossing it, while the jaws hold its end: the
 // chunks whose candidates (the jaws') all lie beyond the blade's reach dispatch no sever
 // (tool_broad_scan) where the CPU tests no pair, the same chunks on both; then the same cut.
-// A blade with a threshold keeps sides: its pass takes every candidate, near or not.
+// A blade with a threshold keeps sides: its pass takes every candidate, near or not (none
+// without one).
 TEST_F(GpuSolverTest, ChunksBeyondTheBladesReachSeverNothingAsOnTheCpu) {
   Scene scene = cut_and_pull(0.0);
   scene.tools[0].path = {{0.0, Vec3(0.021, -0.03, -0.003), Vec3::UnitZ()},
@@ -605,6 +606,11 @@ TEST_F(GpuSolverTest, ChunksBeyondTheBladesReachSeverNothingAsOnTheCpu) {
   scene.tools[0].blade.threshold = 1e-3;
   std::tie(c, g) = cpu_and_gpu(ctx(), scene, 48);
   EXPECT_EQ(g.near, std::vector<uint8_t>(3, 1));
+  EXPECT_EQ(c.near, g.near);
+  scene.tools.pop_back();  // no jaws: no candidate while the blade is parked, no sever
+  std::tie(c, g) = cpu_and_gpu(ctx(), scene, 48);
+  EXPECT_EQ(g.listed, std::vector<size_t>(3, 0));
+  EXPECT_EQ(g.near, std::vector<uint8_t>(3, 0));
   EXPECT_EQ(c.near, g.near);
 }
 
