@@ -79,8 +79,9 @@ class CpuSolver {
   // The contact force on each phyxel in the last step (N; zero where there was no contact).
   const std::vector<V3>& contact_force() const { return contact_force_; }
   size_t contact_candidates() const { return candidates_.size(); }
-  // Whether the last broad phase put a candidate within the blades' reach, so that the cut pass
-  // tests pairs in this chunk (blades_sever_in_reach_only; always with a blade's threshold).
+  // Whether the cut pass tests pairs in this chunk: the last broad phase found candidates and,
+  // where every blade cuts at threshold 0, one within the blades' reach
+  // (blades_sever_in_reach_only).
   bool blades_near() const { return blades_near_; }
   // Graspers (engine/solver/grasper.h): after the contacts of every step, each grasper whose
   // jaws close in the step captures the candidates within its reach, and each closed grasper
