@@ -266,6 +266,8 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // tool_sever; read back and written only for checkpoints.
   std::vector<std::vector<BladeSide>> blade_sides() override;
   void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override;
+  std::vector<uint8_t> blades_cutting() override;
+  void restore_blades_cutting(const std::vector<uint8_t>& on) override;
 
   Context& context() const { return *ctx_; }
   SolverBuffers buffers() const;
@@ -411,8 +413,9 @@ class GpuSolver final : public SolverWithAllFacets, public CheckPrefetch {
   // Cutting (gpu_solver_cutting.cpp): buffers for set_tools, the cut table of a new chunk,
   // the sever and precompute passes of a substep, the log after an advance.
   void prepare_cutting();
-  void prepare_blade_sides();             // set_tools: every blade's side entries, none kept
-  uint32_t cut_pass(int64_t step) const;  // SeverPush.pass of a substep of the advance
+  void prepare_blade_sides();                    // set_tools: every blade's side entries, none kept
+  uint64_t blade_state_word(size_t tool) const;  // its cutting state's word for the next pass
+  uint32_t cut_pass(int64_t step) const;         // SeverPush.pass of a substep of the advance
   void upload_cut_quads(Recorder& rec);
   // stress_written != 0: recorded after that substep's stress pass with no barrier between
   // (sever_beside), which was recorded with that epoch (count_stress_beside).

@@ -63,9 +63,10 @@ void GpuSolver::prepare_cutting() {
   if (alive_.empty()) alive_.assign(pairs_, 1);
 }
 
-// The side entries [tool][phyxel], then the normals they were learned on (blade_edge.glsl).
+// The side entries [tool][phyxel], then the normals they were learned on, then two words per
+// tool for the blade's cutting state (blade_edge.glsl).
 void GpuSolver::prepare_blade_sides() {
-  const uint64_t entries = std::max<uint64_t>(1, 2 * uint64_t{count_} * tools_.size());
+  const uint64_t entries = 2 * (uint64_t{count_} + 1) * tools_.size() + 1;
   cut_sides_ =
       Buffer(*ctx_, entries * sizeof(uint32_t), MemoryIntent::Device, "blade side entries");
   upload(*ctx_, cut_sides_, std::vector<uint32_t>(entries, 0u));
@@ -113,6 +114,34 @@ void GpuSolver::restore_blade_sides(const std::vector<std::vector<BladeSide>>& k
   upload(*ctx_, cut_sides_, entries);
 }
 
+// Where the next pass (cut_pass_ + 1) reads a blade's cutting state (blade_state_index), and
+// the word that says it is on.
+uint64_t GpuSolver::blade_state_word(size_t tool) const {
+  return 2 * (uint64_t{count_} * tools_.size() + tool) + (cut_pass_ & 1u);
+}
+
+std::vector<uint8_t> GpuSolver::blades_cutting() {
+  settle();
+  std::vector<uint8_t> on(tools_.size(), 0);
+  if (!cutting_) return on;
+  const std::vector<uint32_t> words = download<uint32_t>(*ctx_, cut_sides_, 2 * tools_.size(),
+                                                         2 * uint64_t{count_} * tools_.size() * 4);
+  for (size_t t = 0; t < on.size(); ++t)
+    on[t] = words[blade_state_word(t) - 2 * uint64_t{count_} * tools_.size()] == cut_pass_ + 1u;
+  return on;
+}
+
+void GpuSolver::restore_blades_cutting(const std::vector<uint8_t>& on) {
+  settle();
+  for (size_t t = 0; t < on.size(); ++t) {
+    if (on[t] == 0) continue;
+    if (t >= tools_.size() || !cutting_ || !(tools_[t].blade.threshold > 0))
+      throw std::invalid_argument("GpuSolver::restore_blades_cutting: tool " + std::to_string(t) +
+                                  " has no blade with a threshold");
+    upload(*ctx_, cut_sides_, std::vector<uint32_t>{cut_pass_ + 1u}, blade_state_word(t) * 4);
+  }
+}
+
 void GpuSolver::upload_cut_quads(Recorder& rec) {
   // Rows: the chunk's substeps, then the last end pose held (CpuSolver: from = to).
   const size_t nt = tools_.size();
@@ -135,7 +164,10 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       const ToolShape& body = tools_[t].shape;
       const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
       const EdgeFrame held = edge_frame(blade, quad, m.to, radius, reach);
-      q.axis = to_vec4(held.axis, float(held.length));
+      q.axis = to_vec4(m.to.axis, float(blade.length));
+      q.frame_tip = to_vec4(held.tip - origin, float(held.length));
+      q.frame_axis = to_vec4(held.axis, float(held.front));
+      q.frame_edge = to_vec4(held.edge, blade_advances(quad, m.from, m.to) ? 1.0f : 0.0f);
       q.resist = {float(held.stiffness), float(held.depth), float(held.tip_motion),
                   float(held.end_motion)};
       const Vec3 end = m.to.position + blade.length * m.to.axis;

@@ -20,12 +20,12 @@ struct EdgeFrame {
 
 EdgeFrame edge_frame(CutQuad c) {
   EdgeFrame f;
-  f.edge = c.edge.xyz;
-  f.tip = c.p3.xyz + c.p3.w * f.edge;
-  f.axis = c.axis.xyz;
+  f.edge = c.frame_edge.xyz;
+  f.tip = c.frame_tip.xyz;
+  f.axis = c.frame_axis.xyz;
   f.normal = normalize(cross(f.axis, f.edge));
-  f.span = c.axis.w;
-  f.front = c.p0.w;
+  f.span = c.frame_tip.w;
+  f.front = c.frame_axis.w;
   f.side_band = c.p1.w;
   f.depth = c.resist.y;
   f.stiffness = c.resist.x;
@@ -99,6 +99,13 @@ uint side_at_start(uint entry, uint pass) {
 
 uint side_normal_index(uint tool, uint tools, uint phyxels, uint i) {
   return (tools + tool) * phyxels + i;
+}
+
+// After the normals, two words per tool: its blade's cutting state (docs/cutting.md, "Rupture
+// and the cutting state"), pass + 1 written in slot pass & 1 by a pass in which it cut, advanced
+// and crossed a pair; the next pass reads the other slot (the CPU's blade_cutting_).
+uint blade_state_index(uint tool, uint tools, uint phyxels, uint parity) {
+  return 2u * tools * phyxels + 2u * tool + parity;
 }
 
 uint side_entry(uint pass, uint start, uint after) {

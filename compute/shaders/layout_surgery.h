@@ -292,7 +292,9 @@ PHYXEL_CONST uint kGraspBindingGripOf = 13;
 // resist: the edge's resistance (engine EdgeFrame; the tip is p3 + p3.w edge, the body's
 // radius p0.w, the kept sides' band p1.w: engine side_band): the axis at the end pose (w: the
 // blade's length, m) and (stiffness N/m^3, 0 where nothing is held; depth m; the tip's and the
-// end's motion along the edge, m).
+// end's motion along the edge, m). The EdgeFrame (the point's in a stab): frame_tip (w: its
+// length), frame_axis (w: its front), frame_edge (w: 1 where the blade advances in the substep,
+// engine blade_advances: a blade in the cutting state goes on cutting, else 0).
 struct CutQuad {
   vec4 p0;
   vec4 p1;
@@ -301,8 +303,11 @@ struct CutQuad {
   vec4 edge;
   vec4 axis;
   vec4 resist;
+  vec4 frame_tip;
+  vec4 frame_axis;
+  vec4 frame_edge;
 };
-PHYXEL_ASSERT_SIZE(CutQuad, 112);
+PHYXEL_ASSERT_SIZE(CutQuad, 160);
 
 // tool_sever: SeverGroups.lanes invocations per candidate, after tool_contact_reduce: for every
 // tool whose sample of this substep presses its edge with at least its threshold, each

@@ -128,11 +128,14 @@ bool crosses_blade(vec3 p, vec3 q, CutQuad c, bool cuts, out float t) {
 #include "solver_stress.glsl"
 
 // Whether the tool's blade cuts in this substep: its sample presses the edge in, or the point
-// (a stab), with at least its threshold (cut_force of engine/solver/cutting.cpp).
+// (a stab), with at least its threshold (cut_force of engine/solver/cutting.cpp), or it is in
+// the cutting state (the previous pass cut, advanced and crossed a pair) and advances.
 bool tool_cuts(CutQuad quad, uint tool) {
   const float threshold = quad.edge.w;
   if (threshold < 0.0) return false;  // no blade
   if (threshold == 0.0) return true;   // cut_force >= 0 always: the sample is not read
+  const uint state = blade_state_index(tool, p.tools, p.phyxels, (p.pass - 1u) & 1u);
+  if (quad.frame_edge.w > 0.0 && sides[state] == p.pass) return true;
   const vec3 felt = samples[2u * (p.sample_row * p.tools + tool)].xyz;  // tool_contact_reduce
   const vec3 axis = normalize(quad.p1.xyz - quad.p0.xyz);
   return max(0.0, max(-dot(felt, quad.edge.xyz), dot(felt, axis))) >= threshold;
@@ -247,17 +250,25 @@ uint side_of(uint tool, CutQuad quad, uint x, vec3 at) {
                          at);
 }
 
-// Whether the tool's blade severs pair (i, j) at t: it may (its ball), it crosses the pair and,
-// for a blade with a threshold (sided), leaves both phyxels on the sides it keeps them on.
-bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out float t) {
+// Whether the tool's blade crosses pair (i, j) at t (whatever the sides): it may (its ball)
+// and its quad, body strip or edge does.
+bool blade_crosses(CutQuad quad, uint tool, vec3 xi, uint i, vec3 xj, uint j, out float t) {
   t = 0.0;
   if (!blade_may_sever(tool, quad, xi, xj)) return false;
   const bool cuts = blade_cuts(tool, quad);
-  const bool crosses =
-      i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
-  if (!crosses || !kSeverSided || !(quad.edge.w > 0.0)) return crosses;
+  return i < j ? crosses_blade(xi, xj, quad, cuts, t) : crosses_blade(xj, xi, quad, cuts, t);
+}
+
+// Whether the sides a blade with a threshold (sided) keeps let it sever pair (i, j).
+bool sides_let(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj) {
+  if (!kSeverSided || !(quad.edge.w > 0.0)) return true;
   const vec3 normal = normalize(cross(quad.axis.xyz, quad.edge.xyz));
   return sides_allow(side_of(tool, quad, i, xi), side_of(tool, quad, j, xj), normal, xi, xj);
+}
+
+// Whether the tool's blade severs pair (i, j) at t: it crosses it and the sides let it.
+bool blade_takes(CutQuad quad, uint tool, uint i, vec3 xi, uint j, vec3 xj, out float t) {
+  return blade_crosses(quad, tool, xi, i, xj, j, t) && sides_let(quad, tool, i, xi, j, xj);
 }
 
 // Whether a tool before this one severs the pair in this substep (the CPU's tool by tool).
@@ -291,7 +302,12 @@ uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
   const uint j = nbr_index(k);
   const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
   float t;
-  if (!blade_takes(quad, tool, i, xi, j, xj, t)) return kSideNone;
+  if (!blade_crosses(quad, tool, xi, i, xj, j, t)) return kSideNone;
+  // In tissue, cutting and advancing: the blade stays in the cutting state (every writer the
+  // same word, read by the next pass).
+  if (sided && quad.frame_edge.w > 0.0 && blade_cuts(tool, quad))
+    sides[blade_state_index(tool, p.tools, p.phyxels, p.pass & 1u)] = p.pass + 1u;
+  if (!sides_let(quad, tool, i, xi, j, xj)) return kSideNone;
   const uint side =
       sided ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj) : kSideNone;
   if (pair_weight_bits(k) == 0u || earlier_tool_takes(tool, i, xi, j, xj)) return side;

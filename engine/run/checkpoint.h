@@ -74,6 +74,10 @@ struct Checkpoint {
   // Per tool, the sides its blade keeps (engine/solver/cutting.h, BladeSide; empty without a
   // blade or in a checkpoint written before them or before their normals: none kept).
   std::vector<std::vector<BladeSide>> blade_sides;
+  // Per tool, 1 where its blade is in the cutting state (docs/cutting.md, "Rupture and the cutting
+  // state"); empty in a checkpoint written before it: every blade starts uncut, needing its
+  // threshold again.
+  std::vector<uint8_t> blades_cutting;
 };
 
 // FNV-1a 64 over bytes, continuing from `h`.

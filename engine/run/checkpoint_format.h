@@ -27,14 +27,15 @@ enum Section : uint32_t {
   kChecks = 6,
   kTools = 7,
   kTopology = 8,
-  kCuts = 9,          // severed pairs (i, j, t) and the scalpels' cutting statistics
-  kCutFeedback = 10,  // the scalpels' largest feedback, friction and depth (ToolRunStats)
-  kTorn = 11,         // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
-  kGrips = 12,        // per tool: the grasper's jaws closed and what they hold
-  kAspiration = 13,   // the aspirator: removed phyxels, surface, severed log read, totals
-  kCutBand = 14,      // the SCNI band: its quads, counts and cells (CutBandState)
-  kBladeSides = 15,   // per tool: the phyxels its blade keeps on one side, and the side
-  kSideNormals = 16,  // per kept side of kBladeSides: the plane's normal it was learned on
+  kCuts = 9,           // severed pairs (i, j, t) and the scalpels' cutting statistics
+  kCutFeedback = 10,   // the scalpels' largest feedback, friction and depth (ToolRunStats)
+  kTorn = 11,          // per severed pair of kCuts, 1 where it was torn (SeveredPair::torn)
+  kGrips = 12,         // per tool: the grasper's jaws closed and what they hold
+  kAspiration = 13,    // the aspirator: removed phyxels, surface, severed log read, totals
+  kCutBand = 14,       // the SCNI band: its quads, counts and cells (CutBandState)
+  kBladeSides = 15,    // per tool: the phyxels its blade keeps on one side, and the side
+  kSideNormals = 16,   // per kept side of kBladeSides: the plane's normal it was learned on
+  kBladeCutting = 17,  // per tool: 1 where its blade is in the cutting state (past its threshold)
 };
 inline constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;  // magic, version, sections, file length
 inline constexpr size_t kChecksumBytes = 8;
@@ -143,8 +144,9 @@ class Reader {
   std::string file_;
 };
 
-// The surgical state, sections kCuts to kSideNormals in file order: the cuts and the scalpels'
-// statistics, tears, grips, the aspirator, the cut band and the blades' kept sides and planes.
+// The surgical state, sections kCuts to kBladeCutting in file order: the cuts and the scalpels'
+// statistics, tears, grips, the aspirator, the cut band, the blades' kept sides and planes and
+// their cutting states.
 void write_surgery_sections(Writer& w, const Checkpoint& c);
 // Reads section `tag` into `c` when it is one of those; skips any other (not read).
 void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c);

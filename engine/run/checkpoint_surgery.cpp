@@ -166,6 +166,10 @@ void write_surgery_sections(Writer& w, const Checkpoint& c) {
     w.put_array(normals);
   }
   w.end_section();
+
+  w.begin_section(kBladeCutting);
+  w.put_array(c.blades_cutting);
+  w.end_section();
 }
 
 void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
@@ -225,6 +229,13 @@ void read_surgery_section(Reader& r, uint32_t tag, Checkpoint& c) {
       break;
     case kSideNormals:  // after kBladeSides
       read_side_normals(r, c);
+      break;
+    case kBladeCutting:
+      c.blades_cutting = r.get_array<uint8_t>();
+      for (size_t t = 0; t < c.blades_cutting.size(); ++t)
+        if (c.blades_cutting[t] > 1)
+          r.corrupt("cutting state " + std::to_string(c.blades_cutting[t]) + " for tool " +
+                    std::to_string(t) + " (0 or 1)");
       break;
     default:  // a section this version does not know: skipped
       break;

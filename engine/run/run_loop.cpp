@@ -234,6 +234,9 @@ void RunLoop::resume(const Checkpoint& c) {
   try {
     if (!c.blade_sides.empty())  // the sides the blades keep (after set_tools)
       need(solver_.cutting(), solver_, "keep a blade's sides").restore_blade_sides(c.blade_sides);
+    if (std::count(c.blades_cutting.begin(), c.blades_cutting.end(), 1) > 0)  // mid-cut blades
+      need(solver_.cutting(), solver_, "keep a blade cutting")
+          .restore_blades_cutting(c.blades_cutting);
     aspirator_.restore(c.aspiration, solver_, c.severed);  // the aspirated phyxels
     if (!c.band.phyxel.empty() || !c.band.quads.empty())   // after the cuts and removals
       need(solver_.cutting(), solver_, "restore the SCNI band").restore_cut_band(c.band);
@@ -478,6 +481,7 @@ Checkpoint RunLoop::checkpoint() {
     c.severed = cut->severed_since(0);
     c.band = cut->cut_band_state();
     if (!tools_.empty()) c.blade_sides = cut->blade_sides();
+    if (!tools_.empty()) c.blades_cutting = cut->blades_cutting();
   }
   if (has_grasper(scene_))
     c.grips = need(solver_.tools(), solver_, "hold a grasper's grip").grips();

@@ -117,6 +117,14 @@ class CpuBackend final : public SolverWithAllFacets {
   void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) override {
     for (size_t t = 0; t < sides.size(); ++t) solver_->restore_blade_sides(t, sides[t]);
   }
+  std::vector<uint8_t> blades_cutting() override {
+    std::vector<uint8_t> on(solver_->tool_count());
+    for (size_t t = 0; t < on.size(); ++t) on[t] = solver_->blade_cutting(t) ? 1 : 0;
+    return on;
+  }
+  void restore_blades_cutting(const std::vector<uint8_t>& on) override {
+    for (size_t t = 0; t < on.size(); ++t) solver_->restore_blade_cutting(t, on[t] != 0);
+  }
 
  private:
   int threads_;

@@ -327,6 +327,7 @@ void CpuSolver<Real>::set_tools(const std::vector<ContactTool>& tools) {
   for (const ContactTool& t : tools_) grasping_ = grasping_ || t.grasp.grasps();
   grips_.assign(tools_.size(), Grip{});
   blade_side_.assign(cutting_ ? 2 * tools_.size() * size() : 0, 0u);
+  blade_cutting_.assign(tools_.size(), 0);
   motion_.clear();
   motion_step_ = 0;
   candidates_.clear();

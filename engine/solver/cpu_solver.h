@@ -112,6 +112,10 @@ class CpuSolver {
   size_t tool_count() const { return tools_.size(); }
   std::vector<BladeSide> blade_sides(size_t tool) const;
   void restore_blade_sides(size_t tool, const std::vector<BladeSide>& sides);
+  // Whether the tool's blade is in the cutting state (docs/cutting.md, "Rupture and the cutting
+  // state"): it passed its threshold and has advanced through tissue in every substep since.
+  bool blade_cutting(size_t tool) const;
+  void restore_blade_cutting(size_t tool, bool on);
 
   // Takes the phyxels out of the physics (Solver::remove_phyxels): flags them kRemoved, sets
   // the weight of every pair touching them to 0 on both sides, reruns the precompute of their
@@ -256,7 +260,8 @@ class CpuSolver {
   // [tool][phyxel] side entries (cutting.h, side_entry), then [tool][phyxel] the normals they
   // were learned on (pack_side_normal), as the GPU's side buffer.
   std::vector<uint32_t> blade_side_;
-  uint32_t cut_pass_ = 0;  // substeps counted for the side entries
+  uint32_t cut_pass_ = 0;               // substeps counted for the side entries
+  std::vector<uint8_t> blade_cutting_;  // per tool: in the cutting state
 
   // The SCNI band: its cells and quads (double), and the boxes in Real with their stress.
   struct BandBox {

@@ -59,7 +59,13 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   const double reach = blade_reach(blade, contact_spacing_);
   const CutQuad quad = swept_quad(blade, m.from, m.to, reach);
   const size_t nt = tools_.size();
-  const bool cuts = cut_force(samples_[samples_.size() - nt + tool].force, quad) >= blade.threshold;
+  // A blade in the cutting state goes on cutting while it advances (docs/cutting.md, "Rupture and
+  // the cutting state").
+  const bool advances = blade_advances(quad, m.from, m.to);
+  const bool cuts =
+      cut_force(samples_[samples_.size() - nt + tool].force, quad) >= blade.threshold ||
+      (blade_cutting_[tool] && advances);
+  bool in_tissue = false;  // the blade crosses a pair (severed or not) in this substep
   const double body = blade_body_radius(tools_[tool]);
   const double band = side_band(body, contact_spacing_);  // where a kept side still holds
   const EdgeFrame edge = edge_frame(blade, quad, m.to, body, reach);
@@ -69,6 +75,7 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
   // One side per phyxel for blades with a threshold only (docs/cutting.md: at 0 it kept
   // breast_resection's cone joined at its apex, where the blade's plane turns about phyxels).
   const bool sided = blade.threshold > 0;
+  blade_cutting_[tool] = 0;
   if (!cuts && !resists && !sided) return;
   const std::array<Vec3, 4>& c = quad.corner;
   const std::array<Vec3, 4> strip = body_strip(blade, m.to, quad.edge, body);
@@ -96,6 +103,7 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
       // The canonical order (lower index first): both sides of a pair decide alike.
       double t = 0;
       const bool crosses = i < j ? crosses_blade(xi, xj, &t) : crosses_blade(xj, xi, &t);
+      in_tissue = in_tissue || crosses;
       if (!crosses || (sided && !sides_allow(side_i, side_held(tool, j, xj, edge, cut_pass_, band),
                                              edge.normal, xi, xj)))
         continue;
@@ -111,6 +119,7 @@ void CpuSolver<Real>::cut_with_blade(size_t tool, std::vector<uint32_t>& touched
     // Learned in this pass (no reader needs it before the next): the plane it was learned on.
     if (start == kSideNone && after != kSideNone) learned[i] = pack_side_normal(edge.normal);
   }
+  blade_cutting_[tool] = blade.threshold > 0 && cuts && advances && in_tissue;
   // The band looks across the surface the blade cut (the quad; its body's strip lies in it),
   // not at pairs only carried past the reach.
   if (cuts && band_.on() && !candidates_.empty()) band_.add_cut(c, reach);
@@ -274,6 +283,20 @@ void CpuSolver<Real>::restore_blade_sides(size_t tool, const std::vector<BladeSi
 }
 
 template <class Real>
+bool CpuSolver<Real>::blade_cutting(size_t tool) const {
+  return tool < blade_cutting_.size() && blade_cutting_[tool] != 0;
+}
+
+template <class Real>
+void CpuSolver<Real>::restore_blade_cutting(size_t tool, bool on) {
+  if (tool >= tools_.size() ||
+      (on && !(tools_[tool].blade.cuts() && tools_[tool].blade.threshold > 0)))
+    throw std::invalid_argument("restore_blade_cutting: tool " + std::to_string(tool) +
+                                " has no blade with a threshold");
+  blade_cutting_[tool] = on ? 1 : 0;
+}
+
+template <class Real>
 void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
   std::vector<uint32_t> touched;
   for (const uint32_t i : ids) {
@@ -302,6 +325,8 @@ void CpuSolver<Real>::remove_phyxels(const std::vector<uint32_t>& ids) {
   template void CpuSolver<Real>::cut_with_blade(size_t, std::vector<uint32_t>&);                \
   template std::vector<BladeSide> CpuSolver<Real>::blade_sides(size_t) const;                   \
   template void CpuSolver<Real>::restore_blade_sides(size_t, const std::vector<BladeSide>&);    \
+  template bool CpuSolver<Real>::blade_cutting(size_t) const;                                   \
+  template void CpuSolver<Real>::restore_blade_cutting(size_t, bool);                           \
   template EdgeFrame CpuSolver<Real>::substep_edge(size_t) const;                               \
   template std::vector<Vec3> CpuSolver<Real>::blade_side_normals() const;                       \
   template Vec3 CpuSolver<Real>::kept_side(size_t, uint32_t, const Vec3&) const;                \

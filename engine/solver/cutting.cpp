@@ -64,6 +64,16 @@ EdgeFrame edge_frame(const Blade& blade, const CutQuad& quad, const ToolPose& to
   f.stiffness = blade.threshold > 0 && quad.sideways ? blade.stiffness : 0.0;
   f.tip_motion = quad.tip_moved;
   f.end_motion = quad.end_moved;
+  if (quad.sideways) return f;
+  // A stab: the point's frame. The body's width across the blade's plane is the "blade", its
+  // tip the front, pushed along -axis; the plane (its normal) is the same.
+  const double advance = (quad.corner[0] - to.position).dot(to.axis);
+  f.tip = to.position - radius * quad.edge;
+  f.axis = quad.edge;
+  f.edge = -to.axis;
+  f.length = 2 * radius;
+  f.stiffness = blade.threshold > 0 && advance > 0 && radius > 0 ? blade.stiffness : 0.0;
+  f.tip_motion = f.end_motion = advance;
   return f;
 }
 
@@ -101,6 +111,10 @@ bool edge_crossing(const Vec3& p, const Vec3& q, const EdgeFrame& f, EdgeCrossin
 }
 
 }  // namespace
+
+bool blade_advances(const CutQuad& quad, const ToolPose& from, const ToolPose& to) {
+  return quad.sideways || (to.position - from.position).dot(to.axis) < 0;  // the tip leads
+}
 
 bool edge_holds(const Vec3& p, const Vec3& q, const EdgeFrame& f, double* t, double* delta,
                 double* direction) {

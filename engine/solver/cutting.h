@@ -52,6 +52,12 @@ CutQuad swept_quad(const Blade& blade, const ToolPose& from, const ToolPose& to,
 // How far ahead a blade's quad reaches: its own reach, else the object's spacing.
 double blade_reach(const Blade& blade, double spacing);
 
+// Whether the blade advances in a substep from `from` to `to`: it moves across its axis (the
+// quad's edge is its motion), or along it tip first (a stab: against the axis, which runs from
+// the tip to the handle). A blade that stops or is drawn back along its axis does not (the
+// cutting state ends; docs/cutting.md, "Rupture and the cutting state").
+bool blade_advances(const CutQuad& quad, const ToolPose& from, const ToolPose& to);
+
 // The force pressing the edge into the tissue for a force `on_tool` (N) felt by the tool: its
 // component against the edge, max(0, -on_tool . edge).
 double edge_force(const Vec3& on_tool, const Vec3& edge);
@@ -91,8 +97,11 @@ bool blade_severs(const Eigen::Matrix<Real, 3, 1>& p, const Eigen::Matrix<Real, 
 double crossing_tie_distance(const Vec3& p, const Vec3& q, const std::array<Vec3, 4>& quad);
 
 // The edge's resistance (docs/cutting.md, "The edge's resistance"): a blade with a threshold
-// that moves sideways is held back by the live pairs its edge has passed. A pair (i, j) whose
-// segment crosses the blade's plane (axis and edge at the substep's end pose) within the
+// that moves sideways is held back by the live pairs its edge has passed. In a stab (no sideways
+// motion, the tip leading) the point is, in the same frame turned: its "blade" the body's width
+// across the blade's plane (axis = the blade's edge, length 2 radius), its "edge" -axis, its front
+// the tip's cap, so the pairs the point has passed through push the tissue ahead of it. A pair (i,
+// j) whose segment crosses the blade's plane (axis and edge at the substep's end pose) within the
 // blade's length, delta behind the front of its body (0 < delta <= depth; the front lies the
 // body's radius ahead of the axis; behind against that point's motion), is pushed ahead along
 // its motion with stiffness * a_ij * delta

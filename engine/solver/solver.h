@@ -169,6 +169,10 @@ class Cutting {
   // blade), for checkpoints; restore_blade_sides puts them back after set_tools.
   virtual std::vector<std::vector<BladeSide>> blade_sides() = 0;
   virtual void restore_blade_sides(const std::vector<std::vector<BladeSide>>& sides) = 0;
+  // Per tool, 1 where its blade is in the cutting state (docs/cutting.md, "Rupture and the cutting
+  // state"), for checkpoints; restore_blades_cutting puts them back after set_tools.
+  virtual std::vector<uint8_t> blades_cutting() = 0;
+  virtual void restore_blades_cutting(const std::vector<uint8_t>& on) = 0;
 
  protected:
   ~Cutting() = default;

@@ -1,7 +1,7 @@
 // The edge's resistance (docs/cutting.md, "The edge's resistance"): a blade with a threshold is
 // held back by the pairs its edge has passed, feels their force, and severs them once its
-// cutting force reaches the threshold. The total does not depend on the spacing; at threshold 0
-// nothing changes.
+// cutting force reaches the threshold (then cuts on while it advances: the cutting state). The
+// total does not depend on the spacing; at threshold 0 nothing changes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -71,22 +71,81 @@ TEST(EdgeResistance, TheForceRisesWithTheEdgesAdvanceAndNothingSeparatesBelowThe
   EXPECT_LT(mean(blunt.force, 35, 55), 0.2 * mean(c.force, 35, 55));
 }
 
-// Above it, the blade separates tissue, only in substeps whose cutting force reaches the
-// threshold: the force builds up as the edge passes pairs, they are severed, and it builds up
-// again past the slit the quad cut ahead (one reach).
-TEST(EdgeResistance, ThePairsItHoldsAreSeveredOnceTheForcePassesTheThreshold) {
+// Above it (docs/cutting.md, "Rupture and the cutting state"): nothing separates until the
+// cutting force first reaches the threshold, the rupture; from then on the blade cuts in every
+// substep while it advances through the tissue, as at threshold 0, and what it feels falls back
+// below the threshold (the band it held is cut).
+TEST(EdgeResistance, TheTissueRupturesAtTheThresholdAndIsThenCutWhileTheBladeAdvances) {
   const Crossing held = cross_beam(100.0, kDefaultEdgeStiffness, 55);
   const double threshold = 0.5 * *std::max_element(held.force.begin(), held.force.end());
   const Crossing c = cross_beam(threshold, kDefaultEdgeStiffness, 130);
-  int cuts = 0;
-  for (size_t k = 0; k < c.force.size(); ++k) {
-    const size_t before = k > 0 ? c.severed[k - 1] : 0;
-    if (c.severed[k] == before) continue;
-    ++cuts;
-    EXPECT_GE(c.force[k], threshold) << k;
-  }
-  EXPECT_GE(cuts, 3);
+  const size_t rupture =
+      size_t(std::find_if(c.severed.begin(), c.severed.end(), [](size_t n) { return n > 0; }) -
+             c.severed.begin());
+  ASSERT_LT(rupture, 55u);
+  for (size_t k = 0; k < rupture; ++k) EXPECT_LT(c.force[k], threshold) << k;
+  EXPECT_GE(c.force[rupture], threshold);
+  EXPECT_LT(mean(c.force, rupture + 5, c.force.size()), threshold);
+  // The cut then runs on as at threshold 0: new pairs in as many steps, the whole crossing cut.
+  const Crossing zero = cross_beam(0.0, kDefaultEdgeStiffness, 130);
+  auto steps_cutting = [&](const Crossing& x) {
+    int n = 0;
+    for (size_t k = rupture + 1; k < x.severed.size(); ++k) n += x.severed[k] > x.severed[k - 1];
+    return n;
+  };
+  std::printf("[ resist   ] rupture at step %zu; steps severing after it: %d (threshold 0: %d)\n",
+              rupture, steps_cutting(c), steps_cutting(zero));
+  EXPECT_GE(10 * steps_cutting(c), 7 * steps_cutting(zero));
+  int below = 0;  // severing with the force under the threshold: the cutting state, not bursts
+  for (size_t k = rupture + 1; k < c.severed.size(); ++k)
+    below += c.severed[k] > c.severed[k - 1] && c.force[k] < threshold;
+  EXPECT_GE(below, 5);
   EXPECT_GT(c.severed.back(), 200u);
+  EXPECT_GT(double(c.severed.back()), 0.9 * double(zero.severed.back()));
+}
+
+// A blade that stops leaves the cutting state: moved on again, it deforms the tissue and cuts
+// nothing until its force reaches the threshold once more (a new rupture).
+TEST(EdgeResistance, ABladeThatStopsNeedsItsThresholdAgain) {
+  const Crossing held = cross_beam(100.0, kDefaultEdgeStiffness, 55);
+  const double threshold = 0.5 * *std::max_element(held.force.begin(), held.force.end());
+  Scene scene = test::clamped_beam(5e4, 5);
+  scene.simulation.gravity = Vec3::Zero();
+  ToolDesc blade = test::crossing_scalpel(0.021, -0.003, 0.016, 0.0, 0.016, threshold);
+  const Vec3 a = blade.path[0].position, b = blade.path[1].position;
+  const Vec3 stop = a + 0.45 * (b - a);  // 4.2 mm into the beam, moving at 1 mm/ms
+  blade.path = {{0.0, a, Vec3::UnitZ()},
+                {0.0072, stop, Vec3::UnitZ()},
+                {0.0172, stop, Vec3::UnitZ()},
+                {0.0260, b, Vec3::UnitZ()}};
+  scene.tools.push_back(blade);
+  const PhyxelSet set = sample_scene(scene);
+  CpuSolver<double> solver(set, scene.simulation.gravity);
+  ToolStepper<double> run(solver, scene.tools, scene.simulation.dt);
+  const int stopped = int(std::ceil(0.0075 / scene.simulation.dt));
+  const int moving = int(std::ceil(0.0175 / scene.simulation.dt));
+  const int steps = int(std::ceil(0.026 / scene.simulation.dt));
+  std::vector<double> force;
+  std::vector<size_t> severed;
+  for (int k = 0; k < steps; ++k) {
+    run.run(1);
+    force.push_back(edge_force(solver.tool_samples().back().force, Vec3::UnitY()));
+    severed.push_back(solver.severed_count());
+    if (k == stopped + 2) {
+      EXPECT_FALSE(solver.blade_cutting(0));  // stopped: the state ended
+    }
+  }
+  ASSERT_GT(severed[size_t(stopped)], 0u);  // it ruptured before the stop
+  // Moving again: the first step that severs has reached the threshold, after at least one
+  // that pressed the tissue without cutting.
+  size_t again = size_t(moving);
+  while (again < severed.size() && severed[again] == severed[again - 1]) ++again;
+  ASSERT_LT(again, severed.size());
+  EXPECT_GT(again, size_t(moving));
+  EXPECT_GE(force[again], threshold);
+  EXPECT_GT(force[again - 1], 0.0);
+  EXPECT_LT(force[again - 1], threshold);
+  EXPECT_TRUE(solver.blade_cutting(0) || severed.back() > severed[again]);
 }
 
 // At threshold 0 the blade cuts whenever it moves through tissue and holds nothing: the edge's

@@ -74,14 +74,19 @@ Stab stab_block(double k, double threshold) {
   return out;
 }
 
-// Below the threshold the point only pushes: the tissue ahead of it deforms, but no phyxel is
-// carried on it to the base (the site 0.12 mm from the axis rode 15 mm on the cap, inside its
-// friction cone, and its neighbour ran away at 16 m/s); the run stays slow.
+// Below the threshold the point only pushes: the tissue ahead of it deforms (the pairs it has
+// passed hold it, "The point's resistance") until the rupture, but no phyxel is carried on it to
+// the base (the site 0.12 mm from the axis rode 15 mm on the cap, inside its friction cone, and
+// its neighbour ran away at 16 m/s); the run stays below the speed of sound. Measured: 4.1 m/s,
+// 5.7 mm carried, the point reaching 0.064 N (without the point's resistance the bounds were
+// 2 m/s and 5 mm, and the stab cut nothing before the blade turned).
 TEST(StabPoint, CarriesNoPhyxelToTheBase) {
   const Stab s = stab_block(2.0, 0.05);
   EXPECT_TRUE(s.finite);
-  EXPECT_LT(s.max_speed, 2.0);      // m/s: below the p-wave speed of 4.8 m/s
-  EXPECT_LT(s.max_carried, 0.005);  // m: the site 0.12 mm from the axis starts 10 mm above
+  EXPECT_LT(s.max_speed, 4.8);      // m/s: the p-wave speed
+  EXPECT_LT(s.max_carried, 0.008);  // m: the site 0.12 mm from the axis starts 10 mm above
+  EXPECT_GE(s.max_force, 0.05);     // the point's force reached the threshold: it ruptured
+  EXPECT_GT(s.severed, 50u);        // and cut on down the stab
 }
 
 // The figures of docs/cutting.md (the stab at each spacing and threshold); prints only.

@@ -409,6 +409,45 @@ TEST_F(GpuSolverTest, ABladeKeepsEachPhyxelOnOneSideAsTheCpuDoes) {
   }
 }
 
+// The cutting state (docs/cutting.md, "Rupture and the cutting state"): a blade at 0.02 N along
+// the block, stopped half-way for 30 ms and moved on, ruptures the tissue, cuts while it moves,
+// leaves the state when it stops and ruptures again. Both solvers sever the same pairs and are in
+// the same state stopped and moving; the state comes back as it was put.
+TEST_F(GpuSolverTest, ABladesRuptureAndCuttingStateMatchTheCpu) {
+  const Scene scene = sided_block(Vec3(-0.008, -0.00398, 0), Vec3(0.008, 0.00402, 0.008),
+                                  {{0.0, Vec3(-0.012, 0, 0.003), Vec3::UnitZ()},
+                                   {0.04, Vec3(-0.004, 0, 0.003), Vec3::UnitZ()},
+                                   {0.07, Vec3(-0.004, 0, 0.003), Vec3::UnitZ()},
+                                   {0.12, Vec3(0.004, 0, 0.003), Vec3::UnitZ()}},
+                                  Vec3::UnitX());
+  const PhyxelSet set = sample_scene(scene);
+  std::vector<size_t> severed;
+  std::vector<uint8_t> cutting;
+  for (const int64_t steps : {200, 360, 420, 480}) {  // 48 ms: stopped; then moving again
+    auto cpu = make_cpu_solver(set, scene.simulation.gravity, 1);
+    GpuSolver gpu(ctx(), set, scene.simulation.gravity);
+    const CutRun c = run(*cpu, scene, steps, 40);
+    const CutRun g = run(gpu, scene, steps, 40);
+    EXPECT_EQ(pair_set(g.severed), pair_set(c.severed)) << steps;
+    const std::vector<uint8_t> state = cpu->cutting()->blades_cutting();
+    EXPECT_EQ(gpu.blades_cutting(), state) << steps;
+    ASSERT_EQ(state.size(), 1u);
+    severed.push_back(c.severed.size());
+    cutting.push_back(state[0]);
+  }
+  std::printf("[ rupture  ] pairs %zu %zu %zu %zu, cutting %d %d %d %d\n", severed[0], severed[1],
+              severed[2], severed[3], cutting[0], cutting[1], cutting[2], cutting[3]);
+  EXPECT_GT(severed[0], 20u);         // ruptured and cut before the stop
+  EXPECT_EQ(cutting[0], 0);           // stopped: out of the cutting state
+  EXPECT_GT(severed[3], severed[0]);  // moved on: ruptured again and cut
+  EXPECT_TRUE(cutting[1] || cutting[2] || cutting[3]);
+  GpuSolver resumed(ctx(), set, scene.simulation.gravity);
+  resumed.set_tools(contact_tools(scene.tools));
+  EXPECT_EQ(resumed.blades_cutting(), std::vector<uint8_t>{0});
+  resumed.restore_blades_cutting({1});
+  EXPECT_EQ(resumed.blades_cutting(), std::vector<uint8_t>{1});
+}
+
 // A blade that keeps sides turned along an arc (radius 5.1 mm, 115 degrees of it about a
 // vertical axis in 400 steps): its plane turns under the phyxels beside the arc, which stay
 // candidates for tens of degrees, so their sides lapse once it has turned past kSideTurn from

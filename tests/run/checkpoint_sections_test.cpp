@@ -71,6 +71,7 @@ TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
   c.flags = {0, 0};
   c.severed = {{0, 1, 0.25f, false}, {0, 1, 0.5f, true}};
   c.blade_sides = {{{1, kSideMinus}}};
+  c.blades_cutting = {1};
   const fs::path file = dir / kCheckpointFile;
   write_checkpoint(file, c);
   const std::string bytes = read_text(file);
@@ -101,10 +102,15 @@ TEST(Checkpoint, CorruptSurgerySectionsNameTheFile) {
                 file.string() + ": corrupt checkpoint: side normals for 2 tools, sides for 1", 0),
             0u)
       << normals;
-  for (const std::string& m : {side, torn, normals})
+  // The first blade's cutting state, after the array's count.
+  const std::string state = refusal(section_at(bytes, checkpoint_format::kBladeCutting) + 8, 7);
+  EXPECT_EQ(state.rfind(file.string() + ": corrupt checkpoint: cutting state 7 for tool 0", 0), 0u)
+      << state;
+  for (const std::string& m : {side, torn, normals, state})
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   write_bytes(file, bytes);
   EXPECT_EQ(read_checkpoint(file).blade_sides.at(0).at(0).side, kSideMinus);
+  EXPECT_EQ(read_checkpoint(file).blades_cutting, std::vector<uint8_t>{1});
 }
 
 // Checkpoint bytes without the sections `tags` (header count, length and checksum made right).

@@ -293,6 +293,10 @@ TEST(Checkpoint, ScalpelResumeKeepsTheCutsOnTheCpuAndTheGpu) {
   EXPECT_GT(at_100.blade_sides[0].size(), 0u);
   for (const BladeSide& b : at_100.blade_sides[0])  // with the plane learned on (normal +y)
     EXPECT_GT(std::abs(unpack_side_normal(b.normal).y()), 0.9999) << "phyxel " << b.phyxel;
+  // ... and the blade's cutting state (docs/cutting.md, "Rupture and the cutting state"): at the
+  // end, out of the block, it has left it; at step 100 it was cutting, and the run resumed there
+  // without it pressed without cutting until a new rupture and parted from the plain one.
+  EXPECT_EQ(at_100.blades_cutting, std::vector<uint8_t>{0});
   std::string why;
   const std::optional<std::string> gpu_args = gpu_device_args(why);
   if (!gpu_args) GTEST_SKIP() << why;
