@@ -66,7 +66,7 @@ void GpuSolver::prepare_cutting() {
 // The side entries [tool][phyxel], then the normals they were learned on, then two words per
 // tool for the blade's cutting state (blade_edge.glsl).
 void GpuSolver::prepare_blade_sides() {
-  const uint64_t entries = 2 * (uint64_t{count_} + 1) * tools_.size() + 1;
+  const uint64_t entries = std::max<uint64_t>(1, 2 * (uint64_t{count_} + 1) * tools_.size());
   cut_sides_ =
       Buffer(*ctx_, entries * sizeof(uint32_t), MemoryIntent::Device, "blade side entries");
   upload(*ctx_, cut_sides_, std::vector<uint32_t>(entries, 0u));
@@ -114,8 +114,8 @@ void GpuSolver::restore_blade_sides(const std::vector<std::vector<BladeSide>>& k
   upload(*ctx_, cut_sides_, entries);
 }
 
-// Where the next pass (cut_pass_ + 1) reads a blade's cutting state (blade_state_index), and
-// the word that says it is on.
+// Where the next pass (cut_pass_ + 1) reads a blade's cutting state (blade_state_index): the
+// word after the side entries and normals; it holds cut_pass_ + 1 where the state is on.
 uint64_t GpuSolver::blade_state_word(size_t tool) const {
   return 2 * (uint64_t{count_} * tools_.size() + tool) + (cut_pass_ & 1u);
 }
@@ -123,11 +123,8 @@ uint64_t GpuSolver::blade_state_word(size_t tool) const {
 std::vector<uint8_t> GpuSolver::blades_cutting() {
   settle();
   std::vector<uint8_t> on(tools_.size(), 0);
-  if (!cutting_) return on;
-  const std::vector<uint32_t> words = download<uint32_t>(*ctx_, cut_sides_, 2 * tools_.size(),
-                                                         2 * uint64_t{count_} * tools_.size() * 4);
-  for (size_t t = 0; t < on.size(); ++t)
-    on[t] = words[blade_state_word(t) - 2 * uint64_t{count_} * tools_.size()] == cut_pass_ + 1u;
+  for (size_t t = 0; t < on.size() && cutting_; ++t)
+    on[t] = download<uint32_t>(*ctx_, cut_sides_, 1, blade_state_word(t) * 4)[0] == cut_pass_ + 1u;
   return on;
 }
 

@@ -296,17 +296,15 @@ void claim_pair(uint i, uint j, uint k, float t) {
 // it or the invocation of its other side claimed it first (the atomic exchange of the lower
 // index's slot). Returns the side it cuts i to (kSideNone if the blade does not take it); a
 // pair severed before counts, so the side does not depend on which invocation ran first.
-uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k) {
+// crossed: set where the blade crosses the pair, whatever the sides (it is in tissue).
+uint sever_pair(uint tool, CutQuad quad, uint i, vec3 xi, uint k, inout bool crossed) {
   const bool sided = quad.edge.w > 0.0;
   if (!sided && pair_weight_bits(k) == 0u) return kSideNone;
   const uint j = nbr_index(k);
   const vec3 xj = rest[j].xyz - p.origin.xyz + disp[j].xyz;
   float t;
   if (!blade_crosses(quad, tool, xi, i, xj, j, t)) return kSideNone;
-  // In tissue, cutting and advancing: the blade stays in the cutting state (every writer the
-  // same word, read by the next pass).
-  if (sided && quad.frame_edge.w > 0.0 && blade_cuts(tool, quad))
-    sides[blade_state_index(tool, p.tools, p.phyxels, p.pass & 1u)] = p.pass + 1u;
+  crossed = true;
   if (!sides_let(quad, tool, i, xi, j, xj)) return kSideNone;
   const uint side =
       sided ? side_from(normalize(cross(quad.axis.xyz, quad.edge.xyz)), xi, xj) : kSideNone;
@@ -348,11 +346,16 @@ void sever_candidate(uint i, uint lane, uint lanes, bool severing) {
     const uint start = sided ? side_at_start(sides[tool * p.phyxels + i], p.pass) : kSideNone;
     const uint side_i = sided ? side_of(tool, quad, i, xi) : kSideNone;
     uint cut_to = kSideNone;
+    bool crossed = false;
     if (severing && tool_severs(quad, blade_cuts(tool, quad)))
       for (uint k = offset[i] + lane; k < end; k += lanes)
-        cut_to |= sever_pair(tool, quad, i, xi, k);
-    if (sided)  // every substep: the side stays kept
-      merge_side(tool, i, start, side_i, cut_to, edge_frame(quad).normal);
+        cut_to |= sever_pair(tool, quad, i, xi, k, crossed);
+    if (!sided) continue;
+    merge_side(tool, i, start, side_i, cut_to, edge_frame(quad).normal);  // every substep
+    // In tissue, cutting and advancing: the blade stays in the cutting state (every lane that
+    // crossed a pair writes the same word, which the next pass reads).
+    if (crossed && quad.frame_edge.w > 0.0 && blade_cuts(tool, quad))
+      sides[blade_state_index(tool, p.tools, p.phyxels, p.pass & 1u)] = p.pass + 1u;
   }
 }
 
