@@ -140,7 +140,7 @@ RunLoop::RunLoop(const Scene& scene, const PhyxelSet& set, Solver& solver,
       set_(set),
       solver_(solver),
       options_(options),
-      tools_(scene.tools, options.tool_pose),
+      tools_(scene.tools, options.tool_pose, live_tool_speeds(scene)),
       aspirator_(scene, set) {
   result_.plan = plan_time_step(scene, set);
   total_ = options.steps;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -223,6 +224,30 @@ inline double volume_stiffness(const Material& m) {
 // P-wave speed c_p = sqrt((lambda + 2 mu) / rho).
 inline double p_wave_speed(const Material& m) {
   return std::sqrt((lame_lambda(m) + 2 * lame_mu(m)) / m.density);
+}
+
+// A haptic tool's default top speed in simulated time, as a share of the slowest p-wave speed
+// of the scene's tissue (docs/haptics.md, "Speed"): a probe driven into brain at 0.1 c_p moves
+// no phyxel faster than itself; at 0.3 c_p the run turns unstable.
+inline constexpr double kLiveSpeedPerWave = 0.1;
+
+// The top speed of `tool` under haptic control (m/s, simulated time): its coupling's
+// max_speed, else kLiveSpeedPerWave times the slowest p-wave speed of the scene's objects and
+// inclusions (infinite in a scene without tissue).
+inline double live_tool_speed(const Scene& scene, const ToolDesc& tool) {
+  if (tool.coupling.max_speed > 0) return tool.coupling.max_speed;
+  double slowest = std::numeric_limits<double>::infinity();
+  for (const ObjectDesc& o : scene.objects) {
+    slowest = std::min(slowest, p_wave_speed(o.material));
+    for (const Inclusion& inc : o.inclusions)
+      slowest = std::min(slowest, p_wave_speed(inc.material));
+  }
+  return kLiveSpeedPerWave * slowest;
+}
+inline std::vector<double> live_tool_speeds(const Scene& scene) {
+  std::vector<double> speeds;
+  for (const ToolDesc& t : scene.tools) speeds.push_back(live_tool_speed(scene, t));
+  return speeds;
 }
 
 }  // namespace phyxel

@@ -32,7 +32,8 @@ constexpr std::string_view kSuctionExpected =
 constexpr std::string_view kGraspExpected =
     "a grasp object {\"reach\": m, \"from\": s, \"until\": s}";
 constexpr std::string_view kCouplingExpected =
-    "a coupling object {\"stiffness\": N/m, \"damping\": N s/m, \"mass\": kg, \"max_force\": N}";
+    "a coupling object {\"stiffness\": N/m, \"damping\": N s/m, \"mass\": kg, \"max_force\": N, "
+    "\"max_speed\": m/s}";
 
 // Coulomb coefficients of instruments on tissue are well below 1; above this a value is a typo.
 constexpr double kMaxFriction = 10;
@@ -173,12 +174,14 @@ std::vector<ToolKey> read_path(const Node& node) {
 }
 
 CouplingSettings read_coupling(const Node& node) {
-  node.expect_object(kCouplingExpected, {"stiffness", "damping", "mass", "max_force"});
+  node.expect_object(kCouplingExpected, {"stiffness", "damping", "mass", "max_force", "max_speed"});
   CouplingSettings c;
   c.stiffness = node.number_or("stiffness", c.stiffness, Limits::above(0), "N/m");
   c.damping = node.number_or("damping", c.damping, Limits::at_least(0), "N s/m");
   c.mass = node.number_or("mass", c.mass, Limits::above(0), "kg");
   c.max_force = node.number_or("max_force", c.max_force, Limits::above(0), "N");
+  if (const auto speed = node.find("max_speed"))
+    c.max_speed = speed->number(Limits::above(0), "m/s");
   return c;
 }
 

@@ -60,6 +60,8 @@ struct CouplingSettings {
   double damping = 0;      // N s/m; 0: critical for `mass`
   double mass = 0.02;      // kg, the simulated tool's mass in the haptic loop
   double max_force = 8;    // N, the force sent to the hand is clamped to this
+  // m/s in simulated time, the simulated tool's top speed; 0: the scene's (live_tool_speed).
+  double max_speed = 0;
 };
 
 struct ToolDesc {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +58,8 @@ HapticLoop::HapticLoop(std::shared_ptr<HapticDevice> device, const CouplingSetti
       b_(coupling.damping),
       m_(coupling.mass),
       max_force_(coupling.max_force),
+      max_speed_(coupling.max_speed > 0 ? coupling.max_speed
+                                        : std::numeric_limits<double>::infinity()),
       settings_(settings),
       x_t_(initial.position),
       axis_(initial.axis.normalized()) {
@@ -72,6 +75,10 @@ HapticLoop::HapticLoop(std::shared_ptr<HapticDevice> device, const CouplingSetti
   if (!(b_ >= 0) || !std::isfinite(b_)) {
     throw std::invalid_argument("haptic loop: coupling damping must be >= 0 N s/m, got " +
                                 std::to_string(b_));
+  }
+  if (!(coupling.max_speed >= 0)) {
+    throw std::invalid_argument("haptic loop: coupling max_speed must be >= 0 m/s, got " +
+                                std::to_string(coupling.max_speed));
   }
   if (!(max_force_ > 0)) {
     throw std::invalid_argument("haptic loop: coupling max_force must be > 0 N, got " +
@@ -260,6 +267,10 @@ void HapticLoop::tick(double now) {
       const Vec3 x_di = had_device ? x_d_start + (x_d - x_d_start) * (double(i + 1) / n) : x_d;
       const Vec3 f_c = k_ * (x_di - x_t_) + b_ * (v_d_ - v_t_);
       v_t_ += h * (f_c + f_tissue) / m_;
+      // The tool's top speed (simulated time): beyond it the tissue cannot follow; the tool
+      // lags its device and the hand feels the stretched spring.
+      const double speed = v_t_.norm();
+      if (speed > max_speed_) v_t_ *= max_speed_ / speed;
       x_t_ += h * v_t_;
       sum += f_c;
     }

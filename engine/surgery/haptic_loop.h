@@ -95,7 +95,8 @@ class HapticLoop {
  public:
   // `initial`: the simulated tool's pose before the device gives one (the tool's path start).
   // Throws std::invalid_argument on non-positive stiffness, mass, max_force or rate, or
-  // negative damping.
+  // negative damping or max_speed. A max_speed of 0 leaves the tool's speed unbounded
+  // (HapticSession passes the scene's, live_tool_speed).
   HapticLoop(std::shared_ptr<HapticDevice> device, const CouplingSettings& coupling,
              const ToolPose& initial, const HapticLoopSettings& settings = {});
   ~HapticLoop();
@@ -135,6 +136,7 @@ class HapticLoop {
 
   std::shared_ptr<HapticDevice> device_;
   double k_, b_, m_, max_force_;
+  double max_speed_;  // m/s, simulated time; infinite when the coupling gives 0
   HapticLoopSettings settings_;
 
   // The loop's own state (the ticking thread only).

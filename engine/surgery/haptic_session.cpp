@@ -72,10 +72,12 @@ HapticSession::~HapticSession() {
 
 void HapticSession::add(const Scene& scene, size_t tool, std::shared_ptr<HapticDevice> device) {
   const ToolDesc& desc = scene.tools[tool];
+  CouplingSettings coupling = desc.coupling;
+  coupling.max_speed = live_tool_speed(scene, desc);  // the physics' ToolTrack caps it too
   loop_of_[tool] = static_cast<int>(loops_.size());
   loops_.push_back(
       {tool, desc.name,
-       std::make_unique<HapticLoop>(std::move(device), desc.coupling, pose_at(desc.path, 0.0))});
+       std::make_unique<HapticLoop>(std::move(device), coupling, pose_at(desc.path, 0.0))});
 }
 
 void HapticSession::start() {

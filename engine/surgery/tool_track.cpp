@@ -10,8 +10,9 @@
 
 namespace phyxel {
 
-ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source)
-    : tools_(tools), source_(std::move(pose_source)) {
+ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source,
+                     std::vector<double> live_speeds)
+    : tools_(tools), source_(std::move(pose_source)), live_speeds_(std::move(live_speeds)) {
   for (const ToolDesc& t : tools_) {
     last_.push_back(pose_at(t.path, 0.0));
     stats_.push_back({t.name, Vec3::Zero(), 0, 0, 0, 0});
@@ -21,6 +22,10 @@ ToolTrack::ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source)
   commands_.resize(tools_.size());
   if (live() && !source_)
     throw std::invalid_argument("ToolTrack: a haptic tool needs a pose source");
+  if (live() && live_speeds_.size() != tools_.size())
+    throw std::invalid_argument("ToolTrack: a haptic tool needs its top speed");
+  for (double v : live_speeds_)
+    if (!(v > 0)) throw std::invalid_argument("ToolTrack: a live tool's top speed must be > 0");
 }
 
 bool ToolTrack::live() const {
@@ -42,11 +47,12 @@ std::vector<ToolMotion> ToolTrack::motions(int64_t first, int64_t count, double 
     const ToolPose start = last_[t];
     ToolPose target = live_tool ? source_(t, double(first + count) * dt) : ToolPose{};
     if (live_tool) {
-      // A live tool moves at most kMaxLiveSpeed in simulated time: when the physics runs
-      // slower than real time, a device moved at a hand's speed would otherwise drive the tool
-      // through the tissue many times faster in simulated time; the simulated tool lags.
+      // A live tool moves at most its live speed in simulated time: when the physics runs
+      // slower than real time, or stalls while the haptic loop runs on, a device moved at a
+      // hand's speed would otherwise drive the tool through the tissue many times faster in
+      // simulated time; the simulated tool lags.
       const Vec3 move = target.position - start.position;
-      const double limit = kMaxLiveSpeed * double(count) * dt;
+      const double limit = live_speeds_[t] * double(count) * dt;
       if (move.norm() > limit) target.position = start.position + move * (limit / move.norm());
     }
     ToolPose from = start;

@@ -59,9 +59,12 @@ struct ToolStepRecord {
 class ToolTrack {
  public:
   // pose_source(tool, t): the pose of a tool that is not path-driven ("control": "haptic") at
-  // simulated time t; may be empty when no tool needs it (paths are used).
+  // simulated time t; may be empty when no tool needs it (paths are used). `live_speeds`: per
+  // tool, the top speed of a live one (m/s, simulated time; live_tool_speeds in
+  // engine/scene/scene.h), needed when a tool is live.
   using PoseSource = std::function<ToolPose(size_t tool, double t)>;
-  ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source);
+  ToolTrack(const std::vector<ToolDesc>& tools, PoseSource pose_source,
+            std::vector<double> live_speeds = {});
 
   bool empty() const { return tools_.empty(); }
   const ToolShape& shape(size_t tool) const { return tools_[tool].shape; }
@@ -72,8 +75,7 @@ class ToolTrack {
   // The motions of every tool over the substeps [first, first + count) of size dt (count x
   // tools, row-major by substep). Path tools: exactly their path at the substep boundaries.
   // Live tools: from the pose the last chunk ended at to the source's pose now, linearly, at
-  // most kMaxLiveSpeed in simulated time (a slow simulation's tool lags its device).
-  static constexpr double kMaxLiveSpeed = 1.0;  // m/s
+  // most their live speed in simulated time (a slow simulation's tool lags its device).
   std::vector<ToolMotion> motions(int64_t first, int64_t count, double dt);
 
   // Bounds of every tool over simulated time [from, to]: its pose now, its path's keys in
@@ -109,6 +111,7 @@ class ToolTrack {
 
   std::vector<ToolDesc> tools_;
   PoseSource source_;
+  std::vector<double> live_speeds_;  // m/s, per tool
   std::vector<ToolPose> last_;       // end pose of the last chunk
   std::vector<ToolMotion> motions_;  // of the last chunk
   std::vector<ToolRunStats> stats_;

@@ -132,6 +132,35 @@ TEST(HapticCoupling, FollowsAMovingDeviceAndStopsWithLittleOvershoot) {
   EXPECT_LT((loop.tool_pose().axis - Vec3::UnitX()).norm(), 1e-12);
 }
 
+// A device 5 cm away at once: the tool goes there at its top speed, no faster, and the hand
+// feels the stretched spring meanwhile; a max_speed of 0 leaves the speed unbounded.
+TEST(HapticCoupling, TheToolMovesNoFasterThanItsTopSpeed) {
+  CouplingSettings c = coupling();
+  c.max_speed = 0.1;
+  const Vec3 target(0, 0, -0.05);
+  HapticLoop loop(still_device(target), c, ToolPose{});
+  double fastest = 0, largest_hand_force = 0;
+  for (int i = 0; i < 1000; ++i) {
+    loop.tick(i * kTick);
+    fastest = std::max(fastest, loop.state().tool_velocity.norm());
+    largest_hand_force = std::max(largest_hand_force, loop.state().force_on_hand.norm());
+  }
+  EXPECT_NEAR(fastest, 0.1, 1e-12);
+  EXPECT_GT(largest_hand_force, 0.5 * c.stiffness * 0.05);  // most of k |x_d - x_t| at first
+  EXPECT_LT((loop.tool_pose().position - target).norm(), 1e-4);
+
+  c.max_speed = 0;
+  HapticLoop unbounded(still_device(target), c, ToolPose{});
+  fastest = 0;
+  for (int i = 0; i < 100; ++i) {
+    unbounded.tick(i * kTick);
+    fastest = std::max(fastest, unbounded.state().tool_velocity.norm());
+  }
+  EXPECT_GT(fastest, 1.0);
+  c.max_speed = -1;
+  EXPECT_THROW(HapticLoop(still_device(target), c, ToolPose{}), std::invalid_argument);
+}
+
 TEST(HapticCoupling, TheHandFeelsAConstantTissueForce) {
   const CouplingSettings c = coupling();
   auto device = still_device(Vec3(0, 0, 0.05));

@@ -113,6 +113,27 @@ TEST(SceneTools, Defaults) {
   EXPECT_EQ(t.coupling.damping, defaults.damping);
   EXPECT_EQ(t.coupling.mass, defaults.mass);
   EXPECT_EQ(t.coupling.max_force, defaults.max_force);
+  EXPECT_EQ(t.coupling.max_speed, 0.0);  // the scene's, from its tissue
+}
+
+// A haptic tool's top speed: its coupling's max_speed, else a tenth of the slowest p-wave speed
+// of the scene's objects and inclusions.
+TEST(SceneTools, LiveToolSpeedIsItsOwnOrATenthOfTheSlowestWave) {
+  json j = with_tools();
+  j["objects"][0]["material"] = json::parse(R"({"young": 3000, "poisson": 0.45, "density": 1040})");
+  j["objects"][0]["inclusions"] = json::parse(R"([{"name": "soft",
+    "shape": {"type": "sphere", "center": [0, 0, 0], "radius": 0.002},
+    "material": {"young": 1000, "poisson": 0.45, "density": 1040}}])");
+  Scene s = parse_scene(j.dump(), kFile);
+  const Material& soft = s.objects[0].inclusions[0].material;
+  EXPECT_LT(p_wave_speed(soft), p_wave_speed(s.objects[0].material));
+  EXPECT_NEAR(p_wave_speed(soft), 1.9098, 1e-4);  // sqrt((lambda + 2 mu) / rho)
+  EXPECT_DOUBLE_EQ(live_tool_speed(s, s.tools[1]), 0.1 * p_wave_speed(soft));
+  j["tools"][1]["coupling"]["max_speed"] = 0.05;
+  s = parse_scene(j.dump(), kFile);
+  EXPECT_DOUBLE_EQ(s.tools[1].coupling.max_speed, 0.05);
+  EXPECT_DOUBLE_EQ(live_tool_speed(s, s.tools[1]), 0.05);
+  EXPECT_EQ(live_tool_speeds(s).size(), s.tools.size());
 }
 
 TEST(SceneTools, HapticCouplingKeysDefaultOneByOne) {
@@ -544,7 +565,8 @@ TEST(SceneToolsErrors, UnknownCouplingKey) {
   const std::string msg = tools_error([](json& j) { j["tools"][1]["coupling"]["spring"] = 1; });
   expect_error(msg, "tools[1].coupling.spring",
                {"unknown key \"spring\"",
-                "allowed keys in tools[1].coupling: stiffness, damping, mass, max_force"});
+                "allowed keys in tools[1].coupling: stiffness, damping, mass, max_force, "
+                "max_speed"});
 }
 
 TEST(SceneToolsErrors, CouplingRanges) {
@@ -556,7 +578,8 @@ TEST(SceneToolsErrors, CouplingRanges) {
   for (const Case& c : {Case{"stiffness", 0, "allowed stiffness > 0 (N/m)"},
                         Case{"damping", -1, "allowed damping >= 0 (N s/m)"},
                         Case{"mass", 0, "allowed mass > 0 (kg)"},
-                        Case{"max_force", -2, "allowed max_force > 0 (N)"}}) {
+                        Case{"max_force", -2, "allowed max_force > 0 (N)"},
+                        Case{"max_speed", 0, "allowed max_speed > 0 (m/s)"}}) {
     const std::string msg =
         tools_error([&](json& j) { j["tools"][1]["coupling"][c.key] = c.value; });
     expect_error(msg, std::string("tools[1].coupling.") + c.key, {"is out of range", c.allowed});

@@ -1,6 +1,6 @@
 // ToolTrack::command (engine/surgery/tool_track.h): a tool taken off its path moves to the pose
 // it is given over the substeps it is given, linearly, then stays (the Python module's
-// set_tool_pose).
+// set_tool_pose); a live (haptic) tool follows its pose source no faster than its top speed.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -41,6 +41,28 @@ TEST(ToolCommand, MovesToThePoseOverItsSubstepsThenStays) {
   const Bounds b = track.swept_bounds(0.16, 0.19);
   EXPECT_LE(b.min.z(), 0.06 - 0.002 + 1e-15);
   EXPECT_GE(b.max.z(), 0.06 + 0.02);
+}
+
+// A pose source 3 cm away (a haptic loop run ahead of a stalled physics): the tool moves
+// 0.3 m/s x dt a substep toward it, then stays.
+TEST(ToolTrackLive, MovesNoFasterThanItsTopSpeed) {
+  ToolDesc hand = probe();
+  hand.control = ToolDesc::Control::Haptic;
+  const Vec3 device(0, 0, 0.02);
+  const auto source = [&](size_t, double) { return ToolPose{device, Vec3::UnitZ()}; };
+  EXPECT_THROW(ToolTrack({hand}, source), std::invalid_argument);  // no top speed
+  EXPECT_THROW(ToolTrack({hand}, source, {0.0}), std::invalid_argument);
+  ToolTrack track({hand}, source, {0.3});
+  const double dt = 0.01;
+  std::vector<ToolMotion> m = track.motions(0, 5, dt);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_NEAR(m[k].from.position.z() - m[k].to.position.z(), 0.3 * dt, 1e-15) << k;
+    EXPECT_EQ(m[k].to.axis, Vec3::UnitZ());
+  }
+  m = track.motions(5, 5, dt);  // 0.015 m left, 0.015 m of travel: arrives
+  EXPECT_NEAR(m.back().to.position.z(), 0.02, 1e-15);
+  m = track.motions(10, 2, dt);
+  EXPECT_EQ(m.back().to.position, device);
 }
 
 TEST(ToolCommand, UnknownToolIsRefused) {
