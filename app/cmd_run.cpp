@@ -143,6 +143,20 @@ void warn_dropped_senders(const HapticSession& haptics) {
   }
 }
 
+// Haptic tools held to their top speed (coupling.max_speed): they lagged their devices.
+void warn_speed_limited(const HapticSession& haptics) {
+  for (const HapticSession::ToolLoop& l : haptics.loops()) {
+    const HapticStats st = l.loop->stats();
+    if (st.speed_limited_ticks > 0)
+      std::fprintf(stderr,
+                   "phyxel run: tool '%s' was held to its top speed, %.3g m/s in simulated time, "
+                   "in %llu of %llu haptic ticks, lagging its device (coupling.max_speed, by "
+                   "default a tenth of the tissue's slowest p-wave speed: docs/haptics.md)\n",
+                   l.name.c_str(), st.top_speed, (unsigned long long)st.speed_limited_ticks,
+                   (unsigned long long)st.ticks);
+  }
+}
+
 // What `phyxel run` was asked on its command line.
 struct RunArgs {
   std::string scene_file, device, resume_dir, precision, render_mode, video, render_device;
@@ -466,6 +480,7 @@ RunResult RunCommand::run() {
   RunResult result = run_simulation(scene_, set_, *solver_, options_);
   haptics_->stop();
   warn_dropped_senders(*haptics_);
+  warn_speed_limited(*haptics_);
   if (trace_) {
     trace_->close();
     result.outputs.push_back("tools.csv");

@@ -5,6 +5,7 @@
 #include "engine/run/atomic_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -120,7 +121,10 @@ json haptics_json(const HapticSession& haptics) {
                      {"max_force_jump", st.max_force_jump},
                      {"max_hand_force", st.max_hand_force},
                      {"snapshots", st.snapshots},
-                     {"realtime_priority", st.realtime_priority}});
+                     {"realtime_priority", st.realtime_priority},
+                     {"speed_limited_ticks", st.speed_limited_ticks}});
+    // A scene without tissue leaves the tool's speed unbounded: null.
+    loops.back()["top_speed"] = std::isfinite(st.top_speed) ? json(st.top_speed) : json(nullptr);
     if (const auto* udp = dynamic_cast<const UdpDevice*>(&l.loop->device())) {
       // Who drove the tool: the pinned sender's poses; the others' dropped (UdpDevice).
       const UdpDeviceStats u = udp->stats();

@@ -255,26 +255,8 @@ void HapticLoop::tick(double now) {
   v_d_ = v_d_wall_ / sim_rate_;
   Vec3 f_hand = Vec3::Zero();
   if (valid) {
-    const double h_total = std::min(h_sim, kMaxCatchUpPeriods * nominal);
-    const double omega = std::sqrt(k_ / m_);
-    const double h_stable = std::min({nominal, 0.5 / omega, 0.5 * m_ / b_});
-    const int n =
-        h_total > 0 ? std::clamp(int(std::ceil(h_total / h_stable - 1e-9)), 1, kMaxSubsteps) : 0;
-    const double h = n > 0 ? h_total / n : 0;
-    Vec3 sum = Vec3::Zero();
-    for (int i = 0; i < n; ++i) {
-      // The device moved linearly during the tick (from where it was when it was last valid).
-      const Vec3 x_di = had_device ? x_d_start + (x_d - x_d_start) * (double(i + 1) / n) : x_d;
-      const Vec3 f_c = k_ * (x_di - x_t_) + b_ * (v_d_ - v_t_);
-      v_t_ += h * (f_c + f_tissue) / m_;
-      // The tool's top speed (simulated time): beyond it the tissue cannot follow; the tool
-      // lags its device and the hand feels the stretched spring.
-      const double speed = v_t_.norm();
-      if (speed > max_speed_) v_t_ *= max_speed_ / speed;
-      x_t_ += h * v_t_;
-      sum += f_c;
-    }
-    f_hand = n > 0 ? Vec3(-sum / n) : Vec3(-(k_ * (x_d - x_t_) + b_ * (v_d_ - v_t_)));
+    f_hand = couple(had_device ? x_d_start : x_d, x_d,
+                    std::min(h_sim, kMaxCatchUpPeriods * nominal), f_tissue);
   } else {
     v_t_.setZero();  // coupling off: the tool holds still
   }
@@ -305,6 +287,35 @@ void HapticLoop::tick(double now) {
   s.contacts = contacts;
   s.device_valid = valid;
   write_state(s);
+}
+
+Vec3 HapticLoop::couple(const Vec3& x_d_start, const Vec3& x_d, double h_total,
+                        const Vec3& f_tissue) {
+  const double nominal = 1.0 / settings_.rate_hz;
+  const double omega = std::sqrt(k_ / m_);
+  const double h_stable = std::min({nominal, 0.5 / omega, 0.5 * m_ / b_});
+  const int n =
+      h_total > 0 ? std::clamp(int(std::ceil(h_total / h_stable - 1e-9)), 1, kMaxSubsteps) : 0;
+  const double h = n > 0 ? h_total / n : 0;
+  Vec3 sum = Vec3::Zero();
+  bool limited = false;
+  for (int i = 0; i < n; ++i) {
+    // The device moved linearly during the tick (from where it was when it was last valid).
+    const Vec3 x_di = x_d_start + (x_d - x_d_start) * (double(i + 1) / n);
+    const Vec3 f_c = k_ * (x_di - x_t_) + b_ * (v_d_ - v_t_);
+    v_t_ += h * (f_c + f_tissue) / m_;
+    // The tool's top speed (simulated time): beyond it the tissue cannot follow; the tool
+    // lags its device and the hand feels the stretched spring.
+    const double speed = v_t_.norm();
+    if (speed > max_speed_) {
+      v_t_ *= max_speed_ / speed;
+      limited = true;
+    }
+    x_t_ += h * v_t_;
+    sum += f_c;
+  }
+  if (limited) speed_limited_.fetch_add(1, std::memory_order_relaxed);
+  return n > 0 ? Vec3(-sum / n) : Vec3(-(k_ * (x_d - x_t_) + b_ * (v_d_ - v_t_)));
 }
 
 void HapticLoop::follow_sim_rate(const std::array<double, 12>& pair) {
@@ -367,6 +378,8 @@ HapticStats HapticLoop::stats() const {
   out.ticks = ticks_.load(std::memory_order_relaxed);
   out.overruns = overruns_.load(std::memory_order_relaxed);
   out.clamped_ticks = clamped_.load(std::memory_order_relaxed);
+  out.top_speed = max_speed_;
+  out.speed_limited_ticks = speed_limited_.load(std::memory_order_relaxed);
   out.invalid_ticks = invalid_.load(std::memory_order_relaxed);
   out.max_force_jump = max_jump_.load(std::memory_order_relaxed);
   out.max_hand_force = max_force_seen_.load(std::memory_order_relaxed);

@@ -80,12 +80,14 @@ struct HapticState {
 struct HapticStats {
   uint64_t ticks = 0;
   double period_mean_ms = 0, period_p99_ms = 0, period_max_ms = 0;  // tick to tick
-  uint64_t overruns = 0;       // periods above HapticLoopSettings::overrun_ms
-  double max_force_jump = 0;   // N, largest |F_hand(n) - F_hand(n-1)|
-  double max_hand_force = 0;   // N, largest |F_hand| sent (after the clamp)
-  uint64_t clamped_ticks = 0;  // ticks whose force was clamped
-  uint64_t invalid_ticks = 0;  // ticks without a valid device pose
-  uint64_t snapshots = 0;      // snapshots published
+  uint64_t overruns = 0;             // periods above HapticLoopSettings::overrun_ms
+  double max_force_jump = 0;         // N, largest |F_hand(n) - F_hand(n-1)|
+  double max_hand_force = 0;         // N, largest |F_hand| sent (after the clamp)
+  uint64_t clamped_ticks = 0;        // ticks whose force was clamped
+  double top_speed = 0;              // m/s, simulated time (infinite: none)
+  uint64_t speed_limited_ticks = 0;  // ticks in which the tool was held to it (it lagged)
+  uint64_t invalid_ticks = 0;        // ticks without a valid device pose
+  uint64_t snapshots = 0;            // snapshots published
   // The thread got real-time scheduling (SCHED_FIFO; needs CAP_SYS_NICE or an rtprio limit):
   // without it the OS may preempt the loop for milliseconds on a busy machine.
   bool realtime_priority = false;
@@ -133,6 +135,9 @@ class HapticLoop {
   void write_state(const HapticState& s);
   // A new pair of snapshots: the physics' rate, sim_rate_.
   void follow_sim_rate(const std::array<double, 12>& pair);
+  // Step 3: the simulated tool over h_total s of simulated time, the device moving linearly
+  // from x_d_start to x_d; returns the force on the hand (before its clamp).
+  Vec3 couple(const Vec3& x_d_start, const Vec3& x_d, double h_total, const Vec3& f_tissue);
 
   std::shared_ptr<HapticDevice> device_;
   double k_, b_, m_, max_force_;
@@ -175,6 +180,7 @@ class HapticLoop {
   static constexpr double kBinSeconds = 1e-5;
   std::array<std::atomic<uint32_t>, kBins + 1> histogram_{};
   std::atomic<uint64_t> ticks_{0}, periods_{0}, overruns_{0}, clamped_{0}, invalid_{0};
+  std::atomic<uint64_t> speed_limited_{0};
   std::atomic<double> period_sum_{0}, period_max_{0}, max_jump_{0}, max_force_seen_{0};
 };
 

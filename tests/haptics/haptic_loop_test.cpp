@@ -148,6 +148,10 @@ TEST(HapticCoupling, TheToolMovesNoFasterThanItsTopSpeed) {
   EXPECT_NEAR(fastest, 0.1, 1e-12);
   EXPECT_GT(largest_hand_force, 0.5 * c.stiffness * 0.05);  // most of k |x_d - x_t| at first
   EXPECT_LT((loop.tool_pose().position - target).norm(), 1e-4);
+  // 0.5 s at 0.1 m/s to go 5 cm: about 500 ticks held to the top speed, then none.
+  EXPECT_EQ(loop.stats().top_speed, 0.1);
+  EXPECT_GT(loop.stats().speed_limited_ticks, 450u);
+  EXPECT_LT(loop.stats().speed_limited_ticks, 520u);
 
   c.max_speed = 0;
   HapticLoop unbounded(still_device(target), c, ToolPose{});
@@ -157,6 +161,8 @@ TEST(HapticCoupling, TheToolMovesNoFasterThanItsTopSpeed) {
     fastest = std::max(fastest, unbounded.state().tool_velocity.norm());
   }
   EXPECT_GT(fastest, 1.0);
+  EXPECT_EQ(unbounded.stats().speed_limited_ticks, 0u);
+  EXPECT_TRUE(std::isinf(unbounded.stats().top_speed));
   c.max_speed = -1;
   EXPECT_THROW(HapticLoop(still_device(target), c, ToolPose{}), std::invalid_argument);
 }

@@ -62,6 +62,7 @@ struct SceneSpec {
   std::string control = "path";  // of the probe
   double touch_t = 0.02, end_t = 0.06;
   std::string format = "binary";
+  std::string coupling;  // the probe's "coupling" object, where not empty (haptic control)
 };
 constexpr double kRadius = 0.003, kTop = 0.01, kDt = 1e-3;
 constexpr double kZ0 = 0.017, kZTouch = 0.015, kZEnd = 0.009;
@@ -83,7 +84,8 @@ std::string scene_json(const SceneSpec& s) {
               {"t": )"
       << s.touch_t << R"(, "position": [0.01, 0.01, 0.015]},
               {"t": )"
-      << s.end_t << R"(, "position": [0.01, 0.01, 0.009]}], "friction": 0.2},
+      << s.end_t << R"(, "position": [0.01, 0.01, 0.009]}], "friction": 0.2)"
+      << (s.coupling.empty() ? "" : ", \"coupling\": " + s.coupling) << R"(},
     {"name": "idle", "type": "probe", "shape": {"type": "sphere", "radius": 0.002},
      "path": [{"t": 0, "position": [0.06, 0.06, 0.06]}]}])";
   j << "}\n";
@@ -384,6 +386,9 @@ void expect_haptics(const nlohmann::json& s, const std::string& device_prefix) {
   }
   EXPECT_GT(h["period_mean_ms"].get<double>(), 0.0);
   EXPECT_GT(h["snapshots"].get<int64_t>(), 0);
+  // The block's tissue: a tenth of its p-wave speed (E 1e4 Pa, nu 0.3, 1000 kg/m^3: 3.669 m/s).
+  EXPECT_NEAR(h["top_speed"].get<double>(), 0.3669, 1e-4);
+  EXPECT_GE(h["speed_limited_ticks"].get<int64_t>(), 0);
   EXPECT_TRUE(s.contains("max_lag_seconds"));
 }
 
@@ -411,6 +416,33 @@ TEST(ToolsRun, ScriptedHapticRunIsPacedToTheWallClock) {
   EXPECT_EQ(read_csv(dir / "tools.csv").rows.size(), 2u * 300);
   EXPECT_GT(s["tools"][0]["max_contacts"].get<int>(), 0);
   expect_contact_array(last_vtp(dir, s));
+}
+
+// A top speed below the path's (0.1 and 0.15 m/s): the tool is held to it, lags its device and
+// the run says so, whatever the physics' rate (the device is faster in simulated time still).
+TEST(ToolsRun, AHapticToolHeldToItsTopSpeedSaysSo) {
+  const auto dir = test::test_output_dir("tools_run_top_speed");
+  SceneSpec spec;
+  spec.control = "haptic";
+  spec.coupling = R"({"max_speed": 0.01})";
+  const auto scene = write_scene(dir, spec);
+  const Ran r =
+      phyxel("run " + scene.string() + " --steps 100 --threads 1 --out " + dir.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json s = read_json(dir / "summary.json");
+  const auto& h = s["haptics"][0];
+  EXPECT_EQ(h["top_speed"].get<double>(), 0.01);
+  EXPECT_GT(h["speed_limited_ticks"].get<int64_t>(), 0);
+  EXPECT_NE(r.err.find("tool 'probe' was held to its top speed, 0.01 m/s in simulated time"),
+            std::string::npos)
+      << r.err;
+  // 0.1 s at most 0.01 m/s: at most 1 mm down from 17 mm.
+  const Csv trace = read_csv(dir / "tools.csv");
+  for (const auto& row : trace.rows) {
+    if (row[2] == "probe") {
+      EXPECT_GT(std::stod(row[5]), kZ0 - 0.001 - 1e-9) << row[0];
+    }
+  }
 }
 
 TEST(ToolsRun, BadHapticDevicesAreOneLineErrors) {
