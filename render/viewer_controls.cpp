@@ -180,6 +180,14 @@ bool ViewerControls::take_screenshot() {
   return take;
 }
 
+std::string tool_note(const std::string& name, double force, uint32_t contacts, double lagging_at) {
+  char text[192], lag[96] = "";
+  if (lagging_at > 0)
+    std::snprintf(lag, sizeof lag, ", lagging the hand at its top speed %.3g m/s", lagging_at);
+  std::snprintf(text, sizeof text, "%s %.3f N (%u contacts%s)", name.c_str(), force, contacts, lag);
+  return text;
+}
+
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,
                          double fps, const std::string& note, double real_time) {
   char title[512], factor[64] = "";

@@ -142,4 +142,9 @@ class ViewerControls {
 std::string viewer_title(const std::string& file, int64_t step, bool paused, bool stereo,
                          double fps, const std::string& note = {}, double real_time = -1);
 
+// A tool's part of the title's note: what it feels, and, where its haptic loop held it to its
+// top speed since the last title (lagging_at, m/s; 0: it did not), that it lags its device.
+std::string tool_note(const std::string& name, double force, uint32_t contacts,
+                      double lagging_at = 0);
+
 }  // namespace phyxel::render

@@ -185,7 +185,8 @@ struct MouseTools {
       : options(options),
         targets(haptic_targets(scene.tools)),
         mice(make_mice(scene)),
-        haptics(scene, [this](size_t tool) { return mice[tool]; }) {
+        haptics(scene, [this](size_t tool) { return mice[tool]; }),
+        tools(scene.tools.size()) {
     for (const HapticTarget& h : targets) drag(h.tool, h.pose);
   }
   static std::vector<std::shared_ptr<SharedPoseDevice>> make_mice(const Scene& scene) {
@@ -203,10 +204,25 @@ struct MouseTools {
     return haptics.pose_source()(tool, 0.0);
   }
 
+  // Per scene tool: its top speed where its haptic loop held it there since the last call
+  // (it lags the hand), else 0.
+  std::vector<double> lagging_since_last() {
+    std::vector<double> lagging(tools, 0.0);
+    limited_seen.resize(haptics.loops().size(), 0);
+    for (size_t k = 0; k < haptics.loops().size(); ++k) {
+      const HapticStats st = haptics.loops()[k].loop->stats();
+      if (st.speed_limited_ticks > limited_seen[k]) lagging[haptics.loops()[k].tool] = st.top_speed;
+      limited_seen[k] = st.speed_limited_ticks;
+    }
+    return lagging;
+  }
+
   const ViewerOptions& options;
   const std::vector<HapticTarget> targets;
   std::vector<std::shared_ptr<SharedPoseDevice>> mice;
   HapticSession haptics;
+  size_t tools = 0;                    // the scene's
+  std::vector<uint64_t> limited_seen;  // per loop: speed_limited_ticks at the last call
 };
 
 // The viewer: everything `phyxel view` holds, built in this order. run() shows frames until the
@@ -405,12 +421,10 @@ void Viewer::update_title() {
   const double real_time = pacer_.factor();
   std::string note = halted;
   const std::vector<ToolStepRecord>& felt = sim_.felt();
-  for (size_t t = 0; t < felt.size() && halted.empty(); ++t) {
-    char text[128];
-    std::snprintf(text, sizeof text, "%s%s %.3f N (%u contacts)", note.empty() ? "" : ", ",
-                  scene_.tools[t].name.c_str(), felt[t].force.norm(), felt[t].contacts);
-    note += text;
-  }
+  const std::vector<double> lagging = tools_.lagging_since_last();
+  for (size_t t = 0; t < felt.size() && halted.empty(); ++t)
+    note += (note.empty() ? "" : ", ") +
+            tool_note(scene_.tools[t].name, felt[t].force.norm(), felt[t].contacts, lagging[t]);
   if (const size_t cut = severed_pair_count(solver_.solver()); cut > 0 && halted.empty())
     note += (note.empty() ? "" : ", ") + std::to_string(cut) + " pairs cut";
   glfwSetWindowTitle(

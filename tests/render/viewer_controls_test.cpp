@@ -242,6 +242,12 @@ TEST(ViewerToolControls, PathToolsFollowTheirPathsHapticToolsTheirTargets) {
   EXPECT_EQ(coupled[1].pose.position, Vec3(0.05, 0.05, 0.04));
 }
 
+TEST(ViewerControls, TheTitleSaysWhatEachToolFeelsAndWhetherItLags) {
+  EXPECT_EQ(tool_note("probe", 0.12345, 12), "probe 0.123 N (12 contacts)");
+  EXPECT_EQ(tool_note("probe", 0.5, 3, 0.331),
+            "probe 0.500 N (3 contacts, lagging the hand at its top speed 0.331 m/s)");
+}
+
 TEST(ViewerControls, TheTitleSaysStepPauseModeAndRate) {
   EXPECT_EQ(viewer_title("scenes/beam.json", 120, true, true, 29.96),
             "phyxel view scenes/beam.json  step 120 (paused)  stereo  30.0 fps");
