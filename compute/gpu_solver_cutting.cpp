@@ -161,7 +161,7 @@ void GpuSolver::upload_cut_quads(Recorder& rec) {
       const ToolShape& body = tools_[t].shape;
       const double radius = body.type == ToolShape::Type::Capsule ? body.radius : 0.0;
       const EdgeFrame held = edge_frame(blade, quad, m.to, radius, reach);
-      q.axis = to_vec4(m.to.axis, float(blade.length));
+      q.axis = to_vec4(m.to.axis, 0.0f);  // w unread
       q.frame_tip = to_vec4(held.tip - origin, float(held.length));
       q.frame_axis = to_vec4(held.axis, float(held.front));
       q.frame_edge = to_vec4(held.edge, blade_advances(quad, m.from, m.to) ? 1.0f : 0.0f);

@@ -186,7 +186,7 @@ struct MouseTools {
         targets(haptic_targets(scene.tools)),
         mice(make_mice(scene)),
         haptics(scene, [this](size_t tool) { return mice[tool]; }),
-        tools(scene.tools.size()) {
+        limited_seen(haptics.loops().size(), 0) {
     for (const HapticTarget& h : targets) drag(h.tool, h.pose);
   }
   static std::vector<std::shared_ptr<SharedPoseDevice>> make_mice(const Scene& scene) {
@@ -207,8 +207,7 @@ struct MouseTools {
   // Per scene tool: its top speed where its haptic loop held it there since the last call
   // (it lags the hand), else 0.
   std::vector<double> lagging_since_last() {
-    std::vector<double> lagging(tools, 0.0);
-    limited_seen.resize(haptics.loops().size(), 0);
+    std::vector<double> lagging(mice.size(), 0.0);  // a mouse per scene tool
     for (size_t k = 0; k < haptics.loops().size(); ++k) {
       const HapticStats st = haptics.loops()[k].loop->stats();
       if (st.speed_limited_ticks > limited_seen[k]) lagging[haptics.loops()[k].tool] = st.top_speed;
@@ -221,7 +220,6 @@ struct MouseTools {
   const std::vector<HapticTarget> targets;
   std::vector<std::shared_ptr<SharedPoseDevice>> mice;
   HapticSession haptics;
-  size_t tools = 0;                    // the scene's
   std::vector<uint64_t> limited_seen;  // per loop: speed_limited_ticks at the last call
 };
 

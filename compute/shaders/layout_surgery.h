@@ -290,9 +290,9 @@ PHYXEL_CONST uint kGraspBindingGripOf = 13;
 // origin, row-major [row][tool]; rows are the chunk's substeps then one for holding the last
 // pose. edge.w: the cut force threshold (N), negative for a tool without a blade. axis and
 // resist: the edge's resistance (engine EdgeFrame; the body's radius p0.w, the kept sides' band
-// p1.w: engine side_band; the blade's tip is p3 + p3.w edge): the axis at the end pose (w: the
-// blade's length, m) and (stiffness N/m^3, 0 where nothing is held; depth m; the tip's and the
-// end's motion along the edge, m). The EdgeFrame (the point's in a stab): frame_tip (w: its
+// p1.w: engine side_band; the blade's tip is p3 + p3.w edge): the axis at the end pose (w
+// unused) and (stiffness N/m^3, 0 where nothing is held; depth m; the tip's and the end's
+// motion along the edge, m). The EdgeFrame (the point's in a stab): frame_tip (w: its
 // length), frame_axis (w: its front), frame_edge (w: 1 where the blade advances in the substep,
 // engine blade_advances: a blade in the cutting state goes on cutting, else 0).
 struct CutQuad {
